@@ -155,8 +155,11 @@ def main(argv=None) -> int:
     try:
         handler = {"run": cmd_run, "check": cmd_check, "scenes": cmd_scenes}.get(args.cmd)
         if handler is None:
-            from . import studies
-            handler = getattr(studies, f"cmd_{args.cmd}")
+            # coupling/studies.py: cmd_compare, cmd_converge, cmd_stability;
+            # coupling/render.py: cmd_render (imported only when asked for)
+            import importlib
+            module = importlib.import_module(".render" if args.cmd == "render" else ".studies", __package__)
+            handler = getattr(module, f"cmd_{args.cmd}")
         return handler(args)
     except (SceneError, RecordError) as exc:
         return _input_error(str(exc))
