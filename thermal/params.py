@@ -31,7 +31,7 @@ class PlateParams:
     T_back_C: float = 20.0
     exchange_area_m2: float = 0.0    # lumped: area A_i of Eq. (10); 0 -> the plate's top face
     n_elements: int = 100            # fe1d: elements through the thickness
-    grading: float = 1.1             # fe1d/axisym: geometric ratio of element sizes away from the sliding face
+    grading: float = 1.05            # fe1d/axisym: geometric ratio of element sizes away from the sliding face
     nr: int = 60                     # axisym: elements in r
     nz: int = 30                     # axisym: elements in z
     scheme: str = "bdf2"             # bdf2 | cn | be
