@@ -38,6 +38,7 @@ CATALOGUE = scn.SCENES_DIR / "stability"
 MECH_TOL = 2e-2
 HEAT_TOL = 1e-9
 STORY_RTOL = 0.15
+UNDERSHOOT_REL = 1e-6      # of the temperature rise (see check_run)
 STORY_ATOL = {"peak_u_m": 2e-3, "friction_work_J": 50.0, "rise_K": 1.0}
 FAST_DURATION = 12.0
 KEEP_LENGTH = ("long-record",)     # the length is what these cases test
@@ -90,12 +91,15 @@ def check_run(case) -> dict:
             if hasattr(p, "temperature"):
                 vals = np.concatenate([vals, np.asarray(p.temperature(), float)])
         t_lo, t_hi = float(np.min(vals)), float(np.max(vals))
-        slack = 1e-9 * max(1.0, hi_b - lo_b)
+        # consistent-mass Galerkin has no discrete maximum principle: ahead of
+        # a heat front a node may dip below T0 by a tiny fraction of the rise
+        slack = UNDERSHOOT_REL * max(t_hi - lo_b, 0.0) + 1e-12
         if t_lo < lo_b - slack:
             why.append(f"temperature {t_lo:.6g} C below the coolest boundary {lo_b:g} C")
         if t_hi > hi_b + slack:
             why.append(f"temperature {t_hi:.6g} C above the all-heat bound {hi_b:.6g} C")
-    return {"pass": not why, "why": "; ".join(why), "ledger": max(mech if math.isfinite(mech) else 0.0, heat),
+    under = max(0.0, lo_b - t_lo) if math.isfinite(t_lo) else math.nan
+    return {"pass": not why, "why": "; ".join(why), "undershoot_K": under, "ledger": max(mech if math.isfinite(mech) else 0.0, heat),
             "mech_ledger": mech, "heat_ledger": heat, "T_min_C": t_lo, "T_max_C": t_hi,
             "T_bound_lo_C": lo_b, "T_bound_hi_C": hi_b}
 
@@ -156,7 +160,7 @@ def cmd_stability(args) -> int:
                              "verdict": "pass" if c["pass"] else "FAIL", "run_pass": chk["pass"],
                              "mech_ledger": chk["mech_ledger"], "heat_ledger": chk["heat_ledger"],
                              "worst_ledger": chk["ledger"], "T_min_C": chk["T_min_C"], "T_max_C": chk["T_max_C"],
-                             "T_bound_lo_C": chk["T_bound_lo_C"], "T_bound_hi_C": chk["T_bound_hi_C"],
+                             "T_bound_lo_C": chk["T_bound_lo_C"], "undershoot_K": chk["undershoot_K"], "T_bound_hi_C": chk["T_bound_hi_C"],
                              "peak_u_m": m["peak_u_m"], "friction_work_J": m["friction_work_J"],
                              "min_mu1": m["min_mu1"], "iterations": m["iterations"],
                              "max_iterations": m["max_iterations"], "runtime_s": m["runtime_s"],
@@ -190,7 +194,9 @@ def stability_report(cases, fast, plots) -> str:
     L.append(f"**{n_ok} of {len(cases)} cases pass.** Each case runs at its scene's dt (coarse) and at a "
              f"finer dt. Pass: every value finite and the run finished (iterated coupling converged); "
              f"mechanical ledger <= {MECH_TOL:g} of the input work, heat ledgers <= {HEAT_TOL:g}; "
-             f"temperatures within [coolest boundary, hottest + all friction heat / smallest heat capacity]; "
+             f"temperatures within [coolest boundary, hottest + all friction heat / smallest heat capacity] "
+             f"(an undershoot of {UNDERSHOOT_REL:g} of the rise is allowed: consistent-mass FE has no discrete "
+             f"maximum principle ahead of a heat front; the worst is listed below); "
              f"coarse and fine agree on peak u, friction work and peak rise within {100 * STORY_RTOL:.0f} % "
              f"(floors {STORY_ATOL['peak_u_m'] * 1e3:g} mm, {STORY_ATOL['friction_work_J']:g} J, "
              f"{STORY_ATOL['rise_K']:g} K) and both slide or both stick.\n")
@@ -206,6 +212,11 @@ def stability_report(cases, fast, plots) -> str:
                          fmt(1e3 * m["peak_u_m"], ".1f"), f"{m['iterations']} ({m['max_iterations']})",
                          fmt(m["runtime_s"], ".2f")])
     L.append(md_table(hdr, body))
+    worst = max(((chk["undershoot_K"], c["case"], tag) for c in cases for tag, _, chk in c["runs"]
+                 if math.isfinite(chk["undershoot_K"])), default=None)
+    if worst and worst[0] > 0:
+        L.append(f"Worst undershoot below the coolest boundary: {worst[0]:.2g} K ({worst[1]}, {worst[2]} dt), "
+                 "inside the plate ahead of the heat front.\n")
     bad = [c for c in cases if not c["pass"]]
     if bad:
         L.append("## Failures\n")
