@@ -136,7 +136,7 @@ def _check_stability(out, fast):
         assert float(r["mech_ledger"] or 0) <= 2e-2
         assert float(r["heat_ledger"]) <= 1e-9
         rise = float(r["T_max_C"]) - 20.0
-        assert math.isfinite(float(r["T_max_C"])) and float(r["T_min_C"]) >= 20.0 - 1e-6 * rise - 1e-12
+        assert math.isfinite(float(r["T_max_C"])) and float(r["T_min_C"]) >= 20.0 - 1e-4 * rise - 1e-12
         assert float(r["T_max_C"]) <= float(r["T_bound_hi_C"])
     md = (out / "stability.md").read_text()
     assert f"{s['cases']} of {s['cases']} cases pass" in md
