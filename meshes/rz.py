@@ -79,7 +79,8 @@ def rz_mesh(R: float, thickness: float, nr: int, nz: int, grading: float = 1.0,
 
 def _boundary_cells(m, name: str) -> list[np.ndarray]:
     """Line cells (node pairs) of the set ``name`` in a meshio mesh, from
-    cell_sets or from gmsh:physical tags with field_data names."""
+    cell_sets, gmsh:physical tags with field_data names, or meshio's VTU
+    encoding of cell sets."""
     pairs = []
     if name in m.cell_sets:
         for block, idx in zip(m.cells, m.cell_sets[name]):
@@ -94,6 +95,18 @@ def _boundary_cells(m, name: str) -> list[np.ndarray]:
                     sel = np.asarray(tags) == tag
                     if sel.any():
                         pairs.append(block.data[sel])
+    if not pairs:
+        # meshio writes cell_sets to VTU as one integer cell_data array named
+        # "top-bottom-..." whose value is the index of the set's name
+        for key, data in m.cell_data.items():
+            names = key.split("-")
+            if name in names and key != "gmsh:physical":
+                tag = names.index(name)
+                for block, tags in zip(m.cells, data):
+                    if block.type == "line":
+                        sel = np.asarray(tags).ravel() == tag
+                        if sel.any():
+                            pairs.append(block.data[sel])
     return pairs
 
 
