@@ -164,7 +164,7 @@ class AxisymPlate:
     """PlateModel of docs/architecture.md on the plate's r-z section."""
 
     def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, mesh=None,
-                 band_r: float | None = None):
+                 band_r: float | None = None, rannacher: bool = True):
         if params.back not in BACKS:
             raise ValueError(f"thermal.back must be one of {BACKS}, got {params.back!r}")
         self.params = p = params
@@ -210,7 +210,7 @@ class AxisymPlate:
         self._weights = np.zeros(len(self.top_nodes))
         self._pattern_key = None
         self.integ = Integrator(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
-                                u0, self.dt, p.scheme, jump_rtol)
+                                u0, self.dt, p.scheme, jump_rtol, rannacher)
         self._set_footprint(0.0)
 
     # -- kernels ------------------------------------------------------------------

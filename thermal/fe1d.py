@@ -58,7 +58,7 @@ class ColumnIntegrator(Integrator):
     on the back node, so the hot loop is two banded BLAS products, one
     dpttrs and scalar ledger updates; no per-step skfem, no sparse matrices."""
 
-    def __init__(self, tri, conv_back: float, nf: int, u0, dt, scheme, jump_rtol):
+    def __init__(self, tri, conv_back: float, nf: int, u0, dt, scheme, jump_rtol, rannacher=True):
         dM, eM, dA, eA = tri
         n = len(dM)
         # upper band storage, Fortran order so that f2py passes it without a copy
@@ -77,7 +77,7 @@ class ColumnIntegrator(Integrator):
         self._mD1 = mD[-2]
         self._aD = (aD[-2], aD[-1])
         super().__init__(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
-                         u0, dt, scheme, jump_rtol)
+                         u0, dt, scheme, jump_rtol, rannacher)
         self._q = 0.0
 
     def _mass(self, x):
@@ -154,7 +154,7 @@ class ColumnIntegrator(Integrator):
             else:
                 self._bdf21(h, q)
         elif self.scheme == "cn":
-            if self.steps == 0 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q)):
+            if self.rannacher and (self.steps == 0 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q))):
                 self._be1(0.5 * h, q)
                 self._be1(0.5 * h, q)
                 self.half_steps += 2
@@ -174,7 +174,7 @@ class ColumnIntegrator(Integrator):
 class FE1DPlate:
     """PlateModel of docs/architecture.md on a graded through-thickness column."""
 
-    def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1):
+    def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, rannacher: bool = True):
         if params.back not in BACKS:
             raise ValueError(f"thermal.back must be one of {BACKS}, got {params.back!r}")
         if params.source not in SOURCES:
@@ -197,7 +197,7 @@ class FE1DPlate:
         if nf < n:
             u0[-1] = p.T_back_C - p.T_air_C
         self._tri = (dM, eM, dA, eK)
-        self.integ = ColumnIntegrator(self._tri, conv_back, nf, u0, self.dt, p.scheme, jump_rtol)
+        self.integ = ColumnIntegrator(self._tri, conv_back, nf, u0, self.dt, p.scheme, jump_rtol, rannacher)
 
     # -- PlateModel interface ---------------------------------------------------
     def covered(self, centre_m: float) -> bool:
