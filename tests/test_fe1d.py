@@ -1,4 +1,6 @@
 """fe1d plate model: convergence against closed forms, ledger, sources, state."""
+import math
+
 import numpy as np
 import pytest
 import scipy.linalg as sl
@@ -164,3 +166,35 @@ def test_field_for_vtk():
     pts, cells, T = m.field()
     assert pts.shape == (11, 3) and cells[0][0] == "line" and cells[0][1].shape == (10, 2)
     assert pts[0, 2] == 0.0 and pts[-1, 2] < 0 and T[0] > T[-1]
+
+
+def test_plain_cn_rings_rannacher_restores_second_order():
+    """Flux switched on at t = 0: plain CN is first order at the surface (the
+    stiff modes it excites alternate in sign and hardly decay); two BE half
+    steps at the jump restore second order."""
+    dts = [0.4, 0.2, 0.1, 0.05]
+    errs = {True: [], False: []}
+    for ran in (True, False):
+        for dt in dts:
+            p = PlateParams(model="fe1d", n_elements=100, back="adiabatic", scheme="cn")
+            m = FE1DPlate(p, dt, rannacher=ran)
+            ref = semidiscrete(m, power_of(p), 10.0)
+            for _ in range(int(round(10.0 / dt))):
+                m.step(power_of(p), 0.0)
+            errs[ran].append(abs(m.integ.u[0] - ref[0]))
+    assert abs(rate(dts, errs[False]) - 1.0) < 0.15 and errs[False][-1] > 0.3
+    assert abs(rate(dts, errs[True]) - 2.0) < 0.1 and errs[True][-1] < 5e-4
+
+
+def test_rannacher_restarts_at_every_switch():
+    p = PlateParams(model="fe1d", n_elements=20, scheme="cn", source="fixed-point", radius_m=0.2,
+                    a_contact_m=0.05)
+    m = FE1DPlate(p, 0.01)
+    restarts, was_on = 0, None
+    for i in range(200):
+        centre = 0.25 * math.sin(2 * math.pi * i / 100)
+        on = m.covered(centre)
+        restarts += (i == 0) or (on != was_on)    # the start, then every on/off switch
+        was_on = on
+        m.step(5e3, centre)
+    assert restarts >= 5 and m.integ.half_steps == 2 * restarts

@@ -33,7 +33,7 @@ def test_richardson_recovers_order_and_limit():
 
 
 def _check_converge_halfspace(out, fast):
-    assert main(["converge", "heat-halfspace", "--out", str(out), "--quiet"] + (["--fast"] if fast else [])) == 0
+    assert main(["converge", "converge-halfspace", "--out", str(out), "--quiet"] + (["--fast"] if fast else [])) == 0
     for f in ("converge.csv", "orders.csv", "converge.md", "summary.json"):
         assert (out / f).is_file(), f
     assert (out / "plots" / "work_precision_peak_T_C.png").is_file()
@@ -80,7 +80,7 @@ def test_converge_refuses_nonempty_dir(tmp_path, capsys):
     out = tmp_path / "cv"
     out.mkdir()
     (out / "x").write_text("keep")
-    assert main(["converge", "heat-halfspace", "--out", str(out), "--quiet", "--fast"]) == 2
+    assert main(["converge", "converge-halfspace", "--out", str(out), "--quiet", "--fast"]) == 2
     assert (out / "x").read_text() == "keep"
     assert main(["converge", "no-such-scene", "--out", str(tmp_path / "y"), "--quiet"]) == 2
     assert not (tmp_path / "y").exists()

@@ -19,7 +19,7 @@ Source placement (params.source):
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import lapack
+from scipy.linalg import blas, lapack
 
 from meshes.line import line_mesh
 from thermal.params import PlateParams
@@ -52,10 +52,129 @@ def assemble_column(z: np.ndarray, rho_c: float, k: float, area: float):
     return diags(M), diags(K)
 
 
+class ColumnIntegrator(Integrator):
+    """The Integrator specialised to the column (same schemes, same ledger):
+    the load sits on the surface node, convection and the fixed temperature
+    on the back node, so the hot loop is two banded BLAS products, one
+    dpttrs and scalar ledger updates; no per-step skfem, no sparse matrices."""
+
+    def __init__(self, tri, conv_back: float, nf: int, u0, dt, scheme, jump_rtol, rannacher=True):
+        dM, eM, dA, eA = tri
+        n = len(dM)
+        # upper band storage, Fortran order so that f2py passes it without a copy
+        self._Mb = np.zeros((2, n), order="F")
+        self._Mb[1], self._Mb[0, 1:] = dM, eM
+        self._Ab = np.zeros((2, n), order="F")
+        self._Ab[1], self._Ab[0, 1:] = dA, eA
+        self._tri = tri
+        conv = np.zeros(n)
+        conv[-1] = conv_back
+        self._cb = conv_back
+        mD, aD = np.zeros(n), np.zeros(n)
+        if nf < n:
+            mD[-2:] = eM[-1], dM[-1]
+            aD[-2:] = eA[-1], dA[-1]
+        self._mD1 = mD[-2]
+        self._aD = (aD[-2], aD[-1])
+        super().__init__(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
+                         u0, dt, scheme, jump_rtol, rannacher)
+        self._q = 0.0
+
+    def _mass(self, x):
+        return blas.dsbmv(1, 1.0, self._Mb, x)
+
+    def _stiff(self, x):
+        return blas.dsbmv(1, 1.0, self._Ab, x)
+
+    def _factor(self, gamma: float):
+        dM, eM, dA, eA = self._tri
+        nf = self.nf
+        df, ef, info = lapack.dpttrf(dM[:nf] + gamma * dA[:nf], eM[:nf - 1] + gamma * eA[:nf - 1])
+        if info != 0:
+            raise np.linalg.LinAlgError(f"dpttrf failed (info={info})")
+        dpttrs = lapack.dpttrs
+        return lambda rhs: dpttrs(df, ef, rhs)[0]
+
+    def _reaction(self, Mdu_last: float, h: float, uth_2: float, uth_1: float) -> float:
+        # 1_D^T residual on the back node (no load there)
+        return self._mD1 * Mdu_last + h * (self._aD[0] * uth_2 + self._aD[1] * uth_1)
+
+    def _be1(self, h: float, q: float) -> float:
+        nf, u = self.nf, self.u
+        rhs = blas.dsbmv(1, -h, self._Ab, u)
+        rhs[0] += h * q
+        du = self.solver(h)(rhs[:nf])
+        u[:nf] += du
+        self.du[:nf] = du
+        s = h * self._cb * u[-1]
+        if nf < len(u):
+            s -= self._reaction(du[-1], h, u[-2], u[-1])
+        self.heat_in += h * q
+        self.heat_lost += s
+        return s
+
+    def _cn1(self, h: float, q: float) -> None:
+        nf, u = self.nf, self.u
+        rhs = blas.dsbmv(1, -h, self._Ab, u)
+        rhs[0] += h * q
+        u2, u1 = u[-2], u[-1]
+        du = self.solver(0.5 * h)(rhs[:nf])
+        u[:nf] += du
+        self.du[:nf] = du
+        s = 0.5 * h * self._cb * (u1 + u[-1])
+        if nf < len(u):
+            s -= self._reaction(du[-1], h, 0.5 * (u2 + u[-2]), u[-1])
+        self.heat_in += h * q
+        self.heat_lost += s
+
+    def _bdf21(self, h: float, q: float) -> None:
+        nf, u = self.nf, self.u
+        g = 1.5 * q - 0.5 * self._q
+        rhs = blas.dsbmv(1, -2.0 * h / 3.0, self._Ab, u)
+        rhs = blas.dsbmv(1, 1.0 / 3.0, self._Mb, self.du, beta=1.0, y=rhs, overwrite_y=1)
+        rhs[0] += 2.0 * h / 3.0 * g
+        du = self.solver(2.0 * h / 3.0)(rhs[:nf])
+        last_prev = self.du[nf - 1]
+        u[:nf] += du
+        self.du[:nf] = du
+        s = h * self._cb * u[-1]
+        if nf < len(u):
+            s -= self._reaction(1.5 * du[-1] - 0.5 * last_prev, h, u[-2], u[-1])
+        loss = (2.0 / 3.0) * (s + 0.5 * self.loss_prev)
+        self.loss_prev = loss
+        self.heat_in += h * q
+        self.heat_lost += loss
+
+    def step_surface(self, q: float) -> None:
+        """Advance dt with the power q (W) into the surface node."""
+        h = self.dt
+        if self.scheme == "bdf2":
+            if self.steps == 0:
+                self.loss_prev = self._be1(h, q)
+            else:
+                self._bdf21(h, q)
+        elif self.scheme == "cn":
+            if self.rannacher and (self.steps == 0 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q))):
+                self._be1(0.5 * h, q)
+                self._be1(0.5 * h, q)
+                self.half_steps += 2
+            else:
+                self._cn1(h, q)
+        else:
+            self._be1(h, q)
+        self._q = q
+        self.b[0] = q
+        self.steps += 1
+
+    def restore(self, snap) -> None:
+        super().restore(snap)
+        self._q = self.b[0]
+
+
 class FE1DPlate:
     """PlateModel of docs/architecture.md on a graded through-thickness column."""
 
-    def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1):
+    def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, rannacher: bool = True):
         if params.back not in BACKS:
             raise ValueError(f"thermal.back must be one of {BACKS}, got {params.back!r}")
         if params.source not in SOURCES:
@@ -65,59 +184,20 @@ class FE1DPlate:
         self.area = p.contact_area
         self.z = line_mesh(p.plate_thickness, p.n_elements, p.grading).p[0].copy()
         n = len(self.z)
+        h_min = np.diff(self.z).min()
+        if h_min < 1e-9 * p.plate_thickness:
+            raise ValueError(f"thermal: n_elements={p.n_elements} with grading={p.grading} gives a first "
+                             f"element of {h_min:.1e} m (< 1e-9 of the thickness); lower the grading")
         (dM, eM), (dK, eK) = assemble_column(self.z, p.rho * p.c, p.k, self.area)
-        dA, eA = dK.copy(), eK.copy()
-        conv = np.zeros(n)
-        if p.back == "convection":
-            conv[-1] = p.h_conv * self.area
-            dA[-1] += conv[-1]
+        dA = dK.copy()
+        conv_back = p.h_conv * self.area if p.back == "convection" else 0.0
+        dA[-1] += conv_back
         nf = n - 1 if p.back == "fixed" else n
-        mD = np.zeros(n)
-        aD = np.zeros(n)
-        if nf < n:
-            mD[-2:] = eM[-1], dM[-1]
-            aD[-2:] = eA[-1], dA[-1]
-        self._tri = (dM, eM, dA, eA)
         u0 = np.full(n, p.T0_C - p.T_air_C)
         if nf < n:
             u0[-1] = p.T_back_C - p.T_air_C
-        self._mw = np.empty(n)
-        self._aw = np.empty(n)
-        self._load = np.zeros(n)
-        self.integ = Integrator(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
-                                u0, self.dt, p.scheme, jump_rtol)
-
-    # -- tridiagonal kernels (no skfem in the hot loop) -----------------------
-    @staticmethod
-    def _tri_mul(d, e, x, out):
-        np.multiply(d, x, out=out)
-        out[:-1] += e * x[1:]
-        out[1:] += e * x[:-1]
-        return out
-
-    def _mass(self, x):
-        dM, eM, _, _ = self._tri
-        return self._tri_mul(dM, eM, x, self._mw)
-
-    def _stiff(self, x):
-        _, _, dA, eA = self._tri
-        return self._tri_mul(dA, eA, x, self._aw)
-
-    def _factor(self, gamma: float):
-        dM, eM, dA, eA = self._tri
-        nf = self.integ.nf if hasattr(self, "integ") else None
-        nf = nf if nf is not None else len(dM)
-        d = dM[:nf] + gamma * dA[:nf]
-        e = eM[:nf - 1] + gamma * eA[:nf - 1]
-        df, ef, info = lapack.dpttrf(d, e)
-        if info != 0:
-            raise np.linalg.LinAlgError(f"dpttrf failed (info={info})")
-        dpttrs = lapack.dpttrs
-
-        def solve(rhs):
-            x, info = dpttrs(df, ef, rhs)
-            return x
-        return solve
+        self._tri = (dM, eM, dA, eK)
+        self.integ = ColumnIntegrator(self._tri, conv_back, nf, u0, self.dt, p.scheme, jump_rtol, rannacher)
 
     # -- PlateModel interface ---------------------------------------------------
     def covered(self, centre_m: float) -> bool:
@@ -129,11 +209,10 @@ class FE1DPlate:
     def step(self, power_W: float, centre_m: float = 0.0) -> float:
         """Advance dt with power_W over the footprint at centre_m; return the
         column's surface temperature (degC) at the end of the step."""
-        on = self.covered(centre_m)
-        p_in = float(power_W) if on else 0.0
-        self._load[0] = p_in
-        self.integ.step(self._load, p_in)
-        return self.surface_temperature()
+        if self.params.source == "fixed-point" and not self.covered(centre_m):
+            power_W = 0.0
+        self.integ.step_surface(float(power_W))
+        return float(self.integ.u[0] + self.params.T_air_C)
 
     def surface_temperature(self) -> float:
         return float(self.integ.u[0] + self.params.T_air_C)
