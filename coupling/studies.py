@@ -478,17 +478,19 @@ def closed_form(scene):
     kappa = t["k"] / (t["rho"] * t["c"])
     H, T0 = t["plate_thickness"], t["T0_C"]
     a = 0.5 * scene["device"]["pad_diameter"]
+    # half-space within ~1e-6 of the rise: the image of the back face enters
+    # as ierfc(2 deep) and the plate's rim as ierfc((R - a) / sqrt(kappa t))
     deep = H / (2 * math.sqrt(kappa * dur))
     if t["T0_C"] != t["T_air_C"]:
         return None
     if t["model"] == "fe1d" and t["source"] == "follow-pad":
-        if deep > 4.0:
+        if deep > 1.75:
             rise, what = float(exact.halfspace_flux_surface(dur, q, t["k"], kappa)), "half-space, constant flux"
         elif t["back"] == "adiabatic":
             rise, what = float(exact.slab_flux(0.0, dur, q, t["k"], kappa, H)[0]), "slab, adiabatic back"
         else:
             return None
-    elif t["model"] == "axisym" and deep > 4.0 and t["plate_radius"] - a > 4 * math.sqrt(kappa * dur):
+    elif t["model"] == "axisym" and deep > 1.75 and t["plate_radius"] - a > 3.5 * math.sqrt(kappa * dur):
         rise, what = float(exact.disk_mean(dur, q, a, t["k"], kappa)), "disk source on a half-space"
     elif t["model"] == "lumped":
         from thermal.params import PlateParams
@@ -500,7 +502,7 @@ def closed_form(scene):
     else:
         return None
     # constant flux: the surface temperature rises monotonically, so peak = end
-    return {"peak_T_C": T0 + rise, "end_T_C": T0 + rise, "_what": what}
+    return {"peak_T_C": T0 + rise, "end_T_C": T0 + rise, "_what": what, "_model": t["model"]}
 
 
 def richardson(values, ratio=2.0):
@@ -539,6 +541,7 @@ class Sweep:
     param: str           # what is refined
     levels: list         # list of (label, overrides, h) coarse to fine
     cases: list = field(default_factory=list)
+    exact: bool = False  # measured against the closed form (else Richardson)
 
 
 def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
@@ -560,14 +563,17 @@ def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
     # against a closed form the held parameter must not leave an error floor
     # above the swept one: the dt sweep then runs on a mesh 8 times finer and
     # the mesh sweep at a quarter of the finest dt (Richardson cancels it)
+    # (fe1d only: refining an axisym mesh 8 times is too dear, so its dt
+    # sweep is measured against its Richardson limit, see exact_for)
     has_exact = closed_form(scene) is not None
     dt_mesh = []
     if has_exact and model == "fe1d":
         dt_mesh = thermal_set(n_elements=8 * t["n_elements"], grading=t["grading"] ** 0.125)
-    elif has_exact and model == "axisym":
-        dt_mesh = thermal_set(nr=4 * t["nr"], nz=4 * t["nz"])
-    sweeps = [Sweep("dt", "solver.dt", [(f"dt={d:.6g}", [f"solver.dt={d!r}"] + dt_mesh, d) for d in dts])]
-    fine_dt = [f"solver.dt={dts[-1] / (4 if has_exact else 1)!r}"]
+    if fast and model == "axisym":
+        dt_mesh = thermal_set(nr=max(8, t["nr"] // 4), nz=max(4, t["nz"] // 4))
+    sweeps = [Sweep("dt", "solver.dt", [(f"dt={d:.6g}", [f"solver.dt={d!r}"] + dt_mesh, d) for d in dts],
+                    exact=has_exact and model != "axisym")]
+    fine_dt = [f"solver.dt={dts[-1] / (4 if has_exact and model == 'fe1d' else 1)!r}"]
     if model == "fe1d":
         n0, g0 = t["n_elements"], t["grading"]
         if fast:
@@ -578,18 +584,26 @@ def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
             from meshes.line import graded_nodes
             h1 = float(graded_nodes(t["plate_thickness"], n, g)[1])
             levels.append((f"n_elements={n}, grading={g:.5g}", fine_dt + thermal_set(n_elements=n, grading=g), h1))
-        sweeps.append(Sweep("mesh", "thermal.n_elements", levels))
+        sweeps.append(Sweep("mesh", "thermal.n_elements", levels, exact=has_exact))
     elif model == "axisym":
         nr0, nz0 = t["nr"], t["nz"]
         if fast:
             nr0, nz0 = max(8, nr0 // 4), max(4, nz0 // 4)
-        r_lv, z_lv = [], []
+        r_lv, z_lv, b_lv = [], [], []
         for k in range(3):
             nr = max(2, nr0 * 2 ** k // 2)
             nz = max(2, nz0 * 2 ** k // 2)
-            r_lv.append((f"nr={nr}", fine_dt + thermal_set(nr=nr), t["plate_radius"] / nr))
-            z_lv.append((f"nz={nz}", fine_dt + thermal_set(nz=nz), t["plate_thickness"] / nz))
+            g = t["grading"] ** (1.0 / 2 ** (k - 1))      # z is graded: keep the family nested
+            r_lv.append((f"nr={nr}", fine_dt + thermal_set(nr=nr, nz=nz0), t["plate_radius"] / nr))
+            z_lv.append((f"nz={nz}, grading={g:.5g}", fine_dt + thermal_set(nr=nr0, nz=nz, grading=g),
+                         t["plate_thickness"] / nz))
+            b_lv.append((f"nr={nr}, nz={nz}", fine_dt + thermal_set(nr=nr, nz=nz, grading=g),
+                         t["plate_radius"] / nr))
+        # one direction at a time keeps the other's error: Richardson removes
+        # it; both together are measured against the closed form if any
         sweeps += [Sweep("mesh-r", "thermal.nr", r_lv), Sweep("mesh-z", "thermal.nz", z_lv)]
+        if has_exact:
+            sweeps.append(Sweep("mesh", "thermal.nr+nz", b_lv, exact=True))
     return sweeps, base
 
 
@@ -615,7 +629,7 @@ def cmd_converge(args) -> int:
                     "runtime_s"])
         write_rows(folder.path("orders.csv"), orders,
                    ["sweep", "output", "reference_kind", "observed_order", "richardson_order",
-                    "finest_error", "coarsest_error"])
+                    "finest_error", "coarsest_error", "closed_form_error_finest"])
         plots = converge_plots(folder.subdir("plots"), rows, name)
         folder.path("converge.md").write_text(converge_report(name, sweeps, rows, orders, exact, args.fast, plots))
         folder.path("summary.json").write_text(json.dumps(
@@ -641,7 +655,7 @@ def converge_tables(sweeps, exact):
             vals = [c.m.get(out, float("nan")) for c in sw.cases]
             if not all(math.isfinite(v) for v in vals):
                 continue
-            if exact is not None and out in exact:
+            if sw.exact and exact is not None and out in exact:
                 ref, kind, p_r = exact[out], "closed form: " + exact["_what"], float("nan")
                 if len(vals) >= 3:
                     p_r = richardson(vals)[0]
@@ -663,7 +677,9 @@ def converge_tables(sweeps, exact):
             if out in ("peak_T_C", "end_T_C"):
                 T0 = sw.cases[-1].scene.thermal("lower")["T0_C"]
                 scale = max(abs(ref - T0), 1e-300)
+            cf = abs(vals[-1] - exact[out]) if exact is not None and out in exact else float("nan")
             orders.append({"sweep": sw.name, "output": out, "reference_kind": kind, "observed_order": fit,
+                           "closed_form_error_finest": cf,
                            "richardson_order": p_r, "finest_error": errs[-1], "coarsest_error": errs[0],
                            "finest_error_rel": errs[-1] / scale, "reference": ref})
     return rows, orders

@@ -76,6 +76,29 @@ def test_converge_fast_record_richardson(tmp_path):
     assert (out / "plots" / "work_precision_friction_work_J.png").is_file()
 
 
+def _check_converge_disk(out, fast):
+    assert model_available("axisym")
+    assert main(["converge", "heat-disk", "--out", str(out), "--quiet"] + (["--fast"] if fast else [])) == 0
+    o = _orders(out)
+    # each direction alone keeps the other's error: Richardson; both: closed form
+    for sweep in ("mesh-r", "mesh-z"):
+        r = o[(sweep, "peak_T_C")]
+        assert r["reference_kind"] == "Richardson"
+        assert 1.5 <= float(r["richardson_order"]) <= 2.6, r
+    both = o[("mesh", "peak_T_C")]
+    assert both["reference_kind"].startswith("closed form")
+    assert 1.5 <= float(both["observed_order"]) <= 2.6, both
+    assert float(both["finest_error"]) < (2.0 if fast else 0.6)      # K, of a 350 K rise
+    dt = o[("dt", "peak_T_C")]
+    assert 1.6 <= float(dt["observed_order"]) <= 2.4, dt
+    assert float(dt["finest_error"]) < 1e-4
+
+
+@pytest.mark.skipif(not model_available("axisym"), reason="thermal/axisym.py not in this checkout")
+def test_converge_fast_axisym(tmp_path):
+    _check_converge_disk(tmp_path / "cv", fast=True)
+
+
 def test_converge_refuses_nonempty_dir(tmp_path, capsys):
     out = tmp_path / "cv"
     out.mkdir()
@@ -172,6 +195,11 @@ def test_pulse_loading_step_is_an_impulse():
 @pytest.mark.slow
 def test_converge_full(tmp_path):
     _check_converge_halfspace(tmp_path / "cv", fast=False)
+
+
+@pytest.mark.slow
+def test_converge_full_axisym(tmp_path):
+    _check_converge_disk(tmp_path / "cv", fast=False)
 
 
 @pytest.mark.slow
