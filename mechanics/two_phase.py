@@ -322,38 +322,33 @@ class TwoPhaseStepper:
     def _seated_step(self, a: float, h: float, mu1: float, mu2: float,
                      rocking_allowed: bool) -> None:
         """One step of length h from a seated state: phase 1 (stick trial,
-        rocking check, or slip along the tangent) then phase 2 (re-seat)."""
-        I, S, g = self._I, self._S, self._g
+        rocking check, or slip along the tangent) then phase 2 (re-seat).
+
+        If the relative velocity reaches zero inside the step (arrest or
+        reversal), the step is split at that instant: each part is a
+        two-phase step with one sign of friction, so the slip of each part is
+        its |d theta| and the ledger closes at the event too.
+        """
         th0, v0 = self.theta, self.theta_dot
         N1, N2 = seated_normal_forces(self.geom, th0, v0, a)
         self.N1, self.N2 = N1, N2
         f1, f2 = mu1 * N1 * self._R1, mu2 * N2 * self._R2  # friction moments about the centres
         cap = f1 + f2  # = F_c L: both interfaces capped together, never one alone
 
-        # Phase 1, Moreau stick trial on the seated manifold; discrete
-        # gradients of the d'Alembert and gravity potentials make the step's
-        # energy balance exact along the phase-1 arc.
-        dth = h * v0
-        hI = h / I
-        for _ in range(_FIXED_POINT_ITERS):
-            mid = th0 + 0.5 * dth
-            sc = _sinc(0.5 * dth)
-            drive = -S * sc * (a * math.cos(mid) + g * math.sin(mid))
-            v_free = v0 + hI * drive
-            if abs(v_free) <= hI * cap:
-                v1, lam = 0.0, v_free / (hI * cap) if cap > 0.0 else 0.0
-            else:
-                lam = 1.0 if v_free > 0.0 else -1.0
-                v1 = v_free - hI * cap * lam
-            dth_new = 0.5 * h * (v0 + v1)
-            if abs(dth_new - dth) <= _FIXED_POINT_TOL:
-                dth = dth_new
-                break
-            dth = dth_new
-        stick = v1 == 0.0
+        v1, dth, lam = self._moreau_trial(th0, v0, a, h, cap)
+        if v0 != 0.0 and (v1 == 0.0 or (v1 > 0.0) != (v0 > 0.0)):
+            tau, dth = self._arrest(th0, v0, a, h, cap)
+            sign = 1.0 if v0 > 0.0 else -1.0
+            self.Ff1, self.Ff2 = sign * f1 / self._L, sign * f2 / self._L
+            self._two_phase_update(th0, dth, 0.0, a, f1, f2)
+            if h - tau > 0.0:
+                self._seated_step(a, h - tau, mu1, mu2, rocking_allowed)
+            if self.theta_dot == 0.0:
+                self.mode = STICK
+            return
         self.Ff1, self.Ff2 = lam * f1 / self._L, lam * f2 / self._L
 
-        if stick and v0 == 0.0:
+        if v1 == 0.0:  # v0 == 0 too: the joints hold over the whole step
             if rocking_allowed and self._start_rocking(a):
                 self._tilt_step(a, h, mu1, mu2)
                 return
@@ -362,32 +357,83 @@ class TwoPhaseStepper:
             self.ds1 = self.ds2 = 0.0
             self.slip_v1 = self.slip_v2 = 0.0
             return
+        self._two_phase_update(th0, dth, v1, a, f1, f2)
+        self.mode = SLIP
 
-        # Phase 1, kinematics: the superstructure has moved by L dth along the
-        # tangent at theta_n; the trailing corner pivots to keep the opposite
-        # top corner on the upper surface; the plates fix C1C2(t_n+1).
-        L = self._L
-        self.beta1 = corner_pivot_rotation(*self._corner, L * dth)
+    def _moreau_trial(self, th0: float, v0: float, a: float, h: float,
+                      cap: float) -> tuple[float, float, float]:
+        """Phase 1 stick trial (Moreau) on the seated manifold: returns
+        (theta' at the end, d theta, friction multiplier lambda in Sgn).
+
+        The d'Alembert and gravity terms are discrete gradients of their
+        potentials S sin(theta), S (1 - cos(theta)) along the arc, so the
+        kinetic energy change equals the work along it exactly.
+        """
+        S, g = self._S, self._g
+        hI = h / self._I
+        dth = h * v0
+        v1, lam = v0, 0.0
+        for _ in range(_FIXED_POINT_ITERS):
+            mid = th0 + 0.5 * dth
+            drive = -S * _sinc(0.5 * dth) * (a * math.cos(mid) + g * math.sin(mid))
+            v_free = v0 + hI * drive
+            if abs(v_free) <= hI * cap:
+                v1, lam = 0.0, (v_free / (hI * cap) if cap > 0.0 else 0.0)
+            else:
+                lam = 1.0 if v_free > 0.0 else -1.0
+                v1 = v_free - hI * cap * lam
+            dth_new = 0.5 * h * (v0 + v1)
+            if abs(dth_new - dth) <= _FIXED_POINT_TOL:
+                return v1, dth_new, lam
+            dth = dth_new
+        return v1, dth, lam
+
+    def _arrest(self, th0: float, v0: float, a: float, h: float,
+                cap: float) -> tuple[float, float]:
+        """Time tau in (0, h] at which the sliding motion (friction at the cap,
+        opposing v0) brings theta' to zero, and the d theta by then."""
+        S, g, I = self._S, self._g, self._I
+        sign = 1.0 if v0 > 0.0 else -1.0
+        tau = h
+        for _ in range(_FIXED_POINT_ITERS):
+            dth = 0.5 * tau * v0
+            mid = th0 + 0.5 * dth
+            drive = -S * _sinc(0.5 * dth) * (a * math.cos(mid) + g * math.sin(mid))
+            decel = drive - cap * sign
+            tau_new = -v0 * I / decel if decel * sign < 0.0 else h
+            tau_new = min(max(tau_new, 0.0), h)
+            if abs(tau_new - tau) <= 1e-15 * h:
+                tau = tau_new
+                break
+            tau = tau_new
+        return tau, 0.5 * tau * v0
+
+    def _two_phase_update(self, th0: float, dth: float, v1: float, a: float,
+                          f1: float, f2: float) -> None:
+        """Phases 1 and 2 of a sliding step: the superstructure has moved by
+        L dth along the tangent at theta_n with rate v1 at the end."""
+        # Phase 1: the trailing corner pivots to keep the opposite top corner
+        # on the upper surface; the plates fix C1C2(t_n+1) and theta_n+1.
+        I, S = self._I, self._S
+        self.beta1 = corner_pivot_rotation(*self._corner, self._L * dth)
         if dth != 0.0:
             self.diagonal = DIAGONAL_AC if dth > 0.0 else DIAGONAL_BD
         dphi = math.atan(dth)
+        th1 = th0 + dphi
         # Phase 2: re-seat. Counter-rotation beta2 takes the pad axis onto
         # C1C2(t_n+1); the slip of each interface is its net arc, counted once.
         self.beta2 = dphi - self.beta1
         self.pad_tilt = -self.beta2
-        th1 = th0 + dphi
         ads = abs(dphi)
-        dW1, dW2 = f1 * ads, f2 * ads
+        self.W1 += f1 * ads
+        self.W2 += f2 * ads
+        self.ds1, self.ds2 = self._R1 * dphi, self._R2 * dphi
         # velocity projection (kinetic-energy metric) onto the tangent at th1:
-        # translations lose the component along C1C2, the pad spin is kept
+        # translations lose their component along C1C2, the pad spin is kept
         v_proj = v1 * (self._I_trans * math.cos(dphi) + self._J) / I
         self.E_reseat += 0.5 * I * (v1 * v1 - v_proj * v_proj)
         self.E_input -= a * S * (math.sin(th1) - math.sin(th0))
-        self.W1 += dW1
-        self.W2 += dW2
-        self.ds1, self.ds2 = self._R1 * dphi, self._R2 * dphi
         self.theta, self.theta_dot = th1, v_proj
-        self.mode = STICK if stick else SLIP
         self.slip_v1 = self._R1 * abs(v_proj)
         self.slip_v2 = self._R2 * abs(v_proj)
 
