@@ -37,7 +37,7 @@ COLUMNS = (
     "E_input_J", "E_kin_J", "E_pot_J", "E_reseat_J",
     # diagnostics of the two-phase step
     "beta1_rad", "beta2_rad", "pad_tilt_rad", "diagonal", "ds1_m", "ds2_m",
-    "Ff1_N", "Ff2_N", "theta_dot_radps",
+    "Ff1_N", "Ff2_N", "theta_dot_radps", "slip1_m", "slip2_m",
 )
 
 _FIXED_POINT_TOL = 1e-15   # rad, on the step increment
@@ -200,6 +200,7 @@ class TwoPhaseStepper:
         # last-step diagnostics
         self.beta1 = self.beta2 = self.pad_tilt = 0.0
         self.ds1 = self.ds2 = 0.0
+        self.slip1 = self.slip2 = 0.0  # cumulative sliding path per interface (m)
         self.Ff1 = self.Ff2 = 0.0
         self.F = 0.0
         a0 = self._a_step[0] if self._a_step else 0.0
@@ -245,12 +246,12 @@ class TwoPhaseStepper:
             self._R1 * g.theta, self._R2 * g.theta, g.N1, g.N2, g.W1, g.W2, g.mode,
             g.E_input, self.kinetic_energy(), self.potential_energy(), g.E_reseat,
             g.beta1, g.beta2, g.pad_tilt, g.diagonal, g.ds1, g.ds2, g.Ff1, g.Ff2,
-            g.theta_dot,
+            g.theta_dot, g.slip1, g.slip2,
         )
 
     _STATE = ("n", "theta", "theta_dot", "mode", "diagonal", "rocking", "beta", "beta_dot",
               "_chain", "W1", "W2", "E_input", "E_reseat", "beta1", "beta2",
-              "pad_tilt", "ds1", "ds2", "Ff1", "Ff2", "F", "N1", "N2",
+              "pad_tilt", "ds1", "ds2", "slip1", "slip2", "Ff1", "Ff2", "F", "N1", "N2",
               "slip_v1", "slip_v2")
 
     def save(self) -> tuple:
@@ -428,6 +429,8 @@ class TwoPhaseStepper:
         self.W1 += f1 * ads
         self.W2 += f2 * ads
         self.ds1, self.ds2 = self._R1 * dphi, self._R2 * dphi
+        self.slip1 += self._R1 * ads
+        self.slip2 += self._R2 * ads
         # velocity projection (kinetic-energy metric) onto the tangent at th1:
         # translations lose their component along C1C2, the pad spin is kept
         v_proj = v1 * (self._I_trans * math.cos(dphi) + self._J) / I
@@ -488,8 +491,39 @@ class TwoPhaseStepper:
             self.beta, self.beta_dot = b1, w1
             self.beta1 = b1
             self.pad_tilt = b1
+            self.N1, self.N2 = self._chain_normal_forces(a)
             return
         self._land(a, h, b0, w0, mu1, mu2)
+
+    def _chain_normal_forces(self, a: float) -> tuple[float, float]:
+        """Normal forces of the rocking chain at the pivot (N1) and at the top
+        corner (N2), from the accelerations of Eq. (7) and each body's
+        momentum balance; the normals are those of the plates at the corners
+        (the plates do not rotate, so they keep their seated directions)."""
+        I_P, X0, Z0, rGx0, rGz0, rQx0, rQz0, sign = self._chain
+        b, w, g = self.beta, self.beta_dot, self._g
+        c, s = math.cos(b), math.sin(b)
+        alpha = rocking_acceleration(I_P, c * X0 - s * Z0, s * X0 + c * Z0, a, g)
+        rGx, rGz = c * rGx0 - s * rGz0, s * rGx0 + c * rGz0
+        rQx, rQz = c * rQx0 - s * rQz0, s * rQx0 + c * rQz0
+        w2 = w * w
+        M, m = self._M, self._m
+        # forces the pad exerts on RB3+4 and the lower plate exerts on the pad
+        FMx = M * (a - alpha * rQz - w2 * rQx)
+        FMz = M * (g + alpha * rQx - w2 * rQz)
+        FPx = FMx + m * (a - alpha * rGz - w2 * rGx)
+        FPz = FMz + m * (g + alpha * rGx - w2 * rGz)
+        ct, st = math.cos(self.theta), math.sin(self.theta)
+        xa, R1, R2 = self.geom.a, self._R1, self._R2
+        eta1 = math.sqrt(R1 * R1 - xa * xa)
+        eta2 = math.sqrt(R2 * R2 - xa * xa)
+        # pad-frame normals: lower plate at the pivot (+-a, eta1)/R1 pointing to
+        # C1, upper plate at the top corner (-+a, eta2)/R2 pointing away from C2
+        n1x, n1z = sign * xa / R1, eta1 / R1
+        n2x, n2z = sign * xa / R2, eta2 / R2
+        N1 = FPx * (ct * n1x - st * n1z) + FPz * (st * n1x + ct * n1z)
+        N2 = FMx * (ct * n2x - st * n2z) + FMz * (st * n2x + ct * n2z)
+        return N1, N2
 
     def _land(self, a: float, h: float, b0: float, w0: float, mu1: float, mu2: float) -> None:
         """The pad lands within the step: find the landing time with the same

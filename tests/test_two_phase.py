@@ -110,6 +110,31 @@ def test_step_returns_the_friction_work_of_each_interface():
     assert W1 / W2 == pytest.approx(share, rel=2e-3)
 
 
+def test_force_displacement_loop_area_is_the_dissipated_energy():
+    """F_N opposes the relative displacement: sum F du over El Centro x1.5
+    equals friction work + re-seating loss + the potential energy left."""
+    h, st = elcentro_run(1e-3, 1.5)
+    area = np.sum(h[1:, COL["F_N"]] * np.diff(h[:, COL["u_m"]]))
+    stored = st.W1 + st.W2 + st.E_reseat + h[-1, COL["E_pot_J"]] + h[-1, COL["E_kin_J"]]
+    assert area == pytest.approx(stored, rel=1e-3)
+
+
+def test_rigid_pad_shares_the_sliding_r1_to_r2_whatever_the_friction():
+    """Unequal radii and friction: the slip splits R1 : R2 in every step, and
+    phase 1 tilts the pad by beta1 ~ L / (2 R2 - h) d(theta), not d(theta)."""
+    geom = DeviceGeometry("DFP", R1=3.0, R2=1.5, pad_height=0.10, pad_diameter=0.25,
+                          pad_mass=30.0, mass=1.0e5)
+    h, st = run(geom, elcentro(1e-3, 1.5, duration=8.0), mu1=0.03, mu2=0.08)
+    moving = h[1:, COL["ds2_m"]] != 0.0
+    ratio = h[1:, COL["ds1_m"]][moving] / h[1:, COL["ds2_m"]][moving]
+    assert moving.sum() > 100 and np.allclose(ratio, 2.0, rtol=1e-12)
+    assert st.slip1 == pytest.approx(2.0 * st.slip2, rel=1e-12)
+    b1 = h[1:, COL["beta1_rad"]][moving]
+    dth = h[1:, COL["ds1_m"]][moving] / geom.R1
+    big = np.abs(dth) > 1e-5
+    assert np.allclose(b1[big] / dth[big], geom.L / (2 * geom.R2 - geom.h), rtol=2e-2)
+
+
 # ----------------------------------------------------------------------
 # the specialised equations, checked against a finite-difference Lagrangian
 # ----------------------------------------------------------------------
@@ -327,6 +352,9 @@ def test_tall_pad_rocks_under_a_strong_pulse():
         peaks.append(np.abs(h[:, COL["beta1_rad"]]).max())
         losses.append(st.E_reseat)
         assert np.abs(ledger_residual(h)).max() < 1e-6 * h[:, COL["E_input_J"]].max()
+        N1, N2 = h[tilt, COL["N1_N"]], h[tilt, COL["N2_N"]]
+        assert np.allclose(N2, TALL_PAD.mass * G, rtol=0.1)
+        assert np.allclose(N1 - N2, TALL_PAD.pad_mass * G, rtol=0.1)
     assert peaks[-1] > 0.005                          # finite rocking, not O(dt)
     assert peaks[0] == pytest.approx(peaks[-1], rel=0.02)
     assert min(losses) > 0.0 and losses[0] == pytest.approx(losses[-1], rel=0.05)
