@@ -5,6 +5,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .geometry import G_ACC
+
 
 @dataclass
 class GroundMotion:
@@ -27,3 +29,297 @@ class GroundMotion:
     @property
     def n_steps(self) -> int:
         return len(self.t) - 1
+
+
+class RecordError(ValueError):
+    """A record file that cannot be read; ``str()`` is one line naming the
+    file, the line and what is wrong."""
+
+    def __init__(self, path, message: str, line: int | None = None):
+        where = f"{path}" + (f", line {line}" if line is not None else "")
+        super().__init__(f"{where}: {message}")
+
+
+@dataclass
+class Record:
+    """A recorded accelerogram: times (s) and acceleration in g."""
+
+    name: str
+    t: np.ndarray
+    a_g: np.ndarray
+    source: str = ""
+
+    @property
+    def dt(self) -> float:
+        return float(self.t[1] - self.t[0]) if len(self.t) > 1 else 0.0
+
+    @property
+    def pga_g(self) -> float:
+        return float(np.max(np.abs(self.a_g)))
+
+
+_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def _parse_npts_dt(line: str):
+    """NPTS and DT from an AT2 header line, in any of the variants seen in
+    PEER files: ``NPTS=  4000, DT= .01000 SEC``, ``NPTS = 5590, DT = .0050 SEC,``,
+    values first ``4096 0.0100 NPTS, DT``, with or without ``SEC``."""
+    import re
+
+    up = line.upper()
+    m_n = re.search(r"NPTS\s*[=:]\s*(" + _NUM + ")", up)
+    m_d = re.search(r"\bDT\s*[=:]\s*(" + _NUM + ")", up)
+    if m_n and m_d:
+        return float(m_n.group(1)), float(m_d.group(1))
+    nums = re.findall(_NUM, up.split("NPTS")[0])
+    if len(nums) >= 2:
+        return float(nums[0]), float(nums[1])
+    return None
+
+
+def _read_text(path) -> str:
+    try:
+        raw = open(path, "rb").read()
+    except FileNotFoundError:
+        raise RecordError(path, "file not found") from None
+    except IsADirectoryError:
+        raise RecordError(path, "is a directory, not a record file") from None
+    except OSError as exc:
+        raise RecordError(path, f"cannot be read ({exc.strerror})") from None
+    if not raw.strip():
+        raise RecordError(path, "file is empty")
+    if b"\x00" in raw:
+        raise RecordError(path, "binary file (NUL bytes); expected a PEER .AT2 or two-column text record")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        return raw.decode("latin-1")
+
+
+def _floats(tokens, path, lineno):
+    out = []
+    for tok in tokens:
+        try:
+            out.append(float(tok))
+        except ValueError:
+            raise RecordError(path, f"'{tok[:30]}' is not a number", lineno) from None
+    return out
+
+
+def parse_at2(text: str, path="<record>") -> Record:
+    """PEER .AT2 (legacy pre-NGA and NGA-West2 headers): the NPTS/DT line is
+    found among the first lines; values (in g) follow it, any number per line."""
+    lines = text.splitlines()
+    head = None
+    for i, line in enumerate(lines[:12]):
+        if "NPTS" in line.upper():
+            head = i
+            break
+    if head is None:
+        raise RecordError(path, "no NPTS/DT header line in the first 12 lines (not a PEER .AT2 file)")
+    parsed = _parse_npts_dt(lines[head])
+    if parsed is None:
+        raise RecordError(path, f"cannot read NPTS and DT from '{lines[head].strip()[:60]}'", head + 1)
+    npts, dt = parsed
+    if npts != int(npts) or npts < 2:
+        raise RecordError(path, f"NPTS = {npts:g} must be a whole number >= 2", head + 1)
+    if not (np.isfinite(dt) and dt > 0):
+        raise RecordError(path, f"DT = {dt:g} must be > 0", head + 1)
+    vals = []
+    for j, line in enumerate(lines[head + 1:], start=head + 2):
+        toks = line.replace(",", " ").split()
+        if toks:
+            vals.extend(_floats(toks, path, j))
+    a = np.asarray(vals, dtype=float)
+    if len(a) != int(npts):
+        raise RecordError(path, f"header says NPTS = {int(npts)} but {len(a)} values follow")
+    bad = np.flatnonzero(~np.isfinite(a))
+    if bad.size:
+        raise RecordError(path, f"non-finite acceleration value at point {bad[0] + 1}")
+    title = " / ".join(s.strip() for s in lines[:head] if s.strip())
+    return Record(name=str(path), t=np.arange(len(a)) * dt, a_g=a, source=title)
+
+
+def parse_two_column(text: str, path="<record>", units: str = "g") -> Record:
+    """Two-column text: time (s) and acceleration, whitespace-, tab- or
+    comma-separated; leading header lines (non-numeric) are skipped. Times
+    must increase strictly."""
+    t, a = [], []
+    header = []
+    started = False
+    for j, line in enumerate(text.splitlines(), start=1):
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        toks = s.replace(",", " ").replace(";", " ").split()
+        try:
+            row = [float(x) for x in toks]
+        except ValueError:
+            if started:
+                raise RecordError(path, f"'{s[:40]}' is not two numbers (time, acceleration)", j) from None
+            header.append(s)
+            continue
+        if len(row) != 2:
+            raise RecordError(path, f"expected 2 columns (time, acceleration), found {len(row)}", j)
+        if not all(np.isfinite(row)):
+            raise RecordError(path, f"non-finite value '{s[:40]}'", j)
+        if t and row[0] <= t[-1]:
+            raise RecordError(path, f"time {row[0]:g} s does not increase (previous {t[-1]:g} s)", j)
+        started = True
+        t.append(row[0])
+        a.append(row[1])
+    if len(t) < 2:
+        raise RecordError(path, "fewer than two (time, acceleration) rows")
+    scale = {"g": 1.0, "m/s2": 1.0 / G_ACC}[units]
+    return Record(name=str(path), t=np.asarray(t) - t[0], a_g=np.asarray(a) * scale,
+                  source=" / ".join(header))
+
+
+def guess_format(text: str) -> str:
+    """'at2' when an NPTS header appears in the first lines, else 'two-column'."""
+    for line in text.splitlines()[:12]:
+        if "NPTS" in line.upper():
+            return "at2"
+    return "two-column"
+
+
+def read_record(path, units: str | None = None) -> Record:
+    """Read a record file, format guessed from its content (interface.md)."""
+    text = _read_text(path)
+    if guess_format(text) == "at2":
+        return parse_at2(text, path)
+    if units is None:
+        units = _units_from_header(text)
+        if units is None:
+            raise RecordError(path, "two-column record: acceleration units not named "
+                              "in its header; set loading.units = \"g\" or \"m/s2\"")
+    return parse_two_column(text, path, units)
+
+
+def _units_from_header(text: str):
+    import re
+
+    for line in text.splitlines()[:20]:
+        low = line.lower()
+        if re.search(r"[\[(]\s*g\s*[\])]", low) or "units of g" in low:
+            return "g"
+        if re.search(r"m/s(\^?2|\*\*2|²)", low):
+            return "m/s2"
+    return None
+
+
+# -- integration to the solver grid -------------------------------------------
+
+def _cumulative(t, a):
+    """Exact velocity and displacement at the nodes of a piecewise-linear
+    acceleration starting from rest."""
+    h = np.diff(t)
+    v = np.concatenate(([0.0], np.cumsum(0.5 * h * (a[:-1] + a[1:]))))
+    d = np.concatenate(([0.0], np.cumsum(h * v[:-1] + h * h * (a[:-1] / 3.0 + a[1:] / 6.0))))
+    return v, d
+
+
+def baseline_fit(t, v):
+    """Least-squares quadratic b1 t + b2 t^2 (zero at t = 0) fitted to the
+    velocity: the drift removed by the baseline correction."""
+    A = np.column_stack([t, t * t])
+    (b1, b2), *_ = np.linalg.lstsq(A, v, rcond=None)
+    return float(b1), float(b2)
+
+
+def ground_motion_from_samples(name, t_rec, a_rec, dt, duration=None,
+                               baseline: bool = True) -> GroundMotion:
+    """Sample the piecewise-linear acceleration (m/s2) of a record on the grid
+    t_n = n dt, integrating exactly; after the record ends the ground no longer
+    accelerates.
+
+    Baseline correction (docs/model.md): a quadratic b1 t + b2 t^2 fitted by
+    least squares to the uncorrected velocity is removed, i.e. the linear
+    acceleration b1 + 2 b2 t is subtracted. The corrected acceleration is still
+    piecewise linear, so a, v and d stay exactly consistent.
+    """
+    t_rec = np.asarray(t_rec, float)
+    a_rec = np.asarray(a_rec, float)
+    b1 = b2 = 0.0
+    if baseline:
+        v0, _ = _cumulative(t_rec, a_rec)
+        b1, b2 = baseline_fit(t_rec, v0)
+        a_rec = a_rec - (b1 + 2.0 * b2 * t_rec)
+    v_rec, d_rec = _cumulative(t_rec, a_rec)
+    if duration is None:
+        duration = float(t_rec[-1])
+    n = max(1, int(round(duration / dt)))
+    t = np.arange(n + 1) * dt
+    k = np.clip(np.searchsorted(t_rec, t, side="right") - 1, 0, len(t_rec) - 2)
+    h = t_rec[k + 1] - t_rec[k]
+    tau = np.minimum(t - t_rec[k], h)
+    slope = (a_rec[k + 1] - a_rec[k]) / h
+    a = a_rec[k] + slope * tau
+    v = v_rec[k] + a_rec[k] * tau + 0.5 * slope * tau ** 2
+    d = d_rec[k] + v_rec[k] * tau + 0.5 * a_rec[k] * tau ** 2 + slope * tau ** 3 / 6.0
+    after = t > t_rec[-1]
+    if after.any():
+        extra = t[after] - t_rec[-1]
+        a[after] = 0.0
+        v[after] = v_rec[-1]
+        d[after] = d_rec[-1] + v_rec[-1] * extra
+    gm = GroundMotion(name=name, dt=dt, t=t, d=d, v=v, a=a, a_step=np.diff(v) / dt)
+    gm.baseline = (b1, b2)
+    return gm
+
+
+def harmonic_ground_motion(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> GroundMotion:
+    """x_g = A sin(2 pi f t) for the given number of cycles, then at rest."""
+    w = 2.0 * np.pi * frequency_Hz
+    t_end = cycles / frequency_Hz
+    if duration is None:
+        duration = t_end
+    n = max(1, int(round(duration / dt)))
+    t = np.arange(n + 1) * dt
+    on = t <= t_end + 1e-12
+    tt = np.minimum(t, t_end)
+    d = amplitude_m * np.sin(w * tt)
+    v = np.where(on, amplitude_m * w * np.cos(w * tt), 0.0)
+    a = np.where(on, -amplitude_m * w * w * np.sin(w * tt), 0.0)
+    # exact step means of the analytic acceleration; the velocity jump at the
+    # start (and the stop) is a rigid-body impulse that the relative motion
+    # does not feel, so steps see only the smooth part
+    v_smooth = amplitude_m * w * np.cos(w * tt)
+    a_step = np.diff(v_smooth) / dt
+    return GroundMotion(name=f"harmonic {amplitude_m:g} m {frequency_Hz:g} Hz", dt=dt,
+                        t=t, d=d, v=v, a=a, a_step=a_step)
+
+
+@dataclass
+class DisplacementProgramme:
+    """Test machine: the relative displacement u(t) is imposed (the lower plate
+    moves by -u, the superstructure is held horizontally and carries its
+    weight). Arrays on the solver grid, n_steps + 1 entries."""
+
+    name: str
+    dt: float
+    t: np.ndarray
+    u: np.ndarray
+    ud: np.ndarray
+    udd: np.ndarray
+
+    @property
+    def n_steps(self) -> int:
+        return len(self.t) - 1
+
+
+def sine_programme(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> DisplacementProgramme:
+    w = 2.0 * np.pi * frequency_Hz
+    t_end = cycles / frequency_Hz
+    if duration is None:
+        duration = t_end
+    n = max(1, int(round(duration / dt)))
+    t = np.arange(n + 1) * dt
+    tt = np.minimum(t, t_end)
+    on = t <= t_end + 1e-12
+    return DisplacementProgramme(
+        name=f"sine {amplitude_m:g} m {frequency_Hz:g} Hz x {cycles:g}", dt=dt, t=t,
+        u=amplitude_m * np.sin(w * tt),
+        ud=np.where(on, amplitude_m * w * np.cos(w * tt), 0.0),
+        udd=np.where(on, -amplitude_m * w * w * np.sin(w * tt), 0.0))

@@ -1,0 +1,172 @@
+"""``fpd``: the command line (interface.md).
+
+Exit status: 0 success; 2 bad input (one line on stderr, no results folder);
+1 numerical failure (history kept); 130 interrupted (history kept).
+"""
+from __future__ import annotations
+
+import os
+
+# threaded BLAS made small solves up to 100x slower on 2 cores: before numpy loads
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
+import signal  # noqa: E402
+import sys  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        sys.stderr.write(f"fpd: error: {message} (see fpd --help)\n")
+        raise SystemExit(EXIT_INPUT)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="fpd", description="Thermo-mechanical simulator of multiple friction pendulum isolators")
+    sub = p.add_subparsers(dest="cmd", parser_class=_Parser)
+    r = sub.add_parser("run", help="run a scene (default: the packaged default scene)")
+    r.add_argument("scene", nargs="?")
+    r.add_argument("--out")
+    r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    r.add_argument("--force", action="store_true")
+    r.add_argument("--quiet", action="store_true")
+    c = sub.add_parser("check", help="validate a scene and print it resolved")
+    c.add_argument("scene")
+    c.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    sub.add_parser("scenes", help="list the packaged scenes")
+    for name, helptext in (("compare", "the scene under lumped / fe1d / axisym plates"),
+                           ("converge", "dt and mesh refinement, error against run time")):
+        q = sub.add_parser(name, help=helptext)
+        q.add_argument("scene")
+        q.add_argument("--out")
+        q.add_argument("--force", action="store_true")
+        q.add_argument("--quiet", action="store_true")
+        q.add_argument("--fast", action="store_true", help="a short version (what the tests run)")
+    s = sub.add_parser("stability", help="the stiff and extreme catalogue")
+    s.add_argument("--out")
+    s.add_argument("--force", action="store_true")
+    s.add_argument("--quiet", action="store_true")
+    s.add_argument("--fast", action="store_true")
+    d = sub.add_parser("render", help="PNG frames and a GIF from a run's VTK series")
+    d.add_argument("dir")
+    return p
+
+
+def _input_error(msg: str) -> int:
+    sys.stderr.write(f"fpd: error: {msg}\n")
+    return EXIT_INPUT
+
+
+def _sigterm(signum, frame):
+    raise KeyboardInterrupt
+
+
+def cmd_run(args) -> int:
+    from . import scene as scn
+    from .build import build
+    from .output import ResultsFolder, check_out_dir, write_all
+    from .run import simulate
+
+    scene = scn.load(args.scene, args.set)
+    out = Path(args.out) if args.out else Path("results") / scene.name
+    check_out_dir(out, args.force)
+    sim = build(scene)
+    inject = os.environ.get("FPD_INJECT_NAN_AT_STEP")
+    folder = ResultsFolder(out)
+    try:
+        progress = not args.quiet and sys.stderr.isatty()
+        vtk = None
+        if scene["output"]["vtk_every"] > 0:
+            from .vtk_output import VTKSeries
+            vtk = VTKSeries(folder.subdir("vtk"), sim)
+        result = simulate(sim, progress=progress, every=scene["output"]["csv_every"],
+                          inject_failure_at=int(inject) if inject else None,
+                          on_frame=vtk.frame if vtk else None,
+                          frame_every=scene["output"]["vtk_every"])
+        if vtk:
+            vtk.close()
+        solver = scene["solver"]
+        solver.setdefault("duration", sim.n_steps * sim.dt)
+        s = write_all(folder, scene, result, sim, plots=scene["output"]["plots"])
+        if vtk and scene["output"]["plots"]:
+            vtk.hottest_pictures(folder.subdir("plots"))
+    except BaseException:
+        folder.discard()
+        raise
+    folder.commit()
+    if not args.quiet:
+        _report(s, out)
+    if result.status == "failed":
+        sys.stderr.write(f"fpd: {result.message}; history up to then kept in {out}\n")
+        return EXIT_FAILED
+    if result.status == "interrupted":
+        sys.stderr.write(f"fpd: {result.message}; history up to then kept in {out}\n")
+        return EXIT_INTERRUPTED
+    return EXIT_OK
+
+
+def _report(s: dict, out: Path) -> None:
+    parts = [f"{s['scene']}: {s['status']}, {s['steps']} steps in {s['runtime_s']:.2f} s"]
+    if "peak_u_m" in s and s["peak_u_m"] is not None:
+        parts.append(f"peak u {1e3 * s['peak_u_m']:.1f} mm, residual {1e3 * s['residual_u_m']:.1f} mm")
+        parts.append(f"friction work {(s['friction_work_J']['lower'] + s['friction_work_J']['upper']) / 1e3:.2f} kJ")
+        parts.append(f"energy residual {s['energy_residual_rel']:.1e}")
+    if "peak_T1_C" in s:
+        parts.append(f"peak T {s['peak_T1_C']:.1f} / {s['peak_T2_C']:.1f} C")
+    print("; ".join(parts))
+    print(f"results in {out}/")
+
+
+def cmd_check(args) -> int:
+    from . import scene as scn
+    scene = scn.load(args.scene, args.set)
+    if scene["loading"]["kind"] == "record":
+        from .build import build
+        build(scene)  # reads and checks the record too
+    sys.stdout.write(scn.to_toml(scene))
+    return EXIT_OK
+
+
+def cmd_scenes(args) -> int:
+    from . import scene as scn
+    for name in scn.packaged_scenes():
+        try:
+            raw = scn.read_toml(scn.SCENES_DIR / f"{name}.toml")
+            desc = raw.get("description", "")
+        except scn.SceneError:
+            desc = "(unreadable)"
+        print(f"{name:24s} {desc}")
+    return EXIT_OK
+
+
+def main(argv=None) -> int:
+    args = _parser().parse_args(argv)
+    if args.cmd is None:
+        _parser().print_help()
+        return EXIT_INPUT
+    signal.signal(signal.SIGTERM, _sigterm)
+    from mechanics.ground_motion import RecordError
+
+    from .scene import SceneError
+    try:
+        handler = {"run": cmd_run, "check": cmd_check, "scenes": cmd_scenes}.get(args.cmd)
+        if handler is None:
+            # coupling/studies.py: cmd_compare, cmd_converge, cmd_stability;
+            # coupling/render.py: cmd_render (imported only when asked for)
+            import importlib
+            module = importlib.import_module(".render" if args.cmd == "render" else ".studies", __package__)
+            handler = getattr(module, f"cmd_{args.cmd}")
+        return handler(args)
+    except (SceneError, RecordError) as exc:
+        return _input_error(str(exc))
+    except KeyboardInterrupt:
+        sys.stderr.write("fpd: interrupted\n")
+        return EXIT_INTERRUPTED
+
+
+if __name__ == "__main__":
+    sys.exit(main())

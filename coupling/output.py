@@ -1,0 +1,159 @@
+"""Results folders: written atomically, complete even after a failure.
+
+Everything goes into a temporary folder beside DIR that is renamed into place
+at the end; with --force the old DIR is kept until the new one is complete.
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from mechanics.seated import PHASES
+
+from .scene import Scene, SceneError, to_toml
+
+VERSION = "0.1.0"
+
+
+def check_out_dir(out: Path, force: bool) -> None:
+    if out.exists() and not out.is_dir():
+        raise SceneError(f"{out}: exists and is not a folder (--out)")
+    if out.exists() and any(out.iterdir()) and not force:
+        raise SceneError(f"{out}: results folder exists and is not empty; use --force to replace it")
+
+
+class ResultsFolder:
+    """A temporary folder beside ``out``; ``commit()`` moves it into place."""
+
+    def __init__(self, out: Path):
+        self.out = Path(out)
+        self.out.parent.mkdir(parents=True, exist_ok=True)
+        self.tmp = self.out.parent / f".{self.out.name}.partial-{os.getpid()}"
+        if self.tmp.exists():
+            shutil.rmtree(self.tmp)
+        self.tmp.mkdir()
+
+    def path(self, *parts) -> Path:
+        """A file path inside the folder (its parent created)."""
+        p = self.tmp.joinpath(*parts)
+        p.parent.mkdir(parents=True, exist_ok=True)
+        return p
+
+    def subdir(self, name: str) -> Path:
+        p = self.tmp / name
+        p.mkdir(parents=True, exist_ok=True)
+        return p
+
+    def commit(self) -> Path:
+        old = None
+        if self.out.exists():
+            old = self.out.parent / f".{self.out.name}.old-{os.getpid()}"
+            os.replace(self.out, old)
+        os.replace(self.tmp, self.out)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+        return self.out
+
+    def discard(self) -> None:
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+
+def write_csv(path: Path, result) -> None:
+    """timeseries.csv: one row per recorded step, units in the column names."""
+    cols = result.columns
+    data = result.data
+    fmts = []
+    for c in cols:
+        fmts.append("%s" if c == "phase" else "%.10g")
+    with open(path, "w", newline="") as fh:
+        fh.write(",".join(cols) + "\n")
+        if "phase" in cols:
+            j = cols.index("phase")
+            names = np.array(PHASES, dtype=object)[np.nan_to_num(data[:, j]).astype(int)]
+            obj = data.astype(object)
+            obj[:, j] = names
+            np.savetxt(fh, obj, fmt=fmts, delimiter=",")
+        else:
+            np.savetxt(fh, data, fmt="%.10g", delimiter=",")
+
+
+def _f(x):
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def summary(scene: Scene, result, sim) -> dict:
+    d = scene.data
+    s = {"status": result.status, "message": result.message, "scene": scene.name,
+         "models": {"mechanics": d["mechanics"]["model"] if sim.mechanics else "none",
+                    "thermal_lower": d["thermal"]["lower"]["model"],
+                    "thermal_upper": d["thermal"]["upper"]["model"],
+                    "friction_lower": d["friction"]["lower"]["law"],
+                    "friction_upper": d["friction"]["upper"]["law"],
+                    "coupling": d["coupling"]["scheme"]},
+         "steps": int(getattr(result, "steps", result.n_rows - 1)),
+         "dt_s": sim.dt, "runtime_s": result.runtime_s, "version": VERSION}
+    if result.n_rows == 0:
+        return s
+    if "u_m" in result:
+        u = result["u_m"]
+        s["peak_u_m"] = _f(np.max(np.abs(u)))
+        s["residual_u_m"] = _f(u[-1])
+        s["peak_F_N"] = _f(np.max(np.abs(result["F_N"])))
+        s["friction_work_J"] = {"lower": _f(result["W1_J"][-1]), "upper": _f(result["W2_J"][-1])}
+        e_in = result["E_input_J"][-1]
+        out = result["E_kin_J"][-1] + result["E_pot_J"][-1] + result["W1_J"][-1] + result["W2_J"][-1]
+        if "E_reseat_J" in result:
+            out += result["E_reseat_J"][-1]
+            s["reseat_loss_J"] = _f(result["E_reseat_J"][-1])
+        s["input_work_J"] = _f(e_in)
+        s["energy_residual_rel"] = _f(abs(e_in - out) / abs(e_in)) if e_in else 0.0
+    if "T1_C" in result:
+        s["peak_T1_C"] = _f(np.max(result["T1_C"]))
+        s["peak_T2_C"] = _f(np.max(result["T2_C"]))
+        s["heat"] = heat_ledger(result, sim)
+        s["heat_residual_rel"] = s["heat"]["residual_rel"]
+    if "mu1" in result:
+        s["min_mu1"] = _f(np.min(result["mu1"]))
+        s["min_mu2"] = _f(np.min(result["mu2"]))
+    if d["coupling"]["scheme"] == "iterated":
+        s["coupling_iterations"] = {"total": int(result.iterations), "max_per_step": int(result.max_iterations)}
+    s.update(result.info)
+    return s
+
+
+def heat_ledger(result, sim) -> dict:
+    """Per plate: heat delivered = stored + lost; friction work x share = delivered."""
+    out = {"plates": {}}
+    worst = 0.0
+    for i, (side, plate) in enumerate(zip(("lower", "upper"), result.plates)):
+        if plate is None:
+            continue
+        q_in, st, lo = plate.heat_in(), plate.stored_heat(), plate.heat_lost()
+        res = abs(q_in - st - lo) / q_in if q_in else abs(st - lo)
+        entry = {"heat_in_J": q_in, "stored_J": st, "lost_J": lo, "residual_rel": res}
+        if sim.mechanics is not None and result.status == "ok":
+            W = result[f"W{i + 1}_J"][-1] * sim.plate_params[i].heat_share
+            entry["friction_heat_J"] = W
+            entry["work_vs_heat_rel"] = abs(W - q_in) / W if W else abs(q_in)
+            res = max(res, entry["work_vs_heat_rel"])
+        worst = max(worst, res)
+        out["plates"][side] = entry
+    out["residual_rel"] = worst
+    return out
+
+
+def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = True) -> dict:
+    write_csv(folder.path("timeseries.csv"), result)
+    folder.path("scene.toml").write_text(to_toml(scene))
+    s = summary(scene, result, sim)
+    if plots and result.n_rows > 1:
+        from .plots import make_plots
+        s["plots"] = make_plots(folder.subdir("plots"), result, scene)
+    folder.path("summary.json").write_text(json.dumps(s, indent=2) + "\n")
+    return s

@@ -1,0 +1,216 @@
+"""The staggered thermo-mechanical loop (model.md section 5).
+
+Per step: mu_i(T_i^n) -> mechanics step -> friction work of each interface
+and footprint position -> thermal step of each plate -> T_i^{n+1}.
+``iterated`` repeats the step (every model restored exactly from its
+snapshot) with mu evaluated at the new temperatures until they change by less
+than tol_K.
+"""
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+import numpy as np
+
+from mechanics.seated import PHASES
+
+from .build import Simulation
+
+# canonical column order (interface.md); extra diagnostic columns follow
+CANONICAL = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad", "s1_m", "s2_m",
+             "N1_N", "N2_N", "mu1", "mu2", "T1_C", "T2_C", "W1_J", "W2_J", "phase", "E_input_J",
+             "E_kin_J", "E_pot_J", "E_reseat_J", "E_stored_J", "E_air_J")
+
+
+class NumericalFailure(RuntimeError):
+    def __init__(self, step: int, t: float, what: str):
+        super().__init__(f"numerical failure at step {step} (t = {t:.6g} s): {what}")
+        self.step, self.t, self.what = step, t, what
+
+
+class Interrupted(RuntimeError):
+    pass
+
+
+class Result:
+    """A run's history (numpy columns) and its bookkeeping."""
+
+    def __init__(self, columns, data, status="ok", message="", runtime_s=0.0, iterations=0,
+                 max_iterations=0, plates=(None, None), info=None):
+        self.columns = list(columns)
+        self.data = data
+        self.status = status
+        self.message = message
+        self.runtime_s = runtime_s
+        self.iterations = iterations
+        self.max_iterations = max_iterations
+        self.plates = plates
+        self.info = info or {}
+
+    def __getitem__(self, name) -> np.ndarray:
+        return self.data[:, self.columns.index(name)]
+
+    def __contains__(self, name) -> bool:
+        return name in self.columns
+
+    @property
+    def n_rows(self) -> int:
+        return self.data.shape[0]
+
+
+class _Progress:
+    def __init__(self, total_steps: int, dt: float, enabled: bool):
+        self.total, self.dt, self.enabled = total_steps, dt, enabled
+        self.t0 = self.last = time.perf_counter()
+
+    def update(self, n: int):
+        now = time.perf_counter()
+        if not self.enabled or now - self.last < 0.25:
+            return
+        self.last = now
+        frac = n / self.total
+        eta = (now - self.t0) * (1 - frac) / max(frac, 1e-9)
+        bar = "#" * int(30 * frac)
+        sys.stderr.write(f"\r[{bar:<30}] {100 * frac:5.1f}%  t = {n * self.dt:.3f} s  eta {eta:.0f} s ")
+        sys.stderr.flush()
+
+    def close(self):
+        if self.enabled:
+            sys.stderr.write("\r" + " " * 70 + "\r")
+            sys.stderr.flush()
+
+
+def _columns(sim: Simulation):
+    mech_cols = list(sim.mechanics.columns) if sim.mechanics else ["t_s"]
+    heat = any(p is not None for p in sim.plates)
+    cols = list(mech_cols)
+    if sim.mechanics:
+        cols += ["mu1", "mu2"]
+    if heat:
+        cols += ["T1_C", "T2_C", "E_stored_J", "E_air_J"]
+    order = [c for c in CANONICAL if c in cols] + [c for c in cols if c not in CANONICAL]
+    return cols, order
+
+
+def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_failure_at: int | None = None,
+             on_frame=None, frame_every: int = 0) -> Result:
+    """Run the scene's loop; never raises for numerical failure or Ctrl-C:
+    the Result carries ``status`` and the history computed so far."""
+    mech = sim.mechanics
+    p1, p2 = sim.plates
+    law1, law2 = sim.laws
+    dt, N = sim.dt, sim.n_steps
+    sub = sim.substeps
+    cpl = sim.scene["coupling"]
+    iterated = cpl["scheme"] == "iterated"
+    tol, max_iter = cpl["tol_K"], cpl["max_iter"]
+    eta1, eta2 = sim.plate_params[0].heat_share, sim.plate_params[1].heat_share
+    Tair1, Tair2 = sim.plate_params[0].T0_C, sim.plate_params[1].T0_C
+    area = sim.geometry.contact_area
+    cols, order = _columns(sim)
+    n_rows = N // every + 1 + (1 if N % every else 0)
+    buf = np.full((n_rows, len(cols)), np.nan)
+    heat = p1 is not None or p2 is not None
+    T1 = p1.surface_temperature() if p1 else Tair1
+    T2 = p2.surface_temperature() if p2 else Tair2
+    mu1 = mu2 = 0.0
+
+    def thermal_row():
+        st = (p1.stored_heat() if p1 else 0.0) + (p2.stored_heat() if p2 else 0.0)
+        lo = (p1.heat_lost() if p1 else 0.0) + (p2.heat_lost() if p2 else 0.0)
+        return (T1, T2, st, lo)
+
+    def row(n):
+        r = mech.values() + (mu1, mu2) if mech else (n * dt,)
+        return r + thermal_row() if heat else r
+
+    if mech:
+        mu1 = law1(T1, mech.N1 / area, 0.0)
+        mu2 = law2(T2, mech.N2 / area, 0.0)
+    buf[0] = row(0)
+    k = 1
+    status, message = "ok", ""
+    total_iter, worst_iter = 0, 0
+    bar = _Progress(N, dt, progress)
+    c1_old = c2_old = 0.0
+    t_start = time.perf_counter()
+    n = 0
+    try:
+        for n in range(1, N + 1):
+            if mech is None:                                   # thermal-only scene
+                P1, P2 = sim.heat_power
+                for _ in range(sub):
+                    if p1:
+                        T1 = p1.step(P1, 0.0)
+                    if p2:
+                        T2 = p2.step(P2, 0.0)
+            else:
+                snaps = (mech.save(), p1.save() if p1 else None, p2.save() if p2 else None) if iterated else None
+                Tg1, Tg2 = T1, T2
+                it = 0
+                while True:
+                    it += 1
+                    mu1 = law1(Tg1, mech.N1 / area, mech.slip_v1)
+                    mu2 = law2(Tg2, mech.N2 / area, mech.slip_v2)
+                    dW1, dW2 = mech.step(mu1, mu2)
+                    if heat:
+                        c1, c2 = mech.s1, -mech.s2
+                        P1, P2 = eta1 * dW1 / dt, eta2 * dW2 / dt
+                        if sub == 1:
+                            T1n = p1.step(P1, c1) if p1 else T1
+                            T2n = p2.step(P2, c2) if p2 else T2
+                        else:
+                            for j in range(1, sub + 1):
+                                w = j / sub
+                                T1n = p1.step(P1, c1_old + w * (c1 - c1_old)) if p1 else T1
+                                T2n = p2.step(P2, c2_old + w * (c2 - c2_old)) if p2 else T2
+                    else:
+                        T1n, T2n = T1, T2
+                    if not iterated or (abs(T1n - Tg1) <= tol and abs(T2n - Tg2) <= tol):
+                        break
+                    if it >= max_iter:
+                        raise NumericalFailure(n, n * dt, f"iterated coupling did not converge in {max_iter} "
+                                                          f"iterations (|dT| = {max(abs(T1n - Tg1), abs(T2n - Tg2)):.3g} K > tol_K = {tol:g})")
+                    mech.restore(snaps[0])
+                    if p1:
+                        p1.restore(snaps[1])
+                    if p2:
+                        p2.restore(snaps[2])
+                    Tg1, Tg2 = T1n, T2n
+                total_iter += it
+                worst_iter = max(worst_iter, it)
+                T1, T2 = T1n, T2n
+                if heat:
+                    c1_old, c2_old = mech.s1, -mech.s2
+                if inject_failure_at is not None and n == inject_failure_at:
+                    # poison the state (tests of the failure path): every float of the snapshot
+                    mech.restore(tuple(float("nan") if isinstance(x, float) else x for x in mech.save()))
+            if n % every == 0 or n == N or n == inject_failure_at:
+                r = row(n)
+                if not math.isfinite(sum(r)):
+                    bad = [c for c, x in zip(cols, r) if not math.isfinite(x)]
+                    raise NumericalFailure(n, n * dt, "non-finite " + ", ".join(bad))
+                if k < n_rows:
+                    buf[k] = r
+                    k += 1
+                if on_frame is not None and frame_every and n % frame_every == 0:
+                    on_frame(n, sim)
+            if n % 2048 == 0:
+                bar.update(n)
+    except NumericalFailure as exc:
+        status, message = "failed", str(exc)
+    except KeyboardInterrupt:
+        status, message = "interrupted", f"interrupted at step {n} (t = {n * dt:.6g} s)"
+    bar.close()
+    runtime = time.perf_counter() - t_start
+    idx = [cols.index(c) for c in order]
+    data = buf[:k][:, idx]
+    res = Result(order, data, status, message, runtime, total_iter, worst_iter, (p1, p2), dict(sim.info))
+    res.steps = n if status == "ok" else n - 1
+    return res
+
+
+def phase_names(codes: np.ndarray) -> list[str]:
+    return [PHASES[int(c)] for c in codes]

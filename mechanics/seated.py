@@ -1,0 +1,228 @@
+"""The seated reference model (model.md section 2): one DOF theta.
+
+    I theta'' + S a_g cos(theta) + S g sin(theta) = -(mu1 N1 R1 + mu2 N2 R2) sgn(theta')
+    N2 = M (g cos(theta) - a_g sin(theta) + L theta'^2)
+    N1 = N2 + m (g cos(theta) - a_g sin(theta) + rho theta'^2)
+
+with I = M L^2 + m rho^2 + J and S = M L + m rho (mechanics.geometry).
+
+Time stepping (docs/model.md, "Seated model: discretisation"): a Moreau-type
+scheme. Friction enters as an impulse with lambda in Sgn(theta'_{n+1}), so a
+step either sticks exactly (theta' = 0, no chatter, no regularisation) or
+slides with the full cap; positions advance with the trapezoidal rule and
+gravity is evaluated by the discrete gradient sin(theta_m) sinc(dtheta / 2),
+so that the potential energy change of a step is exact. Second order while
+sliding, first order at stick-slip transitions.
+
+Energies are those of the ground frame (relative energy formulation):
+E_input is the work of the ground acceleration's d'Alembert forces through
+the relative motion, E_kin = I theta'^2 / 2, E_pot = S g (1 - cos theta).
+"""
+from __future__ import annotations
+
+import math
+
+from .geometry import DeviceGeometry
+
+PHASES = ("stick", "slip", "tilt")
+STICK, SLIP, TILT = 0, 1, 2
+
+SEATED_COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
+                  "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J", "phase",
+                  "E_input_J", "E_kin_J", "E_pot_J")
+
+
+class _SeatedBase:
+    columns = SEATED_COLUMNS
+
+    def __init__(self, geom: DeviceGeometry, dt: float, n_steps: int):
+        self.geom = geom
+        self.dt = dt
+        self.n_steps = n_steps
+        self.n = 0
+        self.t = 0.0
+        self.theta = 0.0
+        self.thetad = 0.0
+        self.F = 0.0
+        self.N1 = self.N2 = geom.mass * geom.g
+        self.N1 += geom.pad_mass * geom.g
+        self.W1 = self.W2 = 0.0
+        self.E_in = 0.0
+        self.phase = STICK
+        self.slip_v1 = self.slip_v2 = 0.0
+        # constants as plain floats for the hot loop
+        self._I, self._S = geom.I, geom.S
+        self._L, self._M, self._m = geom.L, geom.mass, geom.pad_mass
+        self._rho, self._g = geom.rho, geom.g
+        self._R1, self._R2 = geom.R1, geom.friction_radius2
+
+    # -- derived outputs ---------------------------------------------------
+    @property
+    def s1(self) -> float:
+        """Arc position of the footprint on the lower plate, R1 theta (m)."""
+        return self._R1 * self.theta
+
+    @property
+    def s2(self) -> float:
+        """Arc slid on the upper plate, R2 theta (m) (0 for the SFP)."""
+        return self._R2 * self.theta
+
+    @property
+    def u(self) -> float:
+        return self._L * math.sin(self.theta)
+
+    @property
+    def E_kin(self) -> float:
+        return 0.5 * self._I * self.thetad ** 2
+
+    @property
+    def E_pot(self) -> float:
+        return self._S * self._g * (1.0 - math.cos(self.theta))
+
+    def ledger_residual(self) -> float:
+        """E_input - (E_kin + E_pot + W1 + W2) (J)."""
+        return self.E_in - (self.E_kin + self.E_pot + self.W1 + self.W2)
+
+    def save(self):
+        return (self.n, self.t, self.theta, self.thetad, self.F, self.N1, self.N2,
+                self.W1, self.W2, self.E_in, self.phase, self.slip_v1, self.slip_v2)
+
+    def restore(self, snap) -> None:
+        (self.n, self.t, self.theta, self.thetad, self.F, self.N1, self.N2,
+         self.W1, self.W2, self.E_in, self.phase, self.slip_v1, self.slip_v2) = snap
+
+    def values(self) -> tuple:
+        th, L = self.theta, self._L
+        return (self.t, self.xg(), L * math.sin(th), L * math.cos(th) * self.thetad,
+                self.F, L * (1.0 - math.cos(th)), th, self._R1 * th, self._R2 * th,
+                self.N1, self.N2, self.W1, self.W2, self.phase, self.E_in,
+                0.5 * self._I * self.thetad ** 2,
+                self._S * self._g * (1.0 - math.cos(th)))
+
+
+class SeatedStepper(_SeatedBase):
+    """Seated DFP/SFP under an imposed ground motion (mechanics.ground_motion.GroundMotion)."""
+
+    def __init__(self, geom: DeviceGeometry, ground, iterations: int = 3):
+        super().__init__(geom, ground.dt, ground.n_steps)
+        self.ground = ground
+        self._a_step = ground.a_step.tolist()  # list indexing beats numpy scalars
+        self._xg = ground.d
+        self._iters = iterations
+
+    def xg(self) -> float:
+        return float(self._xg[self.n])
+
+    def step(self, mu1: float, mu2: float) -> tuple[float, float]:
+        dt, I, S, g = self.dt, self._I, self._S, self._g
+        L, M, m, rho, R1, R2 = self._L, self._M, self._m, self._rho, self._R1, self._R2
+        a = self._a_step[self.n]
+        th0, v0 = self.theta, self.thetad
+        half = 0.5 * dt * v0            # predictor of dtheta / 2
+        v1 = v0
+        for _ in range(self._iters):
+            thm = th0 + half
+            c, s = math.cos(thm), math.sin(thm)
+            vm = 0.5 * (v0 + v1)
+            N2 = M * (g * c - a * s + L * vm * vm)
+            N1 = N2 + m * (g * c - a * s + rho * vm * vm)
+            cap = mu1 * N1 * R1 + mu2 * N2 * R2
+            sinc = math.sin(half) / half if abs(half) > 1e-7 else 1.0 - half * half / 6.0
+            drive = -S * (a * c + g * s * sinc)
+            v_free = v0 + dt * drive / I
+            imp = dt * cap / I
+            if abs(v_free) <= imp:
+                v1 = 0.0
+            else:
+                v1 = v_free - math.copysign(imp, v_free)
+            half = 0.25 * dt * (v0 + v1)
+        dth = 2.0 * half
+        thm = th0 + half
+        c, s = math.cos(thm), math.sin(thm)
+        thdd = (v1 - v0) / dt
+        # horizontal force of the bearing on the superstructure, against u
+        self.F = -M * (a + L * (c * thdd - s * (0.5 * (v0 + v1)) ** 2))
+        self.theta = th0 + dth
+        self.thetad = v1
+        self.N1, self.N2 = N1, N2
+        adth = abs(dth)
+        dW1 = mu1 * N1 * R1 * adth
+        dW2 = mu2 * N2 * R2 * adth
+        self.W1 += dW1
+        self.W2 += dW2
+        self.E_in -= S * a * c * dth
+        self.phase = SLIP if dth != 0.0 else STICK
+        self.slip_v1 = R1 * adth / dt
+        self.slip_v2 = R2 * adth / dt
+        self.n += 1
+        self.t = self.n * dt
+        return dW1, dW2
+
+
+class SeatedTestMachine(_SeatedBase):
+    """Seated DFP/SFP in a bearing-test machine: the relative displacement
+    u(t) is imposed (mechanics.ground_motion.DisplacementProgramme), the
+    superstructure is held horizontally and rides up and down under its
+    weight. F_N is the horizontal force of the restraint, from
+
+        F L cos(theta) = I theta'' - S u'' cos(theta) + S g sin(theta) + cap sgn(theta')
+
+    with the normal forces increased by the restraint's axial share F sin(theta).
+    """
+
+    def __init__(self, geom: DeviceGeometry, programme):
+        super().__init__(geom, programme.dt, programme.n_steps)
+        self.prog = programme
+        self._u = programme.u.tolist()
+        self._ud = programme.ud.tolist()
+        self._udd = programme.udd.tolist()
+        self.theta = math.asin(self._u[0] / self._L)
+        self.thetad = self._ud[0] / (self._L * math.cos(self.theta))
+        # the machine launches the programme with u'(0) != 0: that energy is input
+        self.E_in = self.E_kin + self.E_pot
+
+    def xg(self) -> float:
+        return -self._u[self.n]
+
+    def _state_at(self, i: int, mu1: float, mu2: float, sgn: float):
+        """theta, theta', F, N1, N2 at grid point i (u'' known)."""
+        L, I, S, g, M, m, rho = self._L, self._I, self._S, self._g, self._M, self._m, self._rho
+        u, ud, udd = self._u[i], self._ud[i], self._udd[i]
+        th = math.asin(u / L)
+        c, s = math.cos(th), math.sin(th)
+        thd = ud / (L * c)
+        thdd = (udd + L * s * thd * thd) / (L * c)
+        N2_0 = M * (g * c + udd * s + L * thd * thd)
+        N1_0 = N2_0 + m * (g * c + udd * s + rho * thd * thd)
+        cap0 = mu1 * N1_0 * self._R1 + mu2 * N2_0 * self._R2
+        k = mu1 * self._R1 + mu2 * self._R2
+        A = I * thdd - S * udd * c + S * g * s
+        F = (A + sgn * cap0) / (L * c - sgn * s * k)
+        return th, thd, thdd, F, N1_0 + F * s, N2_0 + F * s, c
+
+    def step(self, mu1: float, mu2: float) -> tuple[float, float]:
+        i0, i1 = self.n, self.n + 1
+        th0 = self.theta
+        th1 = math.asin(self._u[i1] / self._L)
+        dth = th1 - th0
+        sgn = 1.0 if dth > 0 else (-1.0 if dth < 0 else 0.0)
+        # friction work with the normal forces averaged over the step
+        _, _, _, Fa, N1a, N2a, ca = self._state_at(i0, mu1, mu2, sgn)
+        th, thd, thdd, F, N1, N2, c = self._state_at(i1, mu1, mu2, sgn)
+        adth = abs(dth)
+        dW1 = mu1 * 0.5 * (N1a + N1) * self._R1 * adth
+        dW2 = mu2 * 0.5 * (N2a + N2) * self._R2 * adth
+        # ground-frame input: the restraint's generalised force plus the
+        # d'Alembert force of the moving lower plate (trapezoidal in theta)
+        Q0 = (Fa * self._L + self._S * self._udd[i0]) * ca
+        Q1 = (F * self._L + self._S * self._udd[i1]) * c
+        self.E_in += 0.5 * (Q0 + Q1) * dth
+        self.theta, self.thetad, self.F, self.N1, self.N2 = th, thd, F, N1, N2
+        self.W1 += dW1
+        self.W2 += dW2
+        self.phase = SLIP if dth != 0.0 else STICK
+        self.slip_v1 = self._R1 * adth / self.dt
+        self.slip_v2 = self._R2 * adth / self.dt
+        self.n = i1
+        self.t = i1 * self.dt
+        return dW1, dW2
