@@ -153,6 +153,46 @@ def rocking_acceleration(I_P: float, X: float, Z: float, a_g: float, g: float) -
     return (Z * a_g - X * g) / I_P
 
 
+def rocking_threshold(geom: DeviceGeometry, theta: float = 0.0) -> float:
+    """Ground acceleration (m/s2) beyond which a stuck pad, seated at theta,
+    rocks on its trailing corner A: g X0 / Z0 of Eq. (7), ~ (2a/h) g."""
+    _, X0, Z0 = pivot_chain(geom, theta, DIAGONAL_AC)[:3]
+    return geom.g * X0 / Z0
+
+
+def sliding_threshold(geom: DeviceGeometry, mu1: float, mu2: float) -> float:
+    """Ground acceleration (m/s2) beyond which the centred device at rest
+    slides: S a = mu1 N1 R1 + mu2 N2 R2 (the stick trial's bound)."""
+    N1, N2 = seated_normal_forces(geom, 0.0, 0.0, 0.0)
+    return (mu1 * N1 * geom.R1 + mu2 * N2 * geom.R2) / geom.S
+
+
+def leading_corner_tipping_ratio(geom: DeviceGeometry, mu1: float, mu2: float) -> float:
+    """Overturning over restoring moment of a sliding pad about its leading
+    bottom corner (B for motion to +x): the capped friction F_c at the height
+    h' of the top corners against the vertical load over the width 2a,
+    F_c h' / (N2 2a). Above 1 the friction couple would tip the sliding pad
+    forwards, which this model (pivot on the trailing corner) does not
+    represent. It exceeds 1 exactly when a stuck pad can rock at all
+    (rocking_threshold < sliding_threshold): docs/two_phase.md section 6."""
+    N1, N2 = seated_normal_forces(geom, 0.0, 0.0, 0.0)
+    F_c = (mu1 * N1 * geom.R1 + mu2 * N2 * geom.R2) / geom.L
+    c = geom.pad_corners_body()
+    return F_c * (c["C"][1] - c["A"][1]) / (N2 * 2.0 * geom.a)
+
+
+def two_phase_validity_errors(geom: DeviceGeometry, mu1: float, mu2: float) -> list:
+    """Reasons the two-phase model does not describe this device and friction,
+    as (key, value, what is allowed), after geometry_errors()."""
+    out = []
+    ratio = leading_corner_tipping_ratio(geom, mu1, mu2)
+    if ratio >= 1.0:
+        out.append(("friction.mu", max(mu1, mu2),
+                    f"small enough that the friction couple cannot tip the sliding pad "
+                    f"on its leading corner (F_c h' / (N 2a) = {ratio:.3g} >= 1)"))
+    return out
+
+
 class TwoPhaseStepper:
     """Paper's two-phase stepper; implements the Stepper protocol (architecture.md).
 

@@ -16,8 +16,9 @@ from mechanics.geometry import DeviceGeometry
 from mechanics.ground_motion import GroundMotion
 from mechanics.phases import DIAGONAL_AC, DIAGONAL_BD, PHASES, SLIP, STICK, TILT
 from mechanics.two_phase import (
-    COLUMNS, TwoPhaseStepper, corner_pivot_rotation, pivot_chain,
-    rocking_acceleration, seated_normal_forces,
+    COLUMNS, TwoPhaseStepper, corner_pivot_rotation, leading_corner_tipping_ratio,
+    pivot_chain, rocking_acceleration, rocking_threshold, seated_normal_forces,
+    sliding_threshold, two_phase_validity_errors,
 )
 from tests.records_helper import elcentro, harmonic, pulse
 from mechanics.seated import SeatedStepper
@@ -265,6 +266,26 @@ def test_rocking_starts_only_beyond_the_restoring_moment():
             if expect == TILT:
                 assert np.sign(h[-1, COL["beta1_rad"]]) == sign
                 assert h[-1, COL["diagonal"]] == (DIAGONAL_AC if sign > 0 else DIAGONAL_BD)
+
+
+def test_validity_flags_pads_the_friction_couple_would_tip():
+    assert two_phase_validity_errors(DEVICE, MU, MU) == []
+    (key, value, allowed), = two_phase_validity_errors(TALL_PAD, 0.6, 0.6)
+    assert key == "friction.mu" and value == 0.6 and ">= 1" in allowed
+
+
+@pytest.mark.parametrize("R, h, D", [(2.2, 0.10, 0.25), (2.2, 0.50, 0.10),
+                                     (1.0, 0.50, 0.10), (3.0, 1.00, 0.10)])
+def test_a_stuck_pad_can_rock_only_where_a_sliding_pad_would_tip(R, h, D):
+    """Rocking from stick needs a > rocking_threshold while the cap holds
+    (a < sliding_threshold); that is the same condition, to the pad's weight,
+    as the friction couple tipping the sliding pad on its leading corner."""
+    geom = DeviceGeometry("DFP", R, R, h, D, 30.0, 1.0e5)
+    for mu in np.linspace(0.02, 0.8, 40):
+        reachable = rocking_threshold(geom) < sliding_threshold(geom, mu, mu)
+        ratio = leading_corner_tipping_ratio(geom, mu, mu)
+        if abs(ratio - 1.0) > 2e-3:
+            assert reachable == (ratio > 1.0), (mu, ratio)
 
 
 def _constant_acceleration(a, dt, duration):
