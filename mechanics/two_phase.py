@@ -279,15 +279,21 @@ class TwoPhaseStepper:
         return self.W1 - W1_0, self.W2 - W2_0
 
     def values(self) -> tuple:
-        g = self
-        u, z, v = self._superstructure_relative()
+        """Current values of ``columns`` (phase and diagonal as int codes)."""
+        s = self
+        u, z, v = s._superstructure_relative()
         return (
-            self._t[self.n], self._d[self.n], u, v, g.F, z, g.theta, g.beta1,
-            self._R1 * g.theta, self._R2 * g.theta, g.N1, g.N2, g.W1, g.W2, g.mode,
-            g.E_input, self.kinetic_energy(), self.potential_energy(), g.E_reseat,
-            g.beta1, g.beta2, g.pad_tilt, g.diagonal, g.ds1, g.ds2, g.Ff1, g.Ff2,
-            g.theta_dot, g.slip1, g.slip2,
+            s._t[s.n], s._d[s.n], u, v, s.F, z, s.theta, s.beta1,
+            s._R1 * s.theta, s._R2 * s.theta, s.N1, s.N2, s.W1, s.W2, s.mode,
+            s.E_input, s.kinetic_energy(), s.potential_energy(), s.E_reseat,
+            s.beta1, s.beta2, s.pad_tilt, s.diagonal, s.ds1, s.ds2, s.Ff1, s.Ff2,
+            s.theta_dot, s.slip1, s.slip2,
         )
+
+    @property
+    def u(self) -> float:
+        """Relative displacement of the superstructure (m)."""
+        return self._superstructure_relative()[0]
 
     _STATE = ("n", "theta", "theta_dot", "mode", "diagonal", "rocking", "beta", "beta_dot",
               "_chain", "W1", "W2", "E_input", "E_reseat", "beta1", "beta2",
@@ -324,16 +330,6 @@ class TwoPhaseStepper:
         """E_input - (E_kin + E_pot + W1 + W2 + E_reseat) (J): the ledger."""
         return self.E_input - (self.kinetic_energy() + self.potential_energy()
                                + self.W1 + self.W2 + self.E_reseat)
-
-    def _horizontal_first_moment(self) -> float:
-        """M x_s + m x_G relative to the ground (kg m): its change times -a_g
-        is the work of the d'Alembert forces."""
-        X = self._S * math.sin(self.theta)
-        if self.rocking:
-            _, X0, Z0 = self._chain[:3]
-            b = self.beta
-            X += (math.cos(b) - 1.0) * X0 - math.sin(b) * Z0
-        return X
 
     def _horizontal_momentum(self) -> float:
         """M v_s + m v_G, horizontal, relative to the ground (kg m/s)."""

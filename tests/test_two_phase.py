@@ -16,7 +16,7 @@ from mechanics.geometry import DeviceGeometry
 from mechanics.ground_motion import GroundMotion
 from mechanics.phases import DIAGONAL_AC, DIAGONAL_BD, PHASES, SLIP, STICK, TILT
 from mechanics.two_phase import (
-    COLUMNS, TwoPhaseStepper, corner_pivot_rotation, leading_corner_tipping_ratio,
+    COLUMNS, PadOverturned, TwoPhaseStepper, corner_pivot_rotation, leading_corner_tipping_ratio,
     pivot_chain, rocking_acceleration, rocking_threshold, seated_normal_forces,
     sliding_threshold, two_phase_validity_errors,
 )
@@ -379,6 +379,12 @@ def test_tall_pad_rocks_under_a_strong_pulse():
     assert peaks[-1] > 0.005                          # finite rocking, not O(dt)
     assert peaks[0] == pytest.approx(peaks[-1], rel=0.02)
     assert min(losses) > 0.0 and losses[0] == pytest.approx(losses[-1], rel=0.05)
+
+
+def test_a_pad_rocked_past_its_tipping_angle_stops_the_run():
+    """0.5 g held for most of a second: beta passes atan(X0 / Z0) ~ 0.2 rad."""
+    with pytest.raises(PadOverturned, match="overturned at t = "):
+        run(TALL_PAD, pulse(1e-3, 0.5 * G, 1.0, 2.0), mu1=0.6, mu2=0.6)
 
 
 def test_squat_pad_does_not_rock_under_the_same_pulse():
