@@ -23,7 +23,7 @@ class LumpedPlate:
         self.H = params.h_conv * area                      # W/K, H_i
         self.T_air = params.T_air_C
         self.T0 = params.T0_C
-        self.T = params.T0_C
+        self.rise = 0.0          # T - T0: kept as a rise so round-off scales with it, not with T
         self._in = 0.0
         self._lost = 0.0
         x = self.H * dt / self.C
@@ -32,21 +32,25 @@ class LumpedPlate:
     def step(self, power_W: float, centre_m: float = 0.0) -> float:
         """Advance dt with power P (W); exact exponential update. Returns T (degC)."""
         if self.H > 0.0:
-            T_eq = self.T_air + power_W / self.H
-            dT = (T_eq - self.T) * self._decay
+            rise_eq = self.T_air - self.T0 + power_W / self.H
+            dT = (rise_eq - self.rise) * self._decay
         else:
             dT = power_W * self.dt / self.C
         q = power_W * self.dt
         self._in += q
         self._lost += q - self.C * dT
-        self.T += dT
-        return self.T
+        self.rise += dT
+        return self.T0 + self.rise
+
+    @property
+    def T(self) -> float:
+        return self.T0 + self.rise
 
     def surface_temperature(self) -> float:
-        return self.T
+        return self.T0 + self.rise
 
     def stored_heat(self) -> float:
-        return self.C * (self.T - self.T0)
+        return self.C * self.rise
 
     def heat_lost(self) -> float:
         return self._lost
@@ -55,10 +59,10 @@ class LumpedPlate:
         return self._in
 
     def save(self):
-        return (self.T, self._in, self._lost)
+        return (self.rise, self._in, self._lost)
 
     def restore(self, snap) -> None:
-        self.T, self._in, self._lost = snap
+        self.rise, self._in, self._lost = snap
 
     def field(self):
         return None
