@@ -508,12 +508,11 @@ def closed_form(scene):
 def richardson(values, ratio=2.0):
     """Order p and extrapolated value of a sequence refined by ``ratio``
     (coarse to fine). p is the least-squares slope of log|v_k - v_k+1|
-    against the level (three or more levels; with three it is the classical
-    log((v1 - v2)/(v2 - v3)) / log(ratio)); the value is extrapolated from
+    against the level (with three levels exactly the classical
+    log((v1 - v2) / (v2 - v3)) / log(ratio)); the limit is extrapolated from
     the two finest, v_n + (v_n - v_n-1) / (ratio^p - 1). Without a
-    convergent sequence (p <= 0.05 or successive differences changing
-    sign... only the two finest are used for the sign) p is returned with the
-    finest value as the reference."""
+    convergent sequence (p <= 0.05, or a zero difference) the finest value
+    is returned as the reference, with p as measured."""
     v = np.asarray(values, float)
     d = np.diff(v)
     if len(v) < 3 or np.any(d == 0):
