@@ -439,6 +439,17 @@ def compare_report(name, cases, rows, missing, ref, val, fast, plots) -> str:
              f"the plate and each passage is slow against the thickness time, i.e. a cycle period well above "
              f"t_H = {val['t_H_s']:.0f} s (slow cycling): then the column under the pad has time to even out "
              f"between passages.")
+    try:
+        from thermal import exact
+        t = cases[0].scene.thermal("lower")
+        ratios = []
+        for tt in (dur, val["t_H_s"], val["t_10pct_s"]):
+            surf = float(exact.slab_flux(0.0, tt, 1.0, t["k"], val["kappa_m2_s"], val["H_m"])[0])
+            ratios.append((tt, surf / float(exact.slab_flux_mean(tt, 1.0, t["rho"], t["c"], val["H_m"]))))
+        L.append("- Closed form (slab, flux in one face, other adiabatic): the heated face runs "
+                 + ", ".join(f"**{r:.3g}** times the plate mean at t = {tt:.0f} s" for tt, r in ratios) + ".")
+    except ImportError:
+        pass
     L.append(f"- Biot number h H / k = {val['biot']:.3g} (< 0.1: the plate is isothermal through its thickness "
              f"in the steady state; it says nothing about the transient above).")
     L.append(f"- This scene lasts {dur:.1f} s = {dur / val['t_H_s']:.3g} t_H: "
