@@ -216,3 +216,18 @@ def test_compare_full(tmp_path):
 @pytest.mark.slow
 def test_stability_full(tmp_path):
     _check_stability(tmp_path / "stab", fast=False)
+
+
+def test_stability_failure_exits_1_and_is_reported(tmp_path, monkeypatch):
+    """A case that breaks a criterion fails the command (exit 1) and the
+    report names it and says why; the folder is still written."""
+    from coupling import stability
+    one = [p for p in stability.catalogue() if p.stem == "velocity-step"]
+    monkeypatch.setattr(stability, "catalogue", lambda: one)
+    monkeypatch.setattr(stability, "MECH_TOL", 1e-15)
+    out = tmp_path / "stab"
+    assert main(["stability", "--out", str(out), "--quiet", "--fast"]) == 1
+    s = json.loads((out / "summary.json").read_text())
+    assert s["failed"] == ["velocity-step"]
+    md = (out / "stability.md").read_text()
+    assert "**FAIL**" in md and "mechanical ledger" in md
