@@ -135,7 +135,7 @@ def test_covered_fraction_is_the_angular_share():
             assert abs(covered_fraction(r, c, a) - inside.mean()) < 1e-4
 
 
-@pytest.mark.parametrize("c", [0.0, 0.013, 0.03, 0.0517, 0.09])
+@pytest.mark.parametrize("c", [0.0, 0.013, 0.03, 0.04, 0.0517, 0.09])
 def test_ring_load_integrates_exactly(c):
     """The nodal ring loads sum to the disk area pi a^2 (footprint inside the
     plate), and match a brute-force quadrature of int f phi_i 2 pi r dr."""
@@ -188,3 +188,20 @@ def test_field_for_vtk():
     pts, cells, T = m.field()
     assert pts.shape == (24, 3) and cells[0][0] == "quad" and cells[0][1].shape == (15, 4)
     assert np.isclose(pts[:, 2].max(), 0.0) and T.shape == (24,)
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=60, deadline=None)
+@given(c=st.floats(0.0, 0.3), a=st.floats(0.005, 0.1), n=st.integers(5, 80),
+       stretch=st.floats(1.0, 1.08))
+def test_ring_load_conserves_area_property(c, a, n, stretch):
+    """Any footprint inside the plate, on any graded top mesh: the ring loads
+    sum to pi a^2 (before the normalisation, which then only fixes round-off)."""
+    h = stretch ** np.arange(n)
+    r = np.concatenate(([0.0], np.cumsum(h))) * (0.4 + 1e-9) / h.sum()
+    top = TopLoad(r, np.column_stack((np.arange(n), np.arange(1, n + 1))))
+    pat = top.pattern(c, a)
+    assert np.all(pat >= -1e-15)
+    assert abs(pat.sum() - math.pi * a * a) < 1e-9 * math.pi * a * a
