@@ -205,3 +205,18 @@ def test_ring_load_conserves_area_property(c, a, n, stretch):
     pat = top.pattern(c, a)
     assert np.all(pat >= -1e-15)
     assert abs(pat.sum() - math.pi * a * a) < 1e-9 * math.pi * a * a
+
+
+def test_hot_loop_calls_no_scikit_fem(monkeypatch):
+    """The moving load comes from the precomputed operator, not an assembly."""
+    import skfem
+
+    m = AxisymPlate(PlateParams(model="axisym", nr=20, nz=8), 1e-2)
+    m.step(1e3, 0.0)
+
+    def boom(*a, **k):
+        raise AssertionError("scikit-fem called in step()")
+    monkeypatch.setattr(skfem.BilinearForm, "assemble", boom)
+    monkeypatch.setattr(skfem.LinearForm, "assemble", boom)
+    for i in range(10):
+        m.step(1e3, 0.01 * i)

@@ -198,3 +198,23 @@ def test_rannacher_restarts_at_every_switch():
         was_on = on
         m.step(5e3, centre)
     assert restarts >= 5 and m.integ.half_steps == 2 * restarts
+
+
+def test_hot_loop_calls_no_scikit_fem(monkeypatch):
+    import skfem
+
+    m = FE1DPlate(PlateParams(model="fe1d", scheme="cn"), 1e-3)
+
+    def boom(*a, **k):
+        raise AssertionError("scikit-fem called in step()")
+    monkeypatch.setattr(skfem.BilinearForm, "assemble", boom)
+    for i in range(10):
+        m.step(1e3 * (i % 2), 0.0)
+
+
+@pytest.mark.parametrize("bad", [dict(back="insulated"), dict(source="moving"), dict(scheme="rk4"),
+                                 dict(k=0.0), dict(n_elements=0), dict(n_elements=1000, grading=1.05)])
+def test_bad_parameters_raise_one_line(bad):
+    with pytest.raises(ValueError) as err:
+        FE1DPlate(PlateParams(model="fe1d", **bad), 1e-3)
+    assert "\n" not in str(err.value)

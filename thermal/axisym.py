@@ -197,8 +197,9 @@ class AxisymPlate:
 
     def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, mesh=None,
                  band_r: float | None = None, rannacher: bool = True):
-        if params.back not in BACKS:
-            raise ValueError(f"thermal.back must be one of {BACKS}, got {params.back!r}")
+        from thermal.fe1d import check_params
+
+        check_params(params)
         self.params = p = params
         self.dt = float(dt)
         if mesh is None:

@@ -52,6 +52,19 @@ def assemble_column(z: np.ndarray, rho_c: float, k: float, area: float):
     return diags(M), diags(K)
 
 
+def check_params(p: PlateParams) -> None:
+    """One clear line for a value the FE models cannot use."""
+    for name in ("k", "rho", "c", "plate_thickness", "plate_radius", "a_contact_m"):
+        if not getattr(p, name) > 0:
+            raise ValueError(f"thermal.{name} must be > 0, got {getattr(p, name)!r}")
+    if not p.h_conv >= 0:
+        raise ValueError(f"thermal.h_conv must be >= 0, got {p.h_conv!r}")
+    if p.back not in BACKS:
+        raise ValueError(f"thermal.back must be one of {BACKS}, got {p.back!r}")
+    if p.source not in SOURCES:
+        raise ValueError(f"thermal.source must be one of {SOURCES}, got {p.source!r}")
+
+
 class ColumnIntegrator(Integrator):
     """The Integrator specialised to the column (same schemes, same ledger):
     the load sits on the surface node, convection and the fixed temperature
@@ -175,10 +188,7 @@ class FE1DPlate:
     """PlateModel of docs/architecture.md on a graded through-thickness column."""
 
     def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, rannacher: bool = True):
-        if params.back not in BACKS:
-            raise ValueError(f"thermal.back must be one of {BACKS}, got {params.back!r}")
-        if params.source not in SOURCES:
-            raise ValueError(f"thermal.source must be one of {SOURCES}, got {params.source!r}")
+        check_params(params)
         self.params = p = params
         self.dt = float(dt)
         self.area = p.contact_area
