@@ -218,3 +218,14 @@ def test_bad_parameters_raise_one_line(bad):
     with pytest.raises(ValueError) as err:
         FE1DPlate(PlateParams(model="fe1d", **bad), 1e-3)
     assert "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("scheme", ["bdf2", "cn", "be"])
+def test_blas_and_numpy_band_products_agree(scheme):
+    p = PlateParams(model="fe1d", n_elements=50, scheme=scheme, back="fixed")
+    a, b = FE1DPlate(p, 0.01), FE1DPlate(p, 0.01)
+    b.integ._use_blas = False
+    for i in range(50):
+        P = 1e4 * (i % 7 < 4)
+        assert abs(a.step(P, 0.0) - b.step(P, 0.0)) < 1e-9
+    assert abs(a.heat_lost() - b.heat_lost()) < 1e-9 * a.heat_in()
