@@ -229,3 +229,22 @@ def test_blas_and_numpy_band_products_agree(scheme):
         P = 1e4 * (i % 7 < 4)
         assert abs(a.step(P, 0.0) - b.step(P, 0.0)) < 1e-9
     assert abs(a.heat_lost() - b.heat_lost()) < 1e-9 * a.heat_in()
+
+
+@pytest.mark.parametrize("scheme,order,bound", [("bdf2", 2.0, 1e-3), ("be", 1.0, 0.1)])
+def test_time_order_through_switch_off(scheme, order, bound):
+    """Flux on for 5 s then off: BDF2 with its conservative load
+    G = 3/2 b^{n+1} - 1/2 b^n stays second order through the switch (the
+    reference is the exact-in-time response, S(10) - S(5) by superposition)."""
+    dts, errs = [0.2, 0.1, 0.05, 0.025], []
+    for dt in dts:
+        p = PlateParams(model="fe1d", n_elements=100, back="adiabatic", scheme=scheme)
+        m = FE1DPlate(p, dt)
+        P = power_of(p)
+        ref = semidiscrete(m, P, 10.0) - semidiscrete(m, P, 5.0)
+        n = int(round(10.0 / dt))
+        for i in range(n):
+            m.step(P if i < n // 2 else 0.0, 0.0)
+        errs.append(abs(m.integ.u[0] - ref[0]))
+    assert abs(rate(dts, errs) - order) < 0.1
+    assert errs[-1] < bound
