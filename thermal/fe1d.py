@@ -96,6 +96,7 @@ class ColumnIntegrator(Integrator):
         super().__init__(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
                          u0, dt, scheme, jump_rtol, rannacher)
         self._q = 0.0
+        self._c23 = None
 
     def _band(self, alpha: float, band: np.ndarray, x: np.ndarray, y=None) -> np.ndarray:
         """alpha B x (+ y, in place, when y is given) for a tridiagonal B in
@@ -165,21 +166,29 @@ class ColumnIntegrator(Integrator):
 
     def _bdf21(self, h: float, q: float) -> None:
         nf, u = self.nf, self.u
-        g = 1.5 * q - 0.5 * self._q
-        rhs = self._band(-2.0 * h / 3.0, self._Ab, u)
+        c23 = self._c23 if self._c23 is not None else self._bdf2_setup(h)
+        rhs = self._band(-c23, self._Ab, u)
         rhs = self._band(1.0 / 3.0, self._Mb, self.du, rhs)
-        rhs[0] += 2.0 * h / 3.0 * g
-        du = self.solver(2.0 * h / 3.0)(rhs[:nf])
-        last_prev = self.du[nf - 1]
+        rhs[0] += c23 * (1.5 * q - 0.5 * self._q)
+        du = self._bdf2_solve(rhs[:nf])
         u[:nf] += du
-        self.du[:nf] = du
-        s = h * self._cb * u[-1]
-        if nf < len(u):
-            s -= self._reaction(1.5 * du[-1] - 0.5 * last_prev, h, u[-2], u[-1])
+        if nf == len(u):
+            last_prev = 0.0
+            self.du = du                    # fresh array from dpttrs: no copy needed
+            s = h * self._cb * u[-1]
+        else:
+            last_prev = self.du[nf - 1]
+            self.du[:nf] = du
+            s = h * self._cb * u[-1] - self._reaction(1.5 * du[-1] - 0.5 * last_prev, h, u[-2], u[-1])
         loss = (2.0 / 3.0) * (s + 0.5 * self.loss_prev)
         self.loss_prev = loss
         self.heat_in += h * q
         self.heat_lost += loss
+
+    def _bdf2_setup(self, h: float) -> float:
+        self._c23 = 2.0 * h / 3.0
+        self._bdf2_solve = self.solver(self._c23)
+        return self._c23
 
     def step_surface(self, q: float) -> None:
         """Advance dt with the power q (W) into the surface node."""
