@@ -150,3 +150,9 @@ def lumped_newton(t, P, H, C, T0, T_air):
         return T0 + P * t / C
     T_inf = T_air + P / H
     return T_inf + (T0 - T_inf) * np.exp(-H * t / C)
+
+
+def halfspace_surface(q, t, k, rho, c):
+    """halfspace_flux_surface with (q, t, k, rho, c) arguments, the spelling
+    benchmarks/run.py uses."""
+    return halfspace_flux_surface(t, q, k, k / (rho * c))
