@@ -246,3 +246,8 @@ def test_benchmark_script_runs(capsys):
     assert per > 0 and abs(err) < 0.5
     n, setup, per, ec, em = mod.bench_axisym(20, 20, steps=20, dt=0.05)
     assert n == 441 and abs(ec) < 0.02 and abs(em) < 0.02
+
+
+def test_degenerate_grading_is_a_clear_error():
+    with pytest.raises(ValueError, match="grading"):
+        AxisymPlate(PlateParams(model="axisym", nz=1000, grading=1.05), 0.1)

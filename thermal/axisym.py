@@ -31,6 +31,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
+from meshes.line import graded_nodes
 from meshes.rz import read_rz_mesh, rz_mesh
 from thermal.params import PlateParams
 from thermal.stepping import Integrator
@@ -206,6 +207,10 @@ class AxisymPlate:
             if p.mesh_file:
                 mesh = read_rz_mesh(p.mesh_file)
             else:
+                dz = np.diff(graded_nodes(p.plate_thickness, p.nz, p.grading))
+                if dz.min() < 1e-9 * p.plate_thickness:
+                    raise ValueError(f"thermal: nz={p.nz} with grading={p.grading} gives a first element "
+                                     f"of {dz.min():.1e} m (< 1e-9 of the thickness); lower the grading")
                 mesh = rz_mesh(p.plate_radius, p.plate_thickness, p.nr, p.nz, p.grading, band_r)
         self.mesh = mesh
         conv_faces = ("top", "outer") + (("bottom",) if p.back == "convection" else ())
