@@ -7,7 +7,6 @@ quads of a graded mesh). Boundaries: ``top`` (z = 0, the sliding face),
 """
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np

@@ -36,7 +36,6 @@ from meshes.rz import read_rz_mesh, rz_mesh
 from thermal.params import PlateParams
 from thermal.stepping import Integrator
 
-BACKS = ("convection", "adiabatic", "fixed")
 NG_FACET = 8          # Gauss points per top facet in the fixed operator
 NG_PIECE = 20         # Gauss points per piece of a partly covered facet
 _GL_FACET = np.polynomial.legendre.leggauss(NG_FACET)
