@@ -260,7 +260,10 @@ class AxisymPlate:
     def _factor(self, gamma: float):
         nf = self._nf
         S = (self.M[:nf, :nf] + gamma * self.A[:nf, :nf]).tocsc()
-        lu = splu(S, permc_spec="MMD_AT_PLUS_A")
+        # SPD: no pivoting and a symmetric ordering keep the fill at the
+        # minimum-degree level (measured ~2x faster solves than the default)
+        lu = splu(S, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                  options=dict(SymmetricMode=True))
         return lu.solve
 
     def _set_footprint(self, centre_m: float) -> None:
