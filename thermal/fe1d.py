@@ -23,7 +23,7 @@ from scipy.linalg import blas, lapack
 
 from meshes.line import line_mesh
 from thermal.params import PlateParams
-from thermal.stepping import Integrator
+from thermal.stepping import START_STEPS, Integrator
 
 BACKS = ("convection", "adiabatic", "fixed")
 SOURCES = ("follow-pad", "fixed-point")
@@ -191,22 +191,32 @@ class ColumnIntegrator(Integrator):
         return self._c23
 
     def step_surface(self, q: float) -> None:
-        """Advance dt with the power q (W) into the surface node."""
+        """Advance dt with the power q (W) into the surface node (schemes and
+        start-up as Integrator.step)."""
         h = self.dt
-        if self.scheme == "bdf2":
-            if self.steps == 0:
-                self.loss_prev = self._be1(h, q)
-            else:
-                self._bdf21(h, q)
-        elif self.scheme == "cn":
-            if self.rannacher and (self.steps == 0 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q))):
-                self._be1(0.5 * h, q)
-                self._be1(0.5 * h, q)
-                self.half_steps += 2
-            else:
-                self._cn1(h, q)
-        else:
+        sch = self.scheme
+        if sch == "be":
             self._be1(h, q)
+        elif self.rannacher and (self._start_left > 0 or self.steps == 0
+                                 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q))):
+            if self.steps == 0 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q)):
+                self._start_left = START_STEPS[sch]
+            self._start_left -= 1
+            nf = self.nf
+            u_before = self.u[:nf].copy()
+            m = self.start_substeps
+            loss = 0.0
+            for _ in range(m):
+                loss += self._be1(h / m, q)
+            self.du[:nf] = self.u[:nf] - u_before
+            self.loss_prev = loss
+            self.half_steps += m
+        elif sch == "cn":
+            self._cn1(h, q)
+        elif self.steps == 0:
+            self.loss_prev = self._be1(h, q)
+        else:
+            self._bdf21(h, q)
         self._q = q
         self.b[0] = q
         self.steps += 1
