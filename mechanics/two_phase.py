@@ -243,6 +243,8 @@ class TwoPhaseStepper:
         self.slip1 = self.slip2 = 0.0  # cumulative sliding path per interface (m)
         self.Ff1 = self.Ff2 = 0.0
         self.F = 0.0
+        # an initial displacement or velocity is energy put in before t = 0
+        self.E_input = self.kinetic_energy() + self.potential_energy()
         a0 = self._a_step[0] if self._a_step else 0.0
         self.N1, self.N2 = seated_normal_forces(geom, self.theta, self.theta_dot, a0)
         self.slip_v1 = self._R1 * abs(self.theta_dot)

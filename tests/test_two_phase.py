@@ -11,8 +11,9 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st_
 
-from mechanics.geometry import DeviceGeometry
+from mechanics.geometry import DeviceGeometry, geometry_errors
 from mechanics.ground_motion import GroundMotion
 from mechanics.phases import DIAGONAL_AC, DIAGONAL_BD, PHASES, SLIP, STICK, TILT
 from mechanics.two_phase import (
@@ -408,7 +409,9 @@ def test_frictionless_period():
     """mu = 0, free oscillation: period 2 pi sqrt(I / (S g)) within 0.1 %."""
     T0 = 2 * math.pi * math.sqrt(DEVICE.I / (DEVICE.S * G))
     gm = _constant_acceleration(0.0, 1e-3, 3.2 * T0)
-    h, _ = run(DEVICE, gm, mu1=0.0, mu2=0.0, theta0=0.01)
+    h, st = run(DEVICE, gm, mu1=0.0, mu2=0.0, theta0=0.01)
+    assert h[0, COL["E_input_J"]] == pytest.approx(DEVICE.S * G * (1 - math.cos(0.01)))
+    assert np.abs(ledger_residual(h)).max() < 1e-9 * h[0, COL["E_input_J"]]
     t, th = h[:, COL["t_s"]], h[:, COL["theta_rad"]]
     up = np.nonzero((th[:-1] < 0) & (th[1:] >= 0))[0]
     crossings = t[up] - th[up] * (t[up + 1] - t[up]) / (th[up + 1] - th[up])
@@ -462,3 +465,36 @@ def test_finest_dt_runs_the_whole_record():
         st.step(MU, MU)
     assert all(map(math.isfinite, st.values()))
     assert abs(st.energy_residual()) < 1e-5 * st.E_input
+
+
+@pytest.mark.parametrize("dt", [2e-2, 5e-3, 1e-3, 1e-4])
+def test_rocking_runs_at_any_dt(dt):
+    """Onset, rocking and landing with steps from 0.1 ms to 20 ms: finite,
+    the ledger closed, the rocking amplitude of the fine runs."""
+    h, st = _tall_pad_pulse(dt)
+    assert np.isfinite(h).all() and (h[:, COL["phase"]] == TILT).any()
+    assert np.abs(ledger_residual(h)).max() < 1e-6 * st.E_input
+    assert np.abs(h[:, COL["beta1_rad"]]).max() == pytest.approx(0.0318, rel=0.05)
+
+
+@settings(max_examples=15, deadline=None, derandomize=True)
+@given(R1=st_.floats(0.8, 4.0), R2=st_.floats(0.8, 4.0), h=st_.floats(0.05, 0.6),
+       D=st_.floats(0.05, 0.5), mu1=st_.floats(0.0, 0.3), mu2=st_.floats(0.0, 0.3),
+       dt=st_.sampled_from([2e-2, 5e-3, 1e-3]), scale=st_.floats(0.1, 3.0))
+def test_ledger_and_slip_share_hold_for_any_device(R1, R2, h, D, mu1, mu2, dt, scale):
+    """Any pad that fits, any friction up to 0.3, any dt: finite values,
+    non-negative losses, slip shared R1 : R2, the ledger closed to its
+    second-order splitting error (d(theta) - atan(d(theta)) per step)."""
+    geom = DeviceGeometry("DFP", R1, R2, h, D, 30.0, 1.0e5)
+    if geometry_errors(geom):
+        return
+    ground = elcentro(dt, scale, duration=2.5, t_start=1.5)
+    try:
+        hist, st = run(geom, ground, mu1, mu2)
+    except PadOverturned:
+        return
+    assert np.isfinite(hist).all()
+    assert st.W1 >= 0.0 and st.W2 >= 0.0 and st.E_reseat >= 0.0
+    assert st.slip1 * R2 == pytest.approx(st.slip2 * R1, rel=1e-9, abs=1e-15)
+    scale_J = max(st.E_input, hist[:, COL["E_input_J"]].max(), 1.0)
+    assert np.abs(ledger_residual(hist)).max() < (1e-9 + 0.2 * dt * dt) * scale_J
