@@ -518,7 +518,6 @@ class TwoPhaseStepper:
         self.mode = TILT
         self.beta2 = 0.0
         self.ds1 = self.ds2 = 0.0
-        self.Ff1 = self.Ff2 = 0.0
         self.slip_v1 = self.slip_v2 = 0.0
         if sign * b1 > 0.0:
             if sign * (math.cos(b1) * X0 - math.sin(b1) * Z0) <= 0.0:
@@ -537,7 +536,9 @@ class TwoPhaseStepper:
         """Normal forces of the rocking chain at the pivot (N1) and at the top
         corner (N2), from the accelerations of Eq. (7) and each body's
         momentum balance; the normals are those of the plates at the corners
-        (the plates do not rotate, so they keep their seated directions)."""
+        (the plates do not rotate, so they keep their seated directions).
+        Sets Ff1, Ff2: the tangential forces the pinned joints carry (the
+        model does not let them slip; a test checks |Ff_i| <= mu_i N_i)."""
         I_P, X0, Z0, rGx0, rGz0, rQx0, rQz0, sign = self._chain
         b, w, g = self.beta, self.beta_dot, self._g
         c, s = math.cos(b), math.sin(b)
@@ -559,8 +560,15 @@ class TwoPhaseStepper:
         # C1, upper plate at the top corner (-+a, eta2)/R2 pointing away from C2
         n1x, n1z = sign * xa / R1, eta1 / R1
         n2x, n2z = sign * xa / R2, eta2 / R2
-        N1 = FPx * (ct * n1x - st * n1z) + FPz * (st * n1x + ct * n1z)
-        N2 = FMx * (ct * n2x - st * n2z) + FMz * (st * n2x + ct * n2z)
+        # world normals, and the tangents (normal turned clockwise, along +x
+        # when seated at the centre) for the friction the pinned joints need
+        w1x, w1z = ct * n1x - st * n1z, st * n1x + ct * n1z
+        w2x, w2z = ct * n2x - st * n2z, st * n2x + ct * n2z
+        N1 = FPx * w1x + FPz * w1z
+        N2 = FMx * w2x + FMz * w2z
+        # friction on the pad at the pivot (from RB1) and on RB3+4 at the corner
+        self.Ff1 = FPx * w1z - FPz * w1x
+        self.Ff2 = FMx * w2z - FMz * w2x
         return N1, N2
 
     def _land(self, a: float, h: float, b0: float, w0: float, mu1: float, mu2: float) -> None:

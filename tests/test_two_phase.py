@@ -376,6 +376,9 @@ def test_tall_pad_rocks_under_a_strong_pulse():
         assert np.abs(ledger_residual(h)).max() < 1e-6 * h[:, COL["E_input_J"]].max()
         N1, N2 = h[tilt, COL["N1_N"]], h[tilt, COL["N2_N"]]
         assert np.allclose(N2, TALL_PAD.mass * G, rtol=0.1)
+        # the pinned joints of the rocking chain stay within their friction cap
+        assert (np.abs(h[tilt, COL["Ff1_N"]]) <= 0.6 * N1).all()
+        assert (np.abs(h[tilt, COL["Ff2_N"]]) <= 0.6 * N2).all()
         assert np.allclose(N1 - N2, TALL_PAD.pad_mass * G, rtol=0.1)
     assert peaks[-1] > 0.005                          # finite rocking, not O(dt)
     assert peaks[0] == pytest.approx(peaks[-1], rel=0.02)
