@@ -220,6 +220,9 @@ class TwoPhaseStepper:
         self._R1, self._R2 = geom.R1, geom.R2
         c = geom.pad_corners_body()
         self._corner = (geom.a, c["A"][1], c["C"][1], geom.pad_height, geom.R2)
+        # the phase-1 chains of Eq. (7) in the pad frame, A-C and B-D
+        self._body_chains = (pivot_chain(geom, 0.0, DIAGONAL_AC),
+                             pivot_chain(geom, 0.0, DIAGONAL_BD))
         # kinetic-energy weight of the translating parts (superstructure, pad centroid)
         self._I_trans = self._M * self._L ** 2 + self._m * self._rho ** 2
 
@@ -369,7 +372,15 @@ class TwoPhaseStepper:
         its |d theta| and the ledger closes at the event too.
         """
         th0, v0 = self.theta, self.theta_dot
-        N1, N2 = seated_normal_forces(self.geom, th0, v0, a)
+        # seated_normal_forces, inlined with the cached constants (hot path)
+        g_axis = self._g * math.cos(th0) - a * math.sin(th0)
+        w2 = v0 * v0
+        N2 = self._M * (g_axis + self._L * w2)
+        N1 = N2 + self._m * (g_axis + self._rho * w2)
+        if N2 < 0.0:
+            N1, N2 = max(N1, 0.0), 0.0
+        elif N1 < 0.0:
+            N1 = 0.0
         self.N1, self.N2 = N1, N2
         f1, f2 = mu1 * N1 * self._R1, mu2 * N2 * self._R2  # friction moments about the centres
         cap = f1 + f2  # = F_c L: both interfaces capped together, never one alone
@@ -480,13 +491,18 @@ class TwoPhaseStepper:
 
     def _start_rocking(self, a: float) -> bool:
         """Rocking check (model.md 3, step 2): does Eq. (7) give the pad a
-        beta'' opening the gap at beta = 0 about a bottom corner?"""
+        beta'' opening the gap at beta = 0 about a bottom corner?
+
+        The chains are kept in the pad frame (theta = 0) and turned by theta:
+        the first moments and arms rotate rigidly, I_P does not change."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
         g = self._g
         for diagonal, sign in ((DIAGONAL_AC, 1.0), (DIAGONAL_BD, -1.0)):
-            chain = pivot_chain(self.geom, self.theta, diagonal)
-            I_P, X0, Z0 = chain[:3]
+            I_P, Xb, Zb, rGx, rGz, rQx, rQz = self._body_chains[diagonal]
+            X0, Z0 = c * Xb - s * Zb, s * Xb + c * Zb
             if sign * rocking_acceleration(I_P, X0, Z0, a, g) > 0.0:
-                self._chain = chain + (sign,)
+                self._chain = (I_P, X0, Z0, c * rGx - s * rGz, s * rGx + c * rGz,
+                               c * rQx - s * rQz, s * rQx + c * rQz, sign)
                 self.diagonal = diagonal
                 self.rocking = True
                 self.beta = self.beta_dot = 0.0
