@@ -37,7 +37,7 @@ COLUMNS = (
     "E_input_J", "E_kin_J", "E_pot_J", "E_reseat_J",
     # diagnostics of the two-phase step
     "beta1_rad", "beta2_rad", "pad_tilt_rad", "diagonal", "ds1_m", "ds2_m",
-    "Ff1_N", "Ff2_N", "theta_dot_radps", "slip1_m", "slip2_m",
+    "Ff1_N", "Ff2_N", "theta_dot_radps", "slip1_m", "slip2_m", "tip_ratio",
 )
 
 _FIXED_POINT_TOL = 1e-15   # rad, on the step increment
@@ -220,6 +220,7 @@ class TwoPhaseStepper:
         self._R1, self._R2 = geom.R1, geom.R2
         c = geom.pad_corners_body()
         self._corner = (geom.a, c["A"][1], c["C"][1], geom.pad_height, geom.R2)
+        self._corner_height = c["C"][1] - c["A"][1]  # h' = eta_t - eta_b
         # the phase-1 chains of Eq. (7) in the pad frame, A-C and B-D
         self._body_chains = (pivot_chain(geom, 0.0, DIAGONAL_AC),
                              pivot_chain(geom, 0.0, DIAGONAL_BD))
@@ -292,8 +293,18 @@ class TwoPhaseStepper:
             s._R1 * s.theta, s._R2 * s.theta, s.N1, s.N2, s.W1, s.W2, s.mode,
             s.E_input, s.kinetic_energy(), s.potential_energy(), s.E_reseat,
             s.beta1, s.beta2, s.pad_tilt, s.diagonal, s.ds1, s.ds2, s.Ff1, s.Ff2,
-            s.theta_dot, s.slip1, s.slip2,
+            s.theta_dot, s.slip1, s.slip2, s.tip_ratio(),
         )
+
+    def tip_ratio(self) -> float:
+        """Forward-tipping ratio of the last step: tangential force carried to
+        the superstructure times the corner height h' over N2 2a. Above 1 the
+        friction couple would tip the pad on its leading corner, outside what
+        this model represents (docs/two_phase.md section 6, item 5)."""
+        if self.N2 <= 0.0:
+            return 0.0
+        F_t = self.Ff2 if self.mode == TILT else self.Ff1 + self.Ff2
+        return abs(F_t) * self._corner_height / (self.N2 * 2.0 * self.geom.a)
 
     @property
     def u(self) -> float:

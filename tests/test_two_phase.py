@@ -273,6 +273,14 @@ def test_validity_flags_pads_the_friction_couple_would_tip():
     assert two_phase_validity_errors(DEVICE, MU, MU) == []
     (key, value, allowed), = two_phase_validity_errors(TALL_PAD, 0.6, 0.6)
     assert key == "friction.mu" and value == 0.6 and ">= 1" in allowed
+    # per step: El Centro on the default device stays far inside; the tall
+    # pad's slide after its landing is flagged
+    h, _ = elcentro_run(1e-3)
+    assert h[:, COL["tip_ratio"]].max() == pytest.approx(
+        leading_corner_tipping_ratio(DEVICE, MU, MU), rel=0.05)
+    h, _ = _tall_pad_pulse(1e-3)
+    after = h[:, COL["t_s"]] > 0.5
+    assert (h[after, COL["tip_ratio"]] > 1.0).any()
 
 
 @pytest.mark.parametrize("R, h, D", [(2.2, 0.10, 0.25), (2.2, 0.50, 0.10),
