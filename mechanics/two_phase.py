@@ -402,10 +402,9 @@ class TwoPhaseStepper:
             sign = 1.0 if v0 > 0.0 else -1.0
             self.Ff1, self.Ff2 = sign * f1 / self._L, sign * f2 / self._L
             self._two_phase_update(th0, dth, 0.0, a, f1, f2)
-            if h - tau > 0.0:
+            self.mode = STICK
+            if h - tau > 0.0:  # the rest of the step starts from rest (and labels it)
                 self._seated_step(a, h - tau, mu1, mu2, rocking_allowed)
-            if self.theta_dot == 0.0:
-                self.mode = STICK
             return
         self.Ff1, self.Ff2 = lam * f1 / self._L, lam * f2 / self._L
 
@@ -626,7 +625,6 @@ class TwoPhaseStepper:
         self.beta = self.beta_dot = 0.0
         self.theta_dot = v_seat
         self._chain = None
-        W1_0, W2_0 = self.W1, self.W2
         beta_land = self.beta1
         if h - tau > 0.0:
             self._seated_step(a, h - tau, mu1, mu2, rocking_allowed=False)
