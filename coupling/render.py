@@ -94,24 +94,30 @@ def draw_frames(frames, out_dir: Path, title: str) -> list[Path]:
 
     (x0, x1), (z0, z1) = _limits(frames)
     norm = Normalize(*_t_range(frames))
-    cmap = matplotlib.colormaps["coolwarm"]
+    cmap = matplotlib.colormaps["plasma"]
     out_dir.mkdir(parents=True, exist_ok=True)
     for old in out_dir.glob("frame_*.png"):
         old.unlink()
+    # one figure for all frames: only the polygons, their colours and the title change
+    fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=100, layout="constrained")
+    coll = PolyCollection(frames[0]["polygons"], edgecolors="k", linewidths=0.8)
+    ax.add_collection(coll)
+    sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
+    fig.colorbar(sm, ax=ax, label="plate surface temperature (degC)", shrink=0.85)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(z0, z1)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("z (m)")
+    head = ax.set_title("t\nmu", fontsize=11)     # two lines: room kept by the layout
+    fig.canvas.draw()
+    fig.set_layout_engine("none")      # freeze the layout: same frame geometry throughout
     paths = []
     for k, f in enumerate(frames):
-        fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=100, constrained_layout=True)
-        colours = []
-        for body, T in zip(f["body"], f["T_C"]):
-            colours.append(cmap(norm(T)) if np.isfinite(T) else GREYS[int(body) % len(GREYS)])
-        ax.add_collection(PolyCollection(f["polygons"], facecolors=colours, edgecolors="k", linewidths=0.8))
-        sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
-        fig.colorbar(sm, ax=ax, label="plate surface temperature (degC)", shrink=0.85)
-        ax.set_xlim(x0, x1)
-        ax.set_ylim(z0, z1)
-        ax.set_aspect("equal")
-        ax.set_xlabel("x (m)")
-        ax.set_ylabel("z (m)")
+        colours = [cmap(norm(T)) if np.isfinite(T) else GREYS[int(body) % len(GREYS)]
+                   for body, T in zip(f["body"], f["T_C"])]
+        coll.set_verts(f["polygons"])
+        coll.set_facecolor(colours)
         words = []
         for i, name in ((0, "1"), (2, "2")):
             sel = np.flatnonzero(f["body"] == i)
@@ -121,11 +127,11 @@ def draw_frames(frames, out_dir: Path, title: str) -> list[Path]:
                     words.append(f"mu{name} = {mu:.4f}")
                 if np.isfinite(T):
                     words.append(f"T{name} = {T:.2f} C")
-        ax.set_title(f"{title}   t = {f['time']:.3f} s\n" + ",  ".join(words), fontsize=11)
+        head.set_text(f"{title}   t = {f['time']:.3f} s\n" + ",  ".join(words))
         p = out_dir / f"frame_{k:04d}.png"
         fig.savefig(p)
-        plt.close(fig)
         paths.append(p)
+    plt.close(fig)
     return paths
 
 
