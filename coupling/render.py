@@ -109,6 +109,8 @@ def draw_frames(frames, out_dir: Path, title: str) -> list[Path]:
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("z (m)")
+    ax.text(0.01, 0.02, "plates coloured by their surface temperature; pad and superstructure in grey",
+            transform=ax.transAxes, fontsize=8, color="0.3")
     head = ax.set_title("t\nmu", fontsize=11)     # two lines: room kept by the layout
     fig.canvas.draw()
     fig.set_layout_engine("none")      # freeze the layout: same frame geometry throughout

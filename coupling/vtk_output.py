@@ -286,9 +286,12 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
         tri = Triangulation(points[:, i], points[:, j], np.vstack(tris))
         pc = ax.tripcolor(tri, T, shading="gouraud", cmap="inferno")
         fig.colorbar(pc, ax=ax, label="T (degC)")
-        ax.set_aspect("equal")
-        ax.set_xlabel(f"{names[i]} (m)")
-        ax.set_ylabel(f"{names[j]} (m)")
+        ext = np.ptp(points[:, [i, j]], axis=0)
+        stretched = ext.min() > 0 and ext.max() / ext.min() > 3.0
+        ax.set_aspect("auto" if stretched else "equal")     # a thin plate: stretch its thickness
+        short = " (stretched)" if stretched else ""
+        ax.set_xlabel(f"{names[i]} (m)" + (short if ext[0] < ext[1] else ""))
+        ax.set_ylabel(f"{names[j]} (m)" + (short if ext[1] < ext[0] else ""))
     ax.set_title(f"{label} at its hottest: t = {t:.3f} s, max T = {tmax:.2f} degC")
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
