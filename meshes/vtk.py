@@ -1,15 +1,14 @@
-"""A time series of VTK unstructured-grid frames with its ParaView index.
+"""A time series of fields on a mesh: VTU frames (meshio) and a .pvd index.
 
-``PVDWriter(folder, name)`` writes ``folder/name_0000.vtu``, ... (binary,
-through meshio) and ``folder/name.pvd``, the XML collection that lists every
-frame with its time. The index is rewritten (to a temporary file, then
-renamed over the old one) after every frame, so a run interrupted at any
-moment leaves a valid series holding every frame written so far; ParaView and
-``pyvista.PVDReader`` open it directly.
+The .pvd is rewritten (to a temporary file, then renamed) after every frame,
+so an interrupted run leaves a valid series of the frames written so far.
+meshio's XDMF TimeSeriesWriter is not used: it writes its heavy data into
+the working directory and keeps it in memory.
 
-meshio is imported on the first frame, never at module import, so that runs
-without VTK output do not load it. (meshio's XDMF TimeSeriesWriter is not
-used: it writes its HDF5 data beside the cwd and holds every frame in memory.)
+Two spellings of the same writer: ``VTKSeries(pvd_path)`` (the thermal
+models' tests) and ``PVDWriter(folder, name)`` (the run's ``vtk/`` folder,
+coupling/vtk_output.py), which also writes an empty but valid index at once
+and has ``close()``. meshio is imported on the first frame only.
 """
 from __future__ import annotations
 
@@ -17,58 +16,77 @@ import os
 from pathlib import Path
 from xml.sax.saxutils import quoteattr
 
+import numpy as np
 
-class PVDWriter:
-    """Frames of one series: ``add(time, points, cells, ...)`` per frame,
-    ``close()`` at the end (also usable as a context manager).
 
-    points: (n, 3) array (2-D points are padded with z = 0); cells: a
-    meshio-style list of (cell type, connectivity) blocks, e.g.
-    ``[("line", conn)]`` or ``[("polygon", conn4), ("polygon", conn12)]``;
-    point_data: {name: (n,) or (n, k) array}; cell_data: {name: [one array per
-    cell block]} (meshio's layout).
+class VTKSeries:
+    """``add(time, points, cells, point_data, cell_data)`` writes
+    ``<stem>_<k>.vtu`` next to ``<stem>.pvd`` and lists it there with its time.
+
+    cells: meshio-style blocks [(cell type, connectivity), ...]; point_data:
+    {name: array per point}; cell_data: {name: [one array per cell block]}.
     """
 
-    def __init__(self, folder, name: str):
-        self.folder = Path(folder)
-        self.folder.mkdir(parents=True, exist_ok=True)
-        self.name = name
-        self.pvd = self.folder / f"{name}.pvd"
+    def __init__(self, pvd_path):
+        self.pvd = Path(pvd_path)
+        if self.pvd.suffix != ".pvd":
+            raise ValueError(f"{self.pvd}: a VTK series index must end in .pvd")
+        self.pvd.parent.mkdir(parents=True, exist_ok=True)
         self.frames: list[tuple[float, str]] = []
-        self.closed = False
-        self._write_index()          # an empty but valid collection from the start
+
+    def add(self, time: float, points, cells, point_data: dict | None = None,
+            cell_data: dict | None = None) -> Path:
+        import meshio
+
+        points = np.asarray(points, dtype=float)
+        if points.ndim != 2 or points.shape[1] not in (2, 3):
+            raise ValueError(f"points must be (n, 2) or (n, 3), got {points.shape}")
+        if points.shape[1] == 2:
+            points = np.column_stack((points, np.zeros(len(points))))
+        data = {k: np.asarray(v) for k, v in (point_data or {}).items()}
+        cdata = {k: [np.asarray(a) for a in v] for k, v in (cell_data or {}).items()}
+        name = f"{self.pvd.stem}_{len(self.frames):06d}.vtu"
+        path = self.pvd.parent / name
+        meshio.write(path, meshio.Mesh(points, [(k, np.asarray(c)) for k, c in cells],
+                                       point_data=data, cell_data=cdata), file_format="vtu")
+        self.frames.append((float(time), name))
+        self._flush()
+        return path
 
     def __len__(self) -> int:
         return len(self.frames)
 
-    def add(self, time: float, points, cells, point_data=None, cell_data=None) -> Path:
-        """Write one frame at ``time`` (s) and update the index. Returns the .vtu path."""
+    def _flush(self) -> None:
+        lines = ['<?xml version="1.0"?>',
+                 '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+                 "  <Collection>"]
+        lines += [f'    <DataSet timestep="{t!r}" group="" part="0" file={quoteattr(f)}/>'
+                  for t, f in self.frames]
+        lines += ["  </Collection>", "</VTKFile>", ""]
+        tmp = self.pvd.with_suffix(".pvd.tmp")
+        tmp.write_text("\n".join(lines))
+        os.replace(tmp, self.pvd)
+
+
+class PVDWriter(VTKSeries):
+    """``folder/name.pvd`` and its frames ``folder/name_000000.vtu``, ...;
+    the index exists (empty) from construction; ``close()`` at the end
+    (also a context manager)."""
+
+    def __init__(self, folder, name: str):
+        super().__init__(Path(folder) / f"{name}.pvd")
+        self.name = name
+        self.closed = False
+        self._flush()
+
+    def add(self, time, points, cells, point_data=None, cell_data=None) -> Path:
         if self.closed:
             raise RuntimeError(f"{self.pvd}: series already closed")
-        import meshio
-        import numpy as np
-
-        pts = np.asarray(points, dtype=float)
-        if pts.ndim != 2 or pts.shape[1] not in (2, 3):
-            raise ValueError(f"points must be (n, 2) or (n, 3), got {pts.shape}")
-        if pts.shape[1] == 2:
-            pts = np.column_stack((pts, np.zeros(len(pts))))
-        blocks = [(str(kind), np.asarray(conn, dtype=np.int64)) for kind, conn in cells]
-        fname = f"{self.name}_{len(self.frames):04d}.vtu"
-        path = self.folder / fname
-        mesh = meshio.Mesh(pts, blocks,
-                           point_data={k: np.asarray(v) for k, v in (point_data or {}).items()},
-                           cell_data={k: [np.asarray(a) for a in v] for k, v in (cell_data or {}).items()})
-        tmp = path.with_name(path.name + ".tmp")
-        meshio.write(tmp, mesh, file_format="vtu", binary=True)
-        os.replace(tmp, path)
-        self.frames.append((float(time), fname))
-        self._write_index()
-        return path
+        return super().add(time, points, cells, point_data, cell_data)
 
     def close(self) -> None:
         if not self.closed:
-            self._write_index()
+            self._flush()
             self.closed = True
 
     def __enter__(self):
@@ -76,17 +94,3 @@ class PVDWriter:
 
     def __exit__(self, *exc):
         self.close()
-
-    def _write_index(self) -> None:
-        lines = ['<?xml version="1.0"?>',
-                 '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
-                 "  <Collection>"]
-        for t, fname in self.frames:
-            lines.append(f'    <DataSet timestep="{t!r}" group="" part="0" file={quoteattr(fname)}/>')
-        lines += ["  </Collection>", "</VTKFile>", ""]
-        tmp = self.pvd.with_name(self.pvd.name + ".tmp")
-        with open(tmp, "w") as fh:
-            fh.write("\n".join(lines))
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, self.pvd)

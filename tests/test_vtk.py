@@ -210,7 +210,7 @@ def test_pvd_is_valid_after_every_frame(tmp_path):
     for k in range(3):
         w.add(0.5 * k, pts, [("triangle", [[0, 1, 2]])], point_data={"T_C": np.arange(3.0) + k})
         # no close(): an interrupted run leaves exactly the frames written so far
-        assert _pvd_frames(tmp_path / "s.pvd") == [(0.5 * j, f"s_{j:04d}.vtu") for j in range(k + 1)]
+        assert _pvd_frames(tmp_path / "s.pvd") == [(0.5 * j, f"s_{j:06d}.vtu") for j in range(k + 1)]
     assert not list(tmp_path.glob("*.tmp"))
 
 
