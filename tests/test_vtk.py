@@ -201,6 +201,29 @@ def test_plate_field_series_and_hottest_picture(tmp_path):
         _assert_picture(p)
 
 
+def test_fe_plate_run_writes_plate_series_and_hottest_pictures(tmp_path):
+    """The real path through fpd run with an FE plate model (fe1d)."""
+    import pyvista
+
+    out = tmp_path / "fe"
+    r = _fpd("run", "--set", 'thermal.model="fe1d"', "--set", "solver.duration=3.0",
+             "--set", f"output.vtk_every={EVERY}", "--out", out, "--quiet")
+    assert r.returncode == 0, r.stderr
+    ts = _csv(out / "timeseries.csv")
+    dev = pyvista.PVDReader(str(out / "vtk" / "device.pvd"))
+    assert len(dev.time_values) == 31
+    for side, col in (("lower", "T1_C"), ("upper", "T2_C")):
+        pl = pyvista.PVDReader(str(out / "vtk" / f"{side}_plate.pvd"))
+        assert pl.time_values == dev.time_values
+        pl.set_active_time_value(pl.time_values[-1])
+        T = pl.read()[0].point_data["T_C"]
+        assert T.max() > 20.0 and np.isfinite(T).all()
+        _assert_picture(out / "plots" / f"{side}_plate_hottest.png")
+    dev.set_active_time_value(dev.time_values[-1])
+    np.testing.assert_allclose(dev.read()[0].cell_data["T_C"][[0, 2]], [ts["T1_C"][-1], ts["T2_C"][-1]],
+                               rtol=1e-9)
+
+
 def test_pvd_is_valid_after_every_frame(tmp_path):
     from meshes.vtk import PVDWriter
 
