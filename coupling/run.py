@@ -196,6 +196,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                     buf[k] = r
                     k += 1
                 if on_frame is not None and frame_every and n % frame_every == 0:
+                    sim.frame_values = dict(zip(cols, r))   # the CSV row, for the VTK frame
                     on_frame(n, sim)
             if n % 2048 == 0:
                 bar.update(n)
