@@ -100,7 +100,8 @@ LOADING_KEYS = {
     "displacement": {"waveform": (("sine",), "sine", None), "amplitude_m": ("float", REQUIRED, _pos),
                      "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos)},
     "heat": {"flux_W_m2": ("float", REQUIRED, _nonneg), "duration_s": ("float", REQUIRED, _pos),
-             "plate": (("lower", "upper", "both"), "lower", None)},
+             "plate": (("lower", "upper", "both"), "lower", None),
+             "reference": (("none", "halfspace", "slab", "disk"), "none", None)},
 }
 
 TABLES = {
