@@ -67,29 +67,35 @@ FRICTION_KEYS = {
     "table": {"T_C": ("floats", REQUIRED, None), "mu": ("floats", REQUIRED, None)},
 }
 
-THERMAL_KEYS = {
-    "model": (("none", "lumped", "fe1d", "axisym"), "lumped", None),
-    "source": (("follow-pad", "fixed-point"), "follow-pad", None),
-    "radius_m": ("float", 0.0, _nonneg),
-    "T0_C": ("float", 20.0, _temp),
-    "T_air_C": ("float", 20.0, _temp),
-    "heat_share": ("float", 1.0, _share),
-    "plate_thickness": ("float", 0.05, _pos),
-    "plate_radius": ("float", 0.40, _pos),
-    "k": ("float", 16.0, _pos),
-    "rho": ("float", 7850.0, _pos),
-    "c": ("float", 500.0, _pos),
-    "h_conv": ("float", 10.0, _nonneg),
-    "back": (("convection", "adiabatic", "fixed"), "convection", None),
-    "T_back_C": ("float", 20.0, _temp),
-    "exchange_area_m2": ("float", 0.0, _nonneg),
-    "n_elements": ("int", 100, _atleast(2)),
-    "grading": ("float", 1.1, _atleast(1.0)),
-    "nr": ("int", 60, _atleast(2)),
-    "nz": ("int", 30, _atleast(2)),
-    "scheme": (("bdf2", "cn", "be"), "bdf2", None),
-    "mesh_file": ("str", "", None),
-}
+def _plate_default(name):
+    """Defaults of the [thermal] keys are PlateParams' (one source of truth)."""
+    from thermal.params import PlateParams
+    return PlateParams.__dataclass_fields__[name].default
+
+
+THERMAL_KEYS = {name: (kind, _plate_default(name), check) for name, kind, check in (
+    ("model", ("none", "lumped", "fe1d", "axisym"), None),
+    ("source", ("follow-pad", "fixed-point"), None),
+    ("radius_m", "float", _nonneg),
+    ("T0_C", "float", _temp),
+    ("T_air_C", "float", _temp),
+    ("heat_share", "float", _share),
+    ("plate_thickness", "float", _pos),
+    ("plate_radius", "float", _pos),
+    ("k", "float", _pos),
+    ("rho", "float", _pos),
+    ("c", "float", _pos),
+    ("h_conv", "float", _nonneg),
+    ("back", ("convection", "adiabatic", "fixed"), None),
+    ("T_back_C", "float", _temp),
+    ("exchange_area_m2", "float", _nonneg),
+    ("n_elements", "int", _atleast(2)),
+    ("grading", "float", _atleast(1.0)),
+    ("nr", "int", _atleast(2)),
+    ("nz", "int", _atleast(2)),
+    ("scheme", ("bdf2", "cn", "be"), None),
+    ("mesh_file", "str", None),
+)}
 
 LOADING_KEYS = {
     "record": {"record": ("str", None, None), "file": ("str", None, None),
