@@ -280,23 +280,33 @@ def test_render_bad_dirs(tmp_path):
 
 
 # -- import hygiene ---------------------------------------------------------------------
-def test_run_without_vtk_imports_no_heavy_packages(tmp_path):
-    code = f"""
+_IMPORT_PROBE = """
 import sys
 from coupling import cli
 from coupling import scene as scn
 from coupling.build import build
 from coupling.run import simulate
-sc = scn.load(None, ["solver.duration=0.5", "output.plots=false"])
+over = ["solver.duration=0.5", "output.plots=false", "thermal.model={model}"]
+sc = scn.load(None, over)
 assert sc["output"]["vtk_every"] == 0
 res = simulate(build(sc))
 assert res.status == "ok", res.message
-rc = cli.main(["run", "--set", "solver.duration=0.5", "--set", "output.plots=false",
-               "--out", {str(tmp_path / 'out')!r}, "--quiet"])
-assert rc == 0
-bad = [m for m in ("meshio", "pyvista", "skfem", "vtk", "vtkmodules") if m in sys.modules]
+args = ["run", "--out", {out!r}, "--quiet"]
+for o in over:
+    args += ["--set", o]
+assert cli.main(args) == 0
+bad = [m for m in {forbidden!r} if m in sys.modules]
 assert not bad, bad
 """
+
+
+@pytest.mark.parametrize("model,forbidden", [
+    ("lumped", ("meshio", "pyvista", "skfem", "vtk", "vtkmodules")),   # no FE, no VTK: none of them
+    ("none", ("meshio", "pyvista", "skfem", "vtk", "vtkmodules")),
+    ("fe1d", ("meshio", "pyvista", "vtk", "vtkmodules")),              # FE plates but no VTK output
+])
+def test_run_imports_only_what_the_scene_uses(tmp_path, model, forbidden):
+    code = _IMPORT_PROBE.format(model=model, out=str(tmp_path / "out"), forbidden=forbidden)
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     r = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True,
                        timeout=120)
