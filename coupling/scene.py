@@ -261,7 +261,7 @@ def _friction(ctx: _Ctx, given) -> dict:
         merged.update(over)
         where = f"friction.{side}" if over else "friction"
         law = merged.get("law", "constant")
-        if law not in FRICTION_KEYS:
+        if not isinstance(law, str) or law not in FRICTION_KEYS:
             ctx.fail(f"{where}.law", law, "must be one of " + ", ".join(f'"{k}"' for k in FRICTION_KEYS))
         schema = FRICTION_KEYS[law]
         # a key of the base table that belongs to another law is an error
@@ -322,7 +322,7 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
     if "kind" not in given:
         ctx.missing("loading.kind", "give one of " + ", ".join(f'"{k}"' for k in LOADING_KEYS))
     kind = given["kind"]
-    if kind not in LOADING_KEYS:
+    if not isinstance(kind, str) or kind not in LOADING_KEYS:
         ctx.fail("loading.kind", kind, "must be one of " + ", ".join(f'"{k}"' for k in LOADING_KEYS))
     res = _table(ctx, "loading", {k: v for k, v in given.items() if k != "kind"}, LOADING_KEYS[kind])
     res["kind"] = kind
@@ -501,7 +501,11 @@ def read_toml(path: Path) -> dict:
 def load(scene: str | None = None, overrides: list[str] | None = None) -> Scene:
     """Resolve, read, override and validate a scene."""
     path = resolve_path(scene)
-    raw = apply_overrides(read_toml(path), overrides or [])
+    raw = read_toml(path)
+    try:
+        raw = apply_overrides(raw, overrides or [])
+    except SceneError as exc:       # name the scene the override was meant for
+        raise SceneError(f"{path}: {exc}") from None
     if "name" not in raw:
         raw["name"] = path.stem
     return validate(raw, str(path))

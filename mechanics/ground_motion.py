@@ -130,7 +130,11 @@ def parse_at2(text: str, path="<record>") -> Record:
     for j, line in enumerate(lines[head + 1:], start=head + 2):
         toks = line.replace(",", " ").split()
         if toks:
-            vals.extend(_floats(toks, path, j))
+            row = _floats(toks, path, j)
+            for tok, x in zip(toks, row):
+                if not np.isfinite(x):
+                    raise RecordError(path, f"non-finite acceleration value '{tok[:30]}'", j)
+            vals.extend(row)
     a = np.asarray(vals, dtype=float)
     if len(a) != int(npts):
         raise RecordError(path, f"header says NPTS = {int(npts)} but {len(a)} values follow")
