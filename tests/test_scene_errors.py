@@ -231,7 +231,7 @@ RECORD_CASES = [
     ("header-npts-fraction", "f.AT2", GOOD_AT2.replace("NPTS=  8", "NPTS=  8.5").encode(), None,
      ["f.AT2", "line 4", "NPTS = 8.5", "whole number"]),
     ("header-dt-zero", "z.AT2", GOOD_AT2.replace("DT= .01000", "DT= 0.0").encode(), None,
-     ["z.AT2", "line 4", "DT = 0", "must be > 0"]),
+     ["z.AT2", "line 4", "DT = 0", "finite number > 0"]),
     ("at2-bad-value", "v.AT2", GOOD_AT2.replace("0.03 0.02 0.01", "0.03 0.0x2 0.01").encode(), None,
      ["v.AT2", "line 6", "'0.0x2'", "not a number"]),
     ("at2-nan", "nan.AT2", GOOD_AT2.replace("0.03 0.02 0.01", "0.03 NaN 0.01").encode(), None,
