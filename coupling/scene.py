@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import copy
 import difflib
+import json
 import math
 import os
 import re
@@ -25,12 +26,18 @@ RECORDS = {
 class SceneError(ValueError):
     """Bad input: the message is the one line shown to the user."""
 
+    def __init__(self, message: str = ""):
+        # one line whatever the user typed: control characters shown escaped
+        super().__init__("".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message)))
+
 
 # -- schema -------------------------------------------------------------------
 # Each key: (kind, default, check). kind: "float", "int", "bool", "str",
 # "floats" (list of numbers) or a tuple of allowed strings. default REQUIRED
 # means the key must be given; None means optional with no value.
 REQUIRED = object()
+# beyond these, squares and products overflow (floats) or nothing fits in memory (ints, steps)
+MAX_MAGNITUDE, MAX_INT, MAX_STEPS = 1e100, 10**9, 2 * 10**7
 
 
 def _pos(x):
@@ -189,6 +196,8 @@ def _check_value(ctx: _Ctx, key: str, value, spec):
     if kind == "float":
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             ctx.fail(key, value, "must be a number")
+        if not (isinstance(value, float) and not math.isfinite(value)) and not abs(value) <= MAX_MAGNITUDE:
+            ctx.fail(key, value, f"is out of range: |value| must be <= {MAX_MAGNITUDE:g}")
         value = float(value)
         if not math.isfinite(value):
             ctx.fail(key, value, "must be finite")
@@ -198,6 +207,8 @@ def _check_value(ctx: _Ctx, key: str, value, spec):
                 value = int(value)
             else:
                 ctx.fail(key, value, "must be a whole number")
+        if abs(value) > MAX_INT:
+            ctx.fail(key, value, f"is out of range: must be <= {MAX_INT:g}")
     elif kind == "bool":
         if not isinstance(value, bool):
             ctx.fail(key, value, "must be true or false")
@@ -410,6 +421,9 @@ def _cross_checks(ctx: _Ctx, data: dict):
     length = loading_length(ld)
     if length is not None and "duration" not in sol and sol["dt"] > length:
         ctx.fail("solver.dt", sol["dt"], f"must not exceed the loading's length {length:g} s")
+    length = sol.get("duration", length)
+    if length is not None:
+        check_steps(ctx.path, sol["dt"], length)
     for side in ("lower", "upper"):
         t = data["thermal"][side]
         if t["source"] == "fixed-point" and t["radius_m"] > t["plate_radius"]:
@@ -417,6 +431,13 @@ def _cross_checks(ctx: _Ctx, data: dict):
         if dev["pad_diameter"] / 2 > t["plate_radius"] and t["model"] != "none":
             ctx.fail("thermal.plate_radius", t["plate_radius"],
                      f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
+
+
+def check_steps(path: str, dt: float, length: float) -> None:
+    """A dt so small that the run cannot fit in memory is an input error (a typo, most often)."""
+    if length / dt > MAX_STEPS:
+        raise SceneError(f"{path}: solver.dt = {dt:g}: gives {length / dt:.3g} steps over {length:g} s; "
+                         f"at most {MAX_STEPS:.0e} allowed (raise solver.dt or set a shorter solver.duration)")
 
 
 def loading_length(ld: dict):
@@ -517,8 +538,8 @@ def _toml_value(v) -> str:
         return "true" if v else "false"
     if isinstance(v, (int, float)):
         return repr(v)
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, str):   # a TOML basic string: JSON's escapes are TOML's, and DEL must be escaped too
+        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
     if isinstance(v, list):
         return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     raise TypeError(v)

@@ -37,7 +37,8 @@ class RecordError(ValueError):
 
     def __init__(self, path, message: str, line: int | None = None):
         where = f"{path}" + (f", line {line}" if line is not None else "")
-        super().__init__(f"{where}: {message}")
+        text = f"{where}: {message}"     # one line: control characters (in names, values) escaped
+        super().__init__("".join(c if c.isprintable() else repr(c)[1:-1] for c in text))
 
 
 @dataclass
