@@ -152,8 +152,8 @@ SCALARS = st.one_of(
     st.sampled_from(["\n", "two\nlines", "\x7f", "\x00", "\r", "tab\there", '"', "\\", "é"]),
 )
 TREES = st.recursive(SCALARS, lambda kids: st.one_of(st.lists(kids, max_size=4),
-                                                     st.dictionaries(KEYS, kids, max_size=4)), max_leaves=12)
-OVERLAY = st.dictionaries(KEYS, st.one_of(TREES, st.dictionaries(KEYS, TREES, max_size=5)), max_size=5)
+                                                     st.dictionaries(KEYS, kids, max_size=4)), max_leaves=8)
+OVERLAY = st.dictionaries(KEYS, st.one_of(TREES, st.dictionaries(KEYS, TREES, max_size=4)), max_size=4)
 # whole tables replaced (a record loading, another friction law...), keys of their own
 TABLES = st.fixed_dictionaries({}, optional={
     "loading": st.fixed_dictionaries({"kind": st.sampled_from(["record", "harmonic", "displacement", "heat"])},

@@ -1,10 +1,12 @@
 """Issue 8: the catalogue of bad inputs.
 
-Every item runs ``fpd run`` in a subprocess and must give exit status 2, one
-line on stderr naming the file, the key (dotted path) or line number, the
-value and what is allowed, no traceback, and no results folder: nothing at
-all may appear in the (empty) folder that holds --out, which is also the
-working directory of the run.
+Every item runs ``fpd run`` and must give exit status 2, one line on stderr
+naming the file, the key (dotted path) or line number, the value and what is
+allowed, no traceback, and no results folder: nothing at all may appear in
+the (empty) folder that holds --out, which is also the working directory of
+the run. The catalogue calls ``coupling.cli.main`` in-process (any exception
+but the handled input errors fails the test, as a traceback would), and a
+sample of it runs again as real ``fpd`` subprocesses.
 """
 from __future__ import annotations
 
@@ -79,6 +81,25 @@ def fpd(args, cwd, env_extra=None, timeout=60):
 
 
 @pytest.fixture
+def fpd_inproc(capsys, monkeypatch):
+    """``fpd`` called in-process: (args, cwd) -> an object like CompletedProcess."""
+    from coupling import cli
+
+    def call(args, cwd):
+        monkeypatch.chdir(cwd)
+        capsys.readouterr()
+        try:
+            rc = cli.main(list(args))
+        except SystemExit as exc:          # argparse errors
+            rc = exc.code
+        finally:
+            monkeypatch.undo()
+        outerr = capsys.readouterr()
+        return subprocess.CompletedProcess(args, rc, outerr.out, outerr.err)
+    return call
+
+
+@pytest.fixture
 def dirs(tmp_path):
     """(folder for inputs, empty folder that will hold --out and is the cwd)."""
     inp, runs = tmp_path / "in", tmp_path / "runs"
@@ -99,11 +120,11 @@ def assert_input_error(proc, runs: Path, *tokens):
     assert proc.stdout == ""
 
 
-def run_scene(dirs, changes, extra=(), file_name="scene.toml"):
+def run_scene(dirs, changes, extra=(), runner=None):
     inp, runs = dirs
-    path = inp / file_name
+    path = inp / "scene.toml"
     path.write_text(dump_toml(scene_with(changes)))
-    return fpd(["run", str(path), "--out", str(runs / "res"), *extra], cwd=runs), path
+    return (runner or fpd)(["run", str(path), "--out", str(runs / "res"), *extra], cwd=runs), path
 
 
 def test_base_scene_is_valid(dirs):
@@ -209,7 +230,18 @@ CATALOGUE = [
 
 
 @pytest.mark.parametrize("changes,extra,tokens", [c[1:] for c in CATALOGUE], ids=[c[0] for c in CATALOGUE])
-def test_catalogue(dirs, changes, extra, tokens):
+def test_catalogue(dirs, fpd_inproc, changes, extra, tokens):
+    proc, path = run_scene(dirs, changes, extra, fpd_inproc)
+    assert_input_error(proc, dirs[1], str(path), *tokens)
+
+
+SAMPLE = ("unknown-key", "string-for-number", "missing-R1", "dt-above-duration", "pad-taller-than-R1+R2",
+          "table-unsorted", "set-bad-number", "friction-law-list")
+
+
+@pytest.mark.parametrize("changes,extra,tokens", [c[1:] for c in CATALOGUE if c[0] in SAMPLE], ids=SAMPLE)
+def test_catalogue_subprocess(dirs, changes, extra, tokens):
+    """The same, as the real command: exit status, stderr and no traceback."""
     proc, path = run_scene(dirs, changes, extra)
     assert_input_error(proc, dirs[1], str(path), *tokens)
 
@@ -251,9 +283,14 @@ RECORD_CASES = [
 ]
 
 
-@pytest.mark.parametrize("name,content,units,tokens", [c[1:] for c in RECORD_CASES],
-                         ids=[c[0] for c in RECORD_CASES])
-def test_record_catalogue(dirs, name, content, units, tokens):
+RECORD_SAMPLE = ("empty", "binary", "header-npts-mismatch", "at2-nan", "two-col-times-decrease")
+RECORD_RUNS = [(c, "inproc") for c in RECORD_CASES] + [(c, "subprocess") for c in RECORD_CASES
+                                                       if c[0] in RECORD_SAMPLE]
+
+
+@pytest.mark.parametrize("name,content,units,tokens,how", [c[1:] + (how,) for c, how in RECORD_RUNS],
+                         ids=[f"{c[0]}-{how}" for c, how in RECORD_RUNS])
+def test_record_catalogue(dirs, fpd_inproc, how, name, content, units, tokens):
     inp, runs = dirs
     if content == "DIR":
         (inp / name).mkdir()
@@ -262,7 +299,7 @@ def test_record_catalogue(dirs, name, content, units, tokens):
     loading = {"kind": "record", "file": name}
     if units:
         loading["units"] = units
-    proc, path = run_scene(dirs, {"loading": loading})
+    proc, path = run_scene(dirs, {"loading": loading}, (), fpd_inproc if how == "inproc" else None)
     assert_input_error(proc, runs, *tokens)
     if content is None:
         assert str(path) in proc.stderr
