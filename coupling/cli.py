@@ -95,7 +95,10 @@ def cmd_run(args) -> int:
     check_out_dir(out, args.force)
     sim = build(scene)
     inject = os.environ.get("FPD_INJECT_NAN_AT_STEP")
-    folder = ResultsFolder(out)
+    try:
+        folder = ResultsFolder(out)
+    except OSError as exc:       # --out under a file, or where we may not write: a bad option
+        raise scn.SceneError(f"{out}: cannot create the results folder there (--out): {exc.strerror}") from None
     held = _HoldSignals()
     try:
         progress = not args.quiet and sys.stderr.isatty()

@@ -349,3 +349,12 @@ def test_out_is_a_file(dirs):
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert len(proc.stderr.splitlines()) == 1 and str(target) in proc.stderr
     assert sorted(p.name for p in runs.iterdir()) == ["res"] and target.read_text() == "keep me"
+
+
+def test_out_under_a_file(dirs):
+    inp, runs = dirs
+    (runs / "afile").write_text("keep me")
+    proc, _ = run_scene(dirs, {}, ("--out", str(runs / "afile" / "res")))
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
+    assert len(proc.stderr.splitlines()) == 1 and "afile" in proc.stderr and "--out" in proc.stderr
+    assert [p.name for p in runs.iterdir()] == ["afile"] and (runs / "afile").read_text() == "keep me"
