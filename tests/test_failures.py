@@ -322,3 +322,15 @@ def test_set_applies_to_scene(scene_file):
     assert sc["output"]["plots"] is True
     with pytest.raises(SceneError, match="solver.dt = 'x'"):
         load(str(scene_file), ["solver.dt=x"])
+
+
+def test_coupling_not_converged_is_a_failure(tmp_path, scene_file):
+    out = tmp_path / "res"
+    proc = fpd(["run", str(scene_file), "--out", str(out), "--quiet", "--set", "coupling.scheme=iterated",
+                "--set", "coupling.max_iter=1", "--set", "coupling.tol_K=1e-12"], cwd=tmp_path)
+    assert proc.returncode == 1, proc.stderr
+    assert len(proc.stderr.splitlines()) == 1 and "did not converge" in proc.stderr and "step " in proc.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "failed" and "did not converge" in s["message"]
+    header, rows = read_rows(out / "timeseries.csv")
+    assert len(rows) == s["steps"] + 1 >= 1
