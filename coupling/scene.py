@@ -517,6 +517,8 @@ def read_toml(path: Path) -> dict:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: invalid TOML: {exc}") from None
+    except RecursionError:
+        raise SceneError(f"{path}: invalid TOML: arrays or tables nested too deeply") from None
 
 
 def load(scene: str | None = None, overrides: list[str] | None = None) -> Scene:

@@ -21,7 +21,7 @@ from hypothesis.control import currently_in_test_context
 from hypothesis import strategies as st
 
 from coupling.build import build
-from coupling.scene import SceneError, apply_overrides, loading_length, to_toml, validate
+from coupling.scene import SceneError, apply_overrides, load, loading_length, to_toml, validate
 from mechanics.ground_motion import RecordError, parse_at2, parse_two_column, read_record
 
 SETTINGS = settings(max_examples=200, deadline=None,
@@ -309,3 +309,26 @@ def test_set_overrides(workdir, key, value):
         _one_line(exc)
         return
     _validate(raw, workdir)
+
+
+TOML_TEXT = st.lists(st.one_of(
+    st.builds(lambda k, v: f"{k} = {v}", st.sampled_from(KNOWN), st.sampled_from(
+        ["1", "-1", "0.5", "1e999", "nan", "inf", "true", '"x"', "[1, 2]", "[", "{a = 1}", '"""a\nb"""', "'lit'",
+         "1979-05-27", "0x1f", "1_000", "[[1], [2]]", "=", ""])),
+    st.builds(lambda t: f"[{t}]", st.sampled_from(KNOWN + ["friction.lower", "thermal.upper", "a.b.c", ""])),
+    st.text(max_size=20)), max_size=12).map("\n".join)
+
+
+@SETTINGS
+@given(data=st.one_of(st.binary(max_size=200), TOML_TEXT.map(str.encode),
+                      st.text(max_size=200).map(lambda s: s.encode("utf-8", "surrogatepass"))))
+@example(data=b"a = " + b"[" * 5000)              # once: RecursionError from tomllib
+def test_scene_file_bytes(workdir, data):
+    """A scene file holding anything: only SceneError, one line, naming the file."""
+    f = workdir / "scene.toml"
+    f.write_bytes(data)
+    try:
+        load(str(f))
+    except SceneError as exc:
+        _one_line(exc)
+        assert str(exc).startswith(str(f))
