@@ -247,7 +247,15 @@ def test_force_replaces_when_complete(tmp_path, scene_file):
     no_leftovers(out.parent, {"res"})
 
 
-def test_force_crash_while_writing_keeps_old_results(tmp_path, scene_file, monkeypatch, capsys):
+@pytest.fixture
+def keep_sigterm():
+    """main() installs its SIGTERM handler: put pytest's back afterwards."""
+    old = signal.getsignal(signal.SIGTERM)
+    yield
+    signal.signal(signal.SIGTERM, old)
+
+
+def test_force_crash_while_writing_keeps_old_results(tmp_path, scene_file, monkeypatch, capsys, keep_sigterm):
     """Old results stay intact until the new ones are complete: a crash in the
     middle of writing leaves the old folder as it was and no partial folder."""
     out = tmp_path / "runs" / "res"

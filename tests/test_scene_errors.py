@@ -13,6 +13,7 @@ from __future__ import annotations
 import copy
 import json
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -88,12 +89,14 @@ def fpd_inproc(capsys, monkeypatch):
     def call(args, cwd):
         monkeypatch.chdir(cwd)
         capsys.readouterr()
+        sigterm = signal.getsignal(signal.SIGTERM)     # main() installs its own
         try:
             rc = cli.main(list(args))
         except SystemExit as exc:          # argparse errors
             rc = exc.code
         finally:
             monkeypatch.undo()
+            signal.signal(signal.SIGTERM, sigterm)
         outerr = capsys.readouterr()
         return subprocess.CompletedProcess(args, rc, outerr.out, outerr.err)
     return call
