@@ -54,7 +54,12 @@ class ResultsFolder:
         if self.out.exists():
             old = self.out.parent / f".{self.out.name}.old-{os.getpid()}"
             os.replace(self.out, old)
-        os.replace(self.tmp, self.out)
+        try:
+            os.replace(self.tmp, self.out)
+        except BaseException:
+            if old is not None:          # put the old results back
+                os.replace(old, self.out)
+            raise
         if old is not None:
             shutil.rmtree(old, ignore_errors=True)
         return self.out
