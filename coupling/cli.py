@@ -65,6 +65,25 @@ def _sigterm(signum, frame):
     raise KeyboardInterrupt
 
 
+class _HoldSignals:
+    """Between start() and stop(), Ctrl-C and SIGTERM are held, not raised: a
+    second interrupt while the computed history is written cannot lose it."""
+
+    got = None
+    old = {}
+
+    def start(self):
+        self.old = {sig: signal.signal(sig, self._hold) for sig in (signal.SIGINT, signal.SIGTERM)}
+
+    def _hold(self, signum, frame):
+        self.got = signum
+
+    def stop(self):
+        for sig, handler in self.old.items():
+            signal.signal(sig, handler)
+        self.old = {}
+
+
 def cmd_run(args) -> int:
     from . import scene as scn
     from .build import build
@@ -76,7 +95,11 @@ def cmd_run(args) -> int:
     check_out_dir(out, args.force)
     sim = build(scene)
     inject = os.environ.get("FPD_INJECT_NAN_AT_STEP")
-    folder = ResultsFolder(out)
+    try:
+        folder = ResultsFolder(out)
+    except OSError as exc:       # --out under a file, or where we may not write: a bad option
+        raise scn.SceneError(f"{out}: cannot create the results folder there (--out): {exc.strerror}") from None
+    held = _HoldSignals()
     try:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
@@ -87,6 +110,7 @@ def cmd_run(args) -> int:
                           inject_failure_at=int(inject) if inject else None,
                           on_frame=vtk.frame if vtk else None,
                           frame_every=scene["output"]["vtk_every"])
+        held.start()
         if vtk:
             vtk.close()
         solver = scene["solver"]
@@ -94,10 +118,15 @@ def cmd_run(args) -> int:
         s = write_all(folder, scene, result, sim, plots=scene["output"]["plots"])
         if vtk and scene["output"]["plots"]:
             vtk.hottest_pictures(folder.subdir("plots"))
+        folder.commit()
     except BaseException:
         folder.discard()
         raise
-    folder.commit()
+    finally:
+        held.stop()
+    if held.got is not None and result.status == "ok":
+        sys.stderr.write(f"fpd: interrupted while writing; the complete results are in {out}\n")
+        return EXIT_INTERRUPTED
     if not args.quiet:
         _report(s, out)
     if result.status == "failed":

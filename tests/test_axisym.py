@@ -1,0 +1,190 @@
+"""axisym plate model: 1D equivalence, disk source, orders, ledgers, footprint."""
+import math
+
+import numpy as np
+import pytest
+
+from meshes.rz import rz_mesh
+from thermal import exact
+from thermal.axisym import AxisymPlate, TopLoad, covered_fraction
+from thermal.fe1d import FE1DPlate
+from thermal.params import PlateParams
+
+Q = 1.0e6
+
+
+def rate(h, err):
+    return np.polyfit(np.log(h), np.log(err), 1)[0]
+
+
+@pytest.mark.parametrize("scheme", ["bdf2", "cn", "be"])
+@pytest.mark.parametrize("back", ["fixed", "adiabatic"])
+def test_uniform_flux_equals_fe1d(scheme, back):
+    """Footprint covering the whole face, no convection on the sides: the
+    r-z solution is the fe1d column (same z-mesh, quads separate in r, z)."""
+    p = PlateParams(model="axisym", plate_radius=0.1, a_contact_m=0.1, nr=8, nz=30, n_elements=30,
+                    h_conv=0.0, back=back, T_back_C=20.0, scheme=scheme)
+    ax, col = AxisymPlate(p, 0.01), FE1DPlate(p, 0.01)
+    P = Q * p.contact_area
+    for i in range(200):
+        power = P * (1 + math.sin(0.1 * i)) * (i % 37 < 20)   # on/off: Rannacher restarts too
+        Ta, Tc = ax.step(power, 0.0), col.step(power, 0.0)
+        assert abs(Ta - Tc) < 1e-8
+    T = ax.temperature()
+    z = ax.mesh.p[1]
+    for zi, Ti in zip(col.z, col.temperature()):
+        assert np.all(np.abs(T[np.isclose(z, -zi)] - Ti) < 1e-8)
+
+
+A_DISK, R_DISK, H_DISK, T_DISK = 0.005, 0.03, 0.03, 5.0
+
+
+def disk_run(mesh, dt=0.05):
+    """Disk of radius 5 mm on a 30 x 30 mm section, 5 s (sqrt(kappa t) = 4.5 mm):
+    the section is a half-space to ~1e-6 there. Returns (centre, mean) rises."""
+    p = PlateParams(model="axisym", plate_radius=R_DISK, plate_thickness=H_DISK,
+                    a_contact_m=A_DISK, h_conv=0.0, back="adiabatic")
+    m = AxisymPlate(p, dt, mesh=mesh)
+    for _ in range(int(round(T_DISK / dt))):
+        Tm = m.step(Q * p.contact_area, 0.0)
+    T = m.temperature()
+    on_axis_top = np.isclose(m.mesh.p[1], 0) & np.isclose(m.mesh.p[0], 0)
+    return np.array([T[on_axis_top][0] - p.T0_C, Tm - p.T0_C])
+
+
+def disk_exact():
+    kappa = 16.0 / (7850 * 500)
+    return np.array([exact.disk_centre(T_DISK, Q, A_DISK, 16.0, kappa),
+                     exact.disk_mean(T_DISK, Q, A_DISK, 16.0, kappa)])
+
+
+def test_disk_source_centre_and_mean_within_half_percent():
+    mesh = rz_mesh(R_DISK, H_DISK, 40, 40, 1.07, band_r=2 * A_DISK)
+    got = disk_run(mesh, dt=0.02)
+    rel = np.abs(got - disk_exact()) / disk_exact()
+    assert np.all(rel < 0.005), rel
+
+
+def test_disk_source_order_in_z():
+    """z refined alone (nested graded meshes, 48 uniform r elements): the
+    self-convergence differences fall as h_z^2."""
+    res = [disk_run(rz_mesh(R_DISK, H_DISK, 48, nz, 1.2 ** (10 / nz))) for nz in (10, 20, 40, 80)]
+    d = np.abs(np.diff(res, axis=0))
+    h = 1.0 / np.array([20, 40, 80])
+    assert abs(rate(h, d[:, 0]) - 2.0) < 0.1
+    assert abs(rate(h, d[:, 1]) - 2.0) < 0.1
+    assert np.all(np.abs(res[-1] - disk_exact()) < 0.005 * disk_exact())
+
+
+def test_disk_source_order_in_r():
+    """r refined alone (uniform r, fixed graded z). The flux jump at the rim
+    (r = a, z = 0) makes the field singular there; the observed rate is still
+    pre-asymptotic at these sizes (measured: centre 1.67, mean 1.79; one level
+    finer 1.77, 1.83, an h^2 log h approach to 2, docs/thermal.md), hence the wider tolerance."""
+    res = [disk_run(rz_mesh(R_DISK, H_DISK, nr, 40, 1.07)) for nr in (24, 48, 96, 192)]
+    d = np.abs(np.diff(res, axis=0))
+    h = 1.0 / np.array([48, 96, 192])
+    assert abs(rate(h, d[:, 0]) - 2.0) < 0.4
+    assert abs(rate(h, d[:, 1]) - 2.0) < 0.3
+    assert np.all(np.abs(res[-1] - disk_exact()) < 0.002 * disk_exact())
+
+
+@pytest.mark.parametrize("scheme", ["bdf2", "cn", "be"])
+@pytest.mark.parametrize("back", ["convection", "fixed"])
+def test_energy_ledger_moving_source(scheme, back):
+    """Footprint centre moving sinusoidally across the axis and over the edge,
+    varying power, strong convection: heat_in = stored + lost to 1e-9."""
+    p = PlateParams(model="axisym", plate_radius=0.2, plate_thickness=0.03, a_contact_m=0.05,
+                    nr=30, nz=12, h_conv=2000.0, back=back, T_back_C=20.0, scheme=scheme)
+    m = AxisymPlate(p, 0.05)
+    for i in range(200):
+        centre = 0.19 * math.sin(0.07 * i)
+        m.step(2.0e4 * (1.2 + math.cos(0.3 * i)), centre)
+    hin = m.heat_in()
+    assert m.heat_lost() > 0.01 * hin
+    assert abs(hin - m.stored_heat() - m.heat_lost()) < 1e-9 * hin
+
+
+def test_long_heating_becomes_lumped():
+    """Adiabatic everywhere: after heating then resting, every node sits at the
+    lumped value T0 + q t A_c / (rho c V) (to 1e-9 relative of the rise)."""
+    p = PlateParams(model="axisym", plate_radius=0.05, plate_thickness=0.01, a_contact_m=0.02,
+                    nr=10, nz=6, grading=1.0, h_conv=0.0, back="adiabatic")
+    P, t_heat = Q * p.contact_area, 10.0
+    m = AxisymPlate(p, 1.0)
+    for i in range(int(t_heat)):
+        m.step(P, 0.002 * i)          # footprint moving, always on the plate
+    for _ in range(40):          # let it equalise: R^2/kappa = 600 s
+        m.step(0.0, 0.0)
+    m_long = AxisymPlate(p, 200.0)
+    m_long.integ.restore(m.integ.save())
+    for _ in range(200):
+        m_long.step(0.0, 0.0)
+    V = math.pi * p.plate_radius ** 2 * p.plate_thickness
+    lumped = P * t_heat / (p.rho * p.c * V)
+    assert abs(m_long.stored_heat() / (p.rho * p.c * V) - lumped) < 1e-12 * lumped
+    assert np.max(np.abs(m_long.temperature() - p.T0_C - lumped)) < 1e-9 * lumped
+
+
+def test_covered_fraction_is_the_angular_share():
+    a = 0.05
+    theta = (np.arange(200000) + 0.5) / 200000 * 2 * np.pi
+    for c in (0.0, 0.02, 0.05, 0.08):
+        for r in (0.001, 0.02, 0.03, 0.049, 0.06, 0.1, 0.13):
+            inside = (r * np.cos(theta) - c) ** 2 + (r * np.sin(theta)) ** 2 <= a * a
+            assert abs(covered_fraction(r, c, a) - inside.mean()) < 1e-4
+
+
+@pytest.mark.parametrize("c", [0.0, 0.013, 0.03, 0.0517, 0.09])
+def test_ring_load_integrates_exactly(c):
+    """The nodal ring loads sum to the disk area pi a^2 (footprint inside the
+    plate), and match a brute-force quadrature of int f phi_i 2 pi r dr."""
+    a = 0.04
+    r = np.linspace(0.0, 0.2, 23)
+    top = TopLoad(r, np.column_stack((np.arange(22), np.arange(1, 23))))
+    pat = top.pattern(c, a)
+    assert abs(pat.sum() - math.pi * a * a) < 1e-12 * math.pi * a * a
+    rr = np.linspace(0, 0.2, 2_000_001)
+    f = covered_fraction(rr, c, a) * 2 * np.pi * rr
+    x, w = np.polynomial.legendre.leggauss(5)
+    for i in (1, 5, 8, 11):
+        phi = np.interp(rr, r, np.eye(23)[i])
+        if c == 0:   # f is a step: integrate the polynomial pieces exactly up to r = a
+            ref = 0.0
+            for lo, hi in ((r[i - 1], r[i]), (r[i], r[i + 1])):
+                hi = min(hi, a)
+                if hi > lo:
+                    s = lo + (hi - lo) * 0.5 * (x + 1)
+                    ref += 0.5 * (hi - lo) * np.sum(w * np.interp(s, r, np.eye(23)[i]) * 2 * np.pi * s)
+        else:
+            ref = np.trapezoid(f * phi, rr)
+        assert abs(pat[i] - ref) < 1e-9 * math.pi * a * a
+
+
+def test_surface_temperature_is_footprint_mean():
+    p = PlateParams(model="axisym", nr=20, nz=6)
+    m = AxisymPlate(p, 0.1)
+    m.integ.u[:] = 5.0                       # uniform: the mean is that value
+    m._set_footprint(0.17)
+    assert abs(m.surface_temperature() - (p.T_air_C + 5.0)) < 1e-12
+
+
+def test_save_restore_is_bit_identical():
+    p = PlateParams(model="axisym", nr=20, nz=8, scheme="cn", back="fixed")
+    m = AxisymPlate(p, 0.05)
+    for i in range(6):
+        m.step(1e4 * (i % 3), 0.02 * i)
+    snap = m.save()
+    T1 = m.step(2e4, 0.3)
+    s1 = (m.integ.u.copy(), m.heat_in(), m.heat_lost(), m.stored_heat())
+    m.restore(snap)
+    T2 = m.step(2e4, 0.3)
+    assert T1 == T2 and np.array_equal(s1[0], m.integ.u)
+    assert s1[1:] == (m.heat_in(), m.heat_lost(), m.stored_heat())
+
+
+def test_field_for_vtk():
+    m = AxisymPlate(PlateParams(model="axisym", nr=5, nz=3), 0.1)
+    pts, cells, T = m.field()
+    assert pts.shape == (24, 3) and cells[0][0] == "quad" and cells[0][1].shape == (15, 4)
+    assert np.isclose(pts[:, 2].max(), 0.0) and T.shape == (24,)

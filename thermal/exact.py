@@ -1,0 +1,152 @@
+"""Closed-form conduction solutions used to verify the plate models.
+
+These are the references of model.md section 7. All return the temperature
+*rise* (K) above the initial temperature; ``q`` is the surface flux (W/m2),
+``k`` the conductivity, ``kappa`` the diffusivity k / (rho c), depth ``z``
+is measured from the heated face into the solid. Sources: Carslaw & Jaeger,
+*Conduction of Heat in Solids* (2nd ed.), sections 2.9, 3.9 and 10.5. The
+derivation of the footprint-mean disk temperature is in docs/thermal.md.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import integrate, special
+
+
+def ierfc(x):
+    """First repeated integral of erfc: exp(-x^2)/sqrt(pi) - x erfc(x)."""
+    x = np.asarray(x, dtype=float)
+    return np.exp(-x * x) / math.sqrt(math.pi) - x * special.erfc(x)
+
+
+def halfspace_flux(z, t, q, k, kappa):
+    """Semi-infinite solid, constant flux q into z = 0 from t = 0 (C&J 2.9 (7))."""
+    z = np.asarray(z, dtype=float)
+    s = np.sqrt(kappa * np.asarray(t, dtype=float))
+    return (2.0 * q / k) * (s / math.sqrt(math.pi) * np.exp(-z * z / (4 * s * s))
+                            - 0.5 * z * special.erfc(z / (2 * s)))
+
+
+def halfspace_flux_surface(t, q, k, kappa):
+    """Surface rise of the half-space: 2 q sqrt(kappa t / pi) / k."""
+    return 2.0 * q * np.sqrt(kappa * np.asarray(t, dtype=float) / math.pi) / k
+
+
+def slab_flux_mean(t, q, rho, c, H):
+    """Slab of thickness H, flux q in one face, other face adiabatic:
+    the mean rise is q t / (rho c H) exactly (heat balance)."""
+    return q * np.asarray(t, dtype=float) / (rho * c * H)
+
+
+def slab_flux(z, t, q, k, kappa, H, tol=1e-17):
+    """Profile of the same slab (C&J 3.9 (3) with y = H - z measured from the
+    adiabatic face):
+
+        T - T0 = q t/(rho c H) + (q H/k) [ (3 y^2 - H^2)/(6 H^2)
+                 - (2/pi^2) sum_n (-1)^n/n^2 exp(-kappa n^2 pi^2 t/H^2) cos(n pi y/H) ].
+
+    Terms are summed until the exponential drops below ``tol``.
+    """
+    z = np.atleast_1d(np.asarray(z, dtype=float))
+    t = float(t)
+    tau = kappa * t / (H * H)
+    n_max = int(math.sqrt(-math.log(tol) / (math.pi ** 2 * max(tau, 1e-300)))) + 2
+    n_max = min(max(n_max, 1), 200000)
+    n = np.arange(1, n_max + 1, dtype=float)
+    y = (H - z) / H
+    coef = (-1.0) ** n / n ** 2 * np.exp(-tau * (n * math.pi) ** 2)
+    series = np.cos(np.pi * np.outer(y, n)) @ coef
+    rise = (q * H / k) * (tau + (3 * y * y - 1) / 6 - 2 / math.pi ** 2 * series)
+    return rise
+
+
+def disk_centre(t, q, a, k, kappa):
+    """Uniform flux q on a disk of radius a of a half-space's surface (the rest
+    adiabatic): temperature rise at the centre of the disk (C&J 10.5 (7)),
+
+        (2 q sqrt(kappa t)/k) [1/sqrt(pi) - ierfc(a / (2 sqrt(kappa t)))],
+
+    tending to q a / k.
+    """
+    s = np.sqrt(kappa * np.asarray(t, dtype=float))
+    return 2.0 * q * s / k * (1.0 / math.sqrt(math.pi) - ierfc(a / (2 * s)))
+
+
+_GL40 = np.polynomial.legendre.leggauss(40)
+
+
+def _gauss(f, lo, hi, panels=8):
+    """Composite 40-point Gauss-Legendre rule: smooth integrands to round-off,
+    and (unlike adaptive quad) a smooth function of its parameters."""
+    x, w = _GL40
+    edges = np.linspace(lo, hi, panels + 1)
+    total = 0.0
+    for a0, a1 in zip(edges[:-1], edges[1:]):
+        h = 0.5 * (a1 - a0)
+        total += h * np.sum(w * f(a0 + h * (x + 1.0)))
+    return total
+
+
+def _ive1(w):
+    """exp(-w) I1(w); scipy returns nan beyond ~1e10, where the asymptotic
+    series is exact to round-off."""
+    w = np.asarray(w, dtype=float)
+    big = w > 1e6
+    safe = np.where(big, 1.0, w)
+    return np.where(big, (1 - 3 / (8 * w)) / np.sqrt(2 * np.pi * np.where(big, w, 1.0)),
+                    special.ive(1, safe))
+
+
+def _g(p):
+    """g(p) = int_0^inf J1(x)^2 exp(-p x^2) / x dx
+            = int_0^{1/(2p)} exp(-w) I1(w) / (2 w) dw   (see docs/thermal.md)."""
+    if p <= 0:
+        return 0.5
+    W = 1.0 / (2.0 * p)
+    if W > 20.0:
+        # w = W / s^2 maps the w^(-3/2) tail onto a smooth integrand on (0, 1]
+        x, wq = _GL40
+        sq = 0.5 * (x + 1.0)
+        tail = 0.5 * np.sum(wq * _ive1(W / (sq * sq)) / sq)
+        return 0.5 - tail
+    return _gauss(lambda w: special.ive(1, w) / (2 * w), 0.0, W, panels=2)
+
+
+def _disk_mean_factor(s):
+    """I(s) = int_0^inf J1(x)^2 erf(s x) / x^2 dx = (2/sqrt(pi)) int_0^s g(u^2) du."""
+    if s <= 0:
+        return 0.0
+    gv = np.vectorize(_g)
+    val = _gauss(lambda u: gv(u * u), 0.0, min(s, 1.0))
+    if s > 1.0:
+        # u = 1/v: g(1/v^2)/v^2 -> 1/8 as v -> 0, a smooth integrand
+        val += _gauss(lambda v: gv(1.0 / (v * v)) / (v * v), 1.0 / s, 1.0)
+    return 2.0 / math.sqrt(math.pi) * val
+
+
+def disk_mean(t, q, a, k, kappa):
+    """Same disk source: temperature rise averaged over the footprint (the
+    quantity fed back to friction, model.md section 4):
+
+        T_mean = (2 q a / k) int_0^inf J1(x)^2 erf(x sqrt(kappa t)/a) / x^2 dx,
+
+    the disk average 2 J1(x r/a)/(x) ... of the Hankel-transform surface
+    solution of C&J 10.5 (5). Evaluated with an exact reduction to a smooth
+    double integral (docs/thermal.md); steady value 8 q a / (3 pi k) and
+    short-time limit the 1D value 2 q sqrt(kappa t / pi) / k.
+    """
+    t_arr = np.atleast_1d(np.asarray(t, dtype=float))
+    out = np.array([2 * q * a / k * _disk_mean_factor(math.sqrt(kappa * ti) / a) for ti in t_arr])
+    return out if np.ndim(t) else float(out[0])
+
+
+def lumped_newton(t, P, H, C, T0, T_air):
+    """Lumped body C T' = P - H (T - T_air), T(0) = T0 (paper Eq. (9)-(10)):
+    T = T_air + P/H + (T0 - T_air - P/H) exp(-H t / C)."""
+    t = np.asarray(t, dtype=float)
+    if H == 0:
+        return T0 + P * t / C
+    T_inf = T_air + P / H
+    return T_inf + (T0 - T_inf) * np.exp(-H * t / C)

@@ -1,0 +1,245 @@
+"""Transient conduction through the plate thickness (model.md section 4, fe1d).
+
+rho c T_t = k T_zz on 0 < z < H (depth z from the sliding face), P1 elements
+on a mesh graded toward the sliding face, flux q = power / A_c in at z = 0,
+the back face z = H convective (h_conv to T_air), adiabatic or at T_back_C.
+The column has the footprint's cross-section A_c, so every matrix is in W/K
+or J/K and the ledger is in J. This is the 1D counterpart of the paper's
+lumped Eq. (9): the same heat, but resolved through the thickness.
+
+Source placement (params.source):
+
+- ``follow-pad``: the column under the pad receives the flux at every step,
+  wherever the pad is (an upper bound of the surface temperature);
+- ``fixed-point``: the column at the material point of arc position r0 =
+  params.radius_m receives the flux only while the footprint covers it,
+  |centre - r0| <= a; its surface temperature is returned. heat_in counts
+  what this column received, not the whole friction work.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import blas, lapack
+
+from meshes.line import line_mesh
+from thermal.params import PlateParams
+from thermal.stepping import Integrator
+
+BACKS = ("convection", "adiabatic", "fixed")
+SOURCES = ("follow-pad", "fixed-point")
+
+
+def assemble_column(z: np.ndarray, rho_c: float, k: float, area: float):
+    """Consistent P1 mass and stiffness of the column as tridiagonals
+    (diag, offdiag) for mass (J/K) and conduction (W/K)."""
+    from skfem import Basis, BilinearForm, ElementLineP1, MeshLine
+
+    @BilinearForm
+    def mass(u, v, w):
+        return rho_c * area * u * v
+
+    @BilinearForm
+    def conduction(u, v, w):
+        return k * area * u.grad[0] * v.grad[0]
+
+    basis = Basis(MeshLine(z), ElementLineP1())
+    M = mass.assemble(basis).todia()
+    K = conduction.assemble(basis).todia()
+    # skfem numbers MeshLine nodes in the order given, so these are tridiagonal
+    def diags(A):
+        A = A.tocsr()
+        return A.diagonal().copy(), A.diagonal(1).copy()
+    return diags(M), diags(K)
+
+
+class ColumnIntegrator(Integrator):
+    """The Integrator specialised to the column (same schemes, same ledger):
+    the load sits on the surface node, convection and the fixed temperature
+    on the back node, so the hot loop is two banded BLAS products, one
+    dpttrs and scalar ledger updates; no per-step skfem, no sparse matrices."""
+
+    def __init__(self, tri, conv_back: float, nf: int, u0, dt, scheme, jump_rtol, rannacher=True):
+        dM, eM, dA, eA = tri
+        n = len(dM)
+        # upper band storage, Fortran order so that f2py passes it without a copy
+        self._Mb = np.zeros((2, n), order="F")
+        self._Mb[1], self._Mb[0, 1:] = dM, eM
+        self._Ab = np.zeros((2, n), order="F")
+        self._Ab[1], self._Ab[0, 1:] = dA, eA
+        self._tri = tri
+        conv = np.zeros(n)
+        conv[-1] = conv_back
+        self._cb = conv_back
+        mD, aD = np.zeros(n), np.zeros(n)
+        if nf < n:
+            mD[-2:] = eM[-1], dM[-1]
+            aD[-2:] = eA[-1], dA[-1]
+        self._mD1 = mD[-2]
+        self._aD = (aD[-2], aD[-1])
+        super().__init__(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
+                         u0, dt, scheme, jump_rtol, rannacher)
+        self._q = 0.0
+
+    def _mass(self, x):
+        return blas.dsbmv(1, 1.0, self._Mb, x)
+
+    def _stiff(self, x):
+        return blas.dsbmv(1, 1.0, self._Ab, x)
+
+    def _factor(self, gamma: float):
+        dM, eM, dA, eA = self._tri
+        nf = self.nf
+        df, ef, info = lapack.dpttrf(dM[:nf] + gamma * dA[:nf], eM[:nf - 1] + gamma * eA[:nf - 1])
+        if info != 0:
+            raise np.linalg.LinAlgError(f"dpttrf failed (info={info})")
+        dpttrs = lapack.dpttrs
+        return lambda rhs: dpttrs(df, ef, rhs)[0]
+
+    def _reaction(self, Mdu_last: float, h: float, uth_2: float, uth_1: float) -> float:
+        # 1_D^T residual on the back node (no load there)
+        return self._mD1 * Mdu_last + h * (self._aD[0] * uth_2 + self._aD[1] * uth_1)
+
+    def _be1(self, h: float, q: float) -> float:
+        nf, u = self.nf, self.u
+        rhs = blas.dsbmv(1, -h, self._Ab, u)
+        rhs[0] += h * q
+        du = self.solver(h)(rhs[:nf])
+        u[:nf] += du
+        self.du[:nf] = du
+        s = h * self._cb * u[-1]
+        if nf < len(u):
+            s -= self._reaction(du[-1], h, u[-2], u[-1])
+        self.heat_in += h * q
+        self.heat_lost += s
+        return s
+
+    def _cn1(self, h: float, q: float) -> None:
+        nf, u = self.nf, self.u
+        rhs = blas.dsbmv(1, -h, self._Ab, u)
+        rhs[0] += h * q
+        u2, u1 = u[-2], u[-1]
+        du = self.solver(0.5 * h)(rhs[:nf])
+        u[:nf] += du
+        self.du[:nf] = du
+        s = 0.5 * h * self._cb * (u1 + u[-1])
+        if nf < len(u):
+            s -= self._reaction(du[-1], h, 0.5 * (u2 + u[-2]), u[-1])
+        self.heat_in += h * q
+        self.heat_lost += s
+
+    def _bdf21(self, h: float, q: float) -> None:
+        nf, u = self.nf, self.u
+        g = 1.5 * q - 0.5 * self._q
+        rhs = blas.dsbmv(1, -2.0 * h / 3.0, self._Ab, u)
+        rhs = blas.dsbmv(1, 1.0 / 3.0, self._Mb, self.du, beta=1.0, y=rhs, overwrite_y=1)
+        rhs[0] += 2.0 * h / 3.0 * g
+        du = self.solver(2.0 * h / 3.0)(rhs[:nf])
+        last_prev = self.du[nf - 1]
+        u[:nf] += du
+        self.du[:nf] = du
+        s = h * self._cb * u[-1]
+        if nf < len(u):
+            s -= self._reaction(1.5 * du[-1] - 0.5 * last_prev, h, u[-2], u[-1])
+        loss = (2.0 / 3.0) * (s + 0.5 * self.loss_prev)
+        self.loss_prev = loss
+        self.heat_in += h * q
+        self.heat_lost += loss
+
+    def step_surface(self, q: float) -> None:
+        """Advance dt with the power q (W) into the surface node."""
+        h = self.dt
+        if self.scheme == "bdf2":
+            if self.steps == 0:
+                self.loss_prev = self._be1(h, q)
+            else:
+                self._bdf21(h, q)
+        elif self.scheme == "cn":
+            if self.rannacher and (self.steps == 0 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q))):
+                self._be1(0.5 * h, q)
+                self._be1(0.5 * h, q)
+                self.half_steps += 2
+            else:
+                self._cn1(h, q)
+        else:
+            self._be1(h, q)
+        self._q = q
+        self.b[0] = q
+        self.steps += 1
+
+    def restore(self, snap) -> None:
+        super().restore(snap)
+        self._q = self.b[0]
+
+
+class FE1DPlate:
+    """PlateModel of docs/architecture.md on a graded through-thickness column."""
+
+    def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, rannacher: bool = True):
+        if params.back not in BACKS:
+            raise ValueError(f"thermal.back must be one of {BACKS}, got {params.back!r}")
+        if params.source not in SOURCES:
+            raise ValueError(f"thermal.source must be one of {SOURCES}, got {params.source!r}")
+        self.params = p = params
+        self.dt = float(dt)
+        self.area = p.contact_area
+        self.z = line_mesh(p.plate_thickness, p.n_elements, p.grading).p[0].copy()
+        n = len(self.z)
+        h_min = np.diff(self.z).min()
+        if h_min < 1e-9 * p.plate_thickness:
+            raise ValueError(f"thermal: n_elements={p.n_elements} with grading={p.grading} gives a first "
+                             f"element of {h_min:.1e} m (< 1e-9 of the thickness); lower the grading")
+        (dM, eM), (dK, eK) = assemble_column(self.z, p.rho * p.c, p.k, self.area)
+        dA = dK.copy()
+        conv_back = p.h_conv * self.area if p.back == "convection" else 0.0
+        dA[-1] += conv_back
+        nf = n - 1 if p.back == "fixed" else n
+        u0 = np.full(n, p.T0_C - p.T_air_C)
+        if nf < n:
+            u0[-1] = p.T_back_C - p.T_air_C
+        self._tri = (dM, eM, dA, eK)
+        self.integ = ColumnIntegrator(self._tri, conv_back, nf, u0, self.dt, p.scheme, jump_rtol, rannacher)
+
+    # -- PlateModel interface ---------------------------------------------------
+    def covered(self, centre_m: float) -> bool:
+        """Whether the footprint centred at centre_m covers this column."""
+        if self.params.source == "follow-pad":
+            return True
+        return abs(centre_m - self.params.radius_m) <= self.params.a_contact_m
+
+    def step(self, power_W: float, centre_m: float = 0.0) -> float:
+        """Advance dt with power_W over the footprint at centre_m; return the
+        column's surface temperature (degC) at the end of the step."""
+        if self.params.source == "fixed-point" and not self.covered(centre_m):
+            power_W = 0.0
+        self.integ.step_surface(float(power_W))
+        return float(self.integ.u[0] + self.params.T_air_C)
+
+    def surface_temperature(self) -> float:
+        return float(self.integ.u[0] + self.params.T_air_C)
+
+    def temperature(self) -> np.ndarray:
+        """Nodal temperatures (degC) at depths self.z."""
+        return self.integ.u + self.params.T_air_C
+
+    def stored_heat(self) -> float:
+        return self.integ.stored()
+
+    def heat_lost(self) -> float:
+        return self.integ.heat_lost
+
+    def heat_in(self) -> float:
+        return self.integ.heat_in
+
+    def save(self):
+        return self.integ.save()
+
+    def restore(self, snap) -> None:
+        self.integ.restore(snap)
+
+    def field(self):
+        """(points, cells, T): the column as a VTK line, sliding face at z = 0."""
+        n = len(self.z)
+        pts = np.zeros((n, 3))
+        pts[:, 2] = -self.z
+        conn = np.column_stack((np.arange(n - 1), np.arange(1, n)))
+        return pts, [("line", conn)], self.temperature().copy()
