@@ -106,18 +106,22 @@ def cmd_run(args) -> int:
         if scene["output"]["vtk_every"] > 0:
             from .vtk_output import VTKSeries
             vtk = VTKSeries(folder.subdir("vtk"), sim)
+        hottest = None
+        if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
+            from .hottest import HottestFields
+            hottest = vtk.hottest if vtk else HottestFields()
         result = simulate(sim, progress=progress, every=scene["output"]["csv_every"],
                           inject_failure_at=int(inject) if inject else None,
                           on_frame=vtk.frame if vtk else None,
-                          frame_every=scene["output"]["vtk_every"])
+                          frame_every=scene["output"]["vtk_every"], hottest=hottest)
         held.start()
         if vtk:
             vtk.close()
         solver = scene["solver"]
         solver.setdefault("duration", sim.n_steps * sim.dt)
         s = write_all(folder, scene, result, sim, plots=scene["output"]["plots"])
-        if vtk and scene["output"]["plots"]:
-            vtk.hottest_pictures(folder.subdir("plots"))
+        if hottest is not None:
+            hottest.pictures(folder.subdir("plots"))
         folder.commit()
     except BaseException:
         folder.discard()

@@ -95,7 +95,7 @@ def _columns(sim: Simulation):
 
 
 def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_failure_at: int | None = None,
-             on_frame=None, frame_every: int = 0) -> Result:
+             on_frame=None, frame_every: int = 0, hottest=None) -> Result:
     """Run the scene's loop; never raises for numerical failure or Ctrl-C:
     the Result carries ``status`` and the history computed so far."""
     mech = sim.mechanics
@@ -134,6 +134,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     status, message = "ok", ""
     total_iter, worst_iter = 0, 0
     bar = _Progress(N, dt, progress)
+    hot_every = max(1, N // 2000)          # ~2000 looks at the plate fields per run
     c1_old = c2_old = 0.0
     t_start = time.perf_counter()
     n = last_row = 0
@@ -199,6 +200,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 if on_frame is not None and frame_every and n % frame_every == 0:
                     sim.frame_values = dict(zip(cols, r))   # the CSV row, for the VTK frame
                     on_frame(n, sim)
+            if hottest is not None and n % hot_every == 0:
+                hottest.update(sim.plates, n * dt)
             if n % 2048 == 0:
                 bar.update(n)
     except NumericalFailure as exc:

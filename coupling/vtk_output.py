@@ -25,6 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .hottest import HottestFields
+
 BODIES = ("lower_plate", "pad", "upper_plate", "superstructure")
 N_ARC = 32          # points per arc of the device polygons
 TILT = 2            # phase code of a rocking pad (mechanics.seated.PHASES)
@@ -140,7 +142,7 @@ class VTKSeries:
         self.geom = sim.geometry
         self.device = PVDWriter(self.folder, "device")
         self.plates = []              # (side, plate, writer)
-        self.hottest = {}             # side -> (Tmax, time, points, cells, T)
+        self.hottest = HottestFields()   # side -> (Tmax, time, points, cells, T)
         for side, plate in zip(("lower", "upper"), sim.plates):
             if plate is None or not callable(getattr(plate, "field", None)):
                 continue
@@ -217,10 +219,7 @@ class VTKSeries:
                 writer.add(t, p, c, point_data={"T_C": Tf})
             else:
                 writer.add(t, p, c, cell_data={"T_C": [Tf]})
-            tmax = float(np.nanmax(Tf)) if Tf.size else nan
-            best = self.hottest.get(side)
-            if best is None or tmax > best[0]:
-                self.hottest[side] = (tmax, t, p.copy(), [(k, np.asarray(cc).copy()) for k, cc in c], Tf.copy())
+            self.hottest.consider(side, t, p, c, Tf)
 
     def close(self) -> None:
         self.device.close()
@@ -231,69 +230,4 @@ class VTKSeries:
     def hottest_pictures(self, plots_dir) -> list[Path]:
         """One PNG per plate with a field: its temperature field at the frame
         with the highest maximum temperature (matplotlib, no OpenGL)."""
-        out = []
-        for side in ("lower", "upper"):
-            if side in self.hottest:
-                out.append(plot_plate_field(Path(plots_dir) / f"{side}_plate_hottest.png",
-                                            f"{side} plate", *self.hottest[side]))
-        return out
-
-
-def _plane_axes(points: np.ndarray) -> tuple[int, int]:
-    """The two coordinates along which the points spread most (x, y, z order kept)."""
-    ext = np.ptp(points, axis=0) if len(points) else np.zeros(3)
-    i, j = sorted(np.argsort(ext)[-2:])
-    return int(i), int(j)
-
-
-def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cells, T) -> Path:
-    """A plate's temperature field: a line mesh as T along the line, a 2-D
-    mesh (triangles, quads) as a coloured r-z section."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.tri import Triangulation
-
-    names = "xyz"
-    points = np.asarray(points, dtype=float)
-    if points.shape[1] == 2:
-        points = np.column_stack((points, np.zeros(len(points))))
-    kinds = {k for k, _ in cells}
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
-    point_T = len(T) == len(points)
-    if kinds <= {"line"} or not point_T:
-        ext = np.ptp(points, axis=0)
-        k = int(np.argmax(ext))
-        if point_T:
-            order = np.argsort(points[:, k])
-            ax.plot(points[order, k], T[order], "-", color="tab:red")
-        else:
-            mids = np.array([points[np.asarray(cc)].mean(axis=1)[:, k] for _, cc in cells]).ravel()
-            order = np.argsort(mids)
-            ax.plot(mids[order], T[order], "-", color="tab:red")
-        ax.set_xlabel(f"{names[k]} (m), plate coordinates")
-        ax.set_ylabel("T (degC)")
-        ax.grid(True, alpha=0.3)
-    else:
-        i, j = _plane_axes(points)
-        tris = []
-        for kind, conn in cells:
-            conn = np.asarray(conn)
-            if kind == "triangle":
-                tris.append(conn)
-            elif kind == "quad":
-                tris += [conn[:, [0, 1, 2]], conn[:, [0, 2, 3]]]
-        tri = Triangulation(points[:, i], points[:, j], np.vstack(tris))
-        pc = ax.tripcolor(tri, T, shading="gouraud", cmap="inferno")
-        fig.colorbar(pc, ax=ax, label="T (degC)")
-        ext = np.ptp(points[:, [i, j]], axis=0)
-        stretched = ext.min() > 0 and ext.max() / ext.min() > 3.0
-        ax.set_aspect("auto" if stretched else "equal")     # a thin plate: stretch its thickness
-        short = " (stretched)" if stretched else ""
-        ax.set_xlabel(f"{names[i]} (m)" + (short if ext[0] < ext[1] else ""))
-        ax.set_ylabel(f"{names[j]} (m)" + (short if ext[1] < ext[0] else ""))
-    ax.set_title(f"{label} at its hottest: t = {t:.3f} s, max T = {tmax:.2f} degC")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+        return self.hottest.pictures(plots_dir)
