@@ -53,6 +53,8 @@ def loading_of(scene: Scene, dt: float):
             raise SceneError(f"{scene.path}: solver.dt = {dt:g}: must not exceed solver.duration")
         if dt > rec.t[-1]:
             raise SceneError(f"{scene.path}: solver.dt = {dt:g}: must not exceed the record's length {rec.t[-1]:g} s")
+        from .scene import check_steps
+        check_steps(scene.path, dt, duration or float(rec.t[-1]))
         gm = gmod.ground_motion_from_samples(
             ld.get("record", ld.get("file")), rec.t, rec.a_g * G_ACC * ld["scale"], dt, duration,
             baseline=ld["baseline"])

@@ -65,6 +65,25 @@ def _sigterm(signum, frame):
     raise KeyboardInterrupt
 
 
+class _HoldSignals:
+    """Between start() and stop(), Ctrl-C and SIGTERM are held, not raised: a
+    second interrupt while the computed history is written cannot lose it."""
+
+    got = None
+    old = {}
+
+    def start(self):
+        self.old = {sig: signal.signal(sig, self._hold) for sig in (signal.SIGINT, signal.SIGTERM)}
+
+    def _hold(self, signum, frame):
+        self.got = signum
+
+    def stop(self):
+        for sig, handler in self.old.items():
+            signal.signal(sig, handler)
+        self.old = {}
+
+
 def cmd_run(args) -> int:
     from . import scene as scn
     from .build import build
@@ -76,28 +95,42 @@ def cmd_run(args) -> int:
     check_out_dir(out, args.force)
     sim = build(scene)
     inject = os.environ.get("FPD_INJECT_NAN_AT_STEP")
-    folder = ResultsFolder(out)
+    try:
+        folder = ResultsFolder(out)
+    except OSError as exc:       # --out under a file, or where we may not write: a bad option
+        raise scn.SceneError(f"{out}: cannot create the results folder there (--out): {exc.strerror}") from None
+    held = _HoldSignals()
     try:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
         if scene["output"]["vtk_every"] > 0:
             from .vtk_output import VTKSeries
             vtk = VTKSeries(folder.subdir("vtk"), sim)
+        hottest = None
+        if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
+            from .hottest import HottestFields
+            hottest = vtk.hottest if vtk else HottestFields()
         result = simulate(sim, progress=progress, every=scene["output"]["csv_every"],
                           inject_failure_at=int(inject) if inject else None,
                           on_frame=vtk.frame if vtk else None,
-                          frame_every=scene["output"]["vtk_every"])
+                          frame_every=scene["output"]["vtk_every"], hottest=hottest)
+        held.start()
         if vtk:
             vtk.close()
         solver = scene["solver"]
         solver.setdefault("duration", sim.n_steps * sim.dt)
         s = write_all(folder, scene, result, sim, plots=scene["output"]["plots"])
-        if vtk and scene["output"]["plots"]:
-            vtk.hottest_pictures(folder.subdir("plots"))
+        if hottest is not None:
+            hottest.pictures(folder.subdir("plots"))
+        folder.commit()
     except BaseException:
         folder.discard()
         raise
-    folder.commit()
+    finally:
+        held.stop()
+    if held.got is not None and result.status == "ok":
+        sys.stderr.write(f"fpd: interrupted while writing; the complete results are in {out}\n")
+        return EXIT_INTERRUPTED
     if not args.quiet:
         _report(s, out)
     if result.status == "failed":

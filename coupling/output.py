@@ -54,7 +54,12 @@ class ResultsFolder:
         if self.out.exists():
             old = self.out.parent / f".{self.out.name}.old-{os.getpid()}"
             os.replace(self.out, old)
-        os.replace(self.tmp, self.out)
+        try:
+            os.replace(self.tmp, self.out)
+        except BaseException:
+            if old is not None:          # put the old results back
+                os.replace(old, self.out)
+            raise
         if old is not None:
             shutil.rmtree(old, ignore_errors=True)
         return self.out
@@ -118,6 +123,8 @@ def summary(scene: Scene, result, sim) -> dict:
         s["peak_T2_C"] = _f(np.max(result["T2_C"]))
         s["heat"] = heat_ledger(result, sim)
         s["heat_residual_rel"] = s["heat"]["residual_rel"]
+    if d["loading"]["kind"] == "heat" and d["loading"]["reference"] != "none" and result.n_rows > 1:
+        s["reference"] = closed_form_check(result, sim)
     if "mu1" in result:
         s["min_mu1"] = _f(np.min(result["mu1"]))
         s["min_mu2"] = _f(np.min(result["mu2"]))
@@ -125,6 +132,35 @@ def summary(scene: Scene, result, sim) -> dict:
         s["coupling_iterations"] = {"total": int(result.iterations), "max_per_step": int(result.max_iterations)}
     s.update(result.info)
     return s
+
+
+def closed_form_check(result, sim) -> dict:
+    """Thermal-only scenes: the surface temperature of the heated plate
+    against the closed form the scene names (model.md section 7)."""
+    from thermal import exact
+
+    ld = sim.scene["loading"]
+    side = 0 if ld["plate"] in ("lower", "both") else 1
+    p = sim.plate_params[side]
+    q, kappa = ld["flux_W_m2"], p.diffusivity
+    t = result["t_s"][1:]
+    T = result[f"T{side + 1}_C"][1:]
+    pick = np.unique(np.linspace(0, len(t) - 1, min(len(t), 50)).astype(int))
+    t, T = t[pick], T[pick]
+    kind = ld["reference"]
+    if kind == "halfspace":
+        rise = exact.halfspace_flux_surface(t, q, p.k, kappa)
+        what = "surface temperature, semi-infinite solid, constant flux"
+    elif kind == "slab":
+        rise = np.array([exact.slab_flux(0.0, ti, q, p.k, kappa, p.plate_thickness)[0] for ti in t])
+        what = "heated-face temperature, slab with an adiabatic back face"
+    else:
+        rise = np.asarray(exact.disk_mean(t, q, p.a_contact_m, p.k, kappa))
+        what = "footprint-mean temperature, disk source on a half-space"
+    err = T - (p.T0_C + rise)
+    return {"closed_form": kind, "quantity": what, "T_end_C": float(T[-1]),
+            "T_exact_end_C": float(p.T0_C + rise[-1]), "error_end_K": float(err[-1]),
+            "max_abs_error_K": float(np.max(np.abs(err))), "samples": int(len(t))}
 
 
 def heat_ledger(result, sim) -> dict:

@@ -95,7 +95,7 @@ def _columns(sim: Simulation):
 
 
 def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_failure_at: int | None = None,
-             on_frame=None, frame_every: int = 0) -> Result:
+             on_frame=None, frame_every: int = 0, hottest=None) -> Result:
     """Run the scene's loop; never raises for numerical failure or Ctrl-C:
     the Result carries ``status`` and the history computed so far."""
     mech = sim.mechanics
@@ -134,9 +134,10 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     status, message = "ok", ""
     total_iter, worst_iter = 0, 0
     bar = _Progress(N, dt, progress)
+    hot_every = max(1, N // 2000)          # ~2000 looks at the plate fields per run
     c1_old = c2_old = 0.0
     t_start = time.perf_counter()
-    n = 0
+    n = last_row = 0
     try:
         for n in range(1, N + 1):
             if mech is None:                                   # thermal-only scene
@@ -195,12 +196,18 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 if k < n_rows:
                     buf[k] = r
                     k += 1
+                    last_row = n
                 if on_frame is not None and frame_every and n % frame_every == 0:
+                    sim.frame_values = dict(zip(cols, r))   # the CSV row, for the VTK frame
                     on_frame(n, sim)
+            if hottest is not None and n % hot_every == 0:
+                hottest.update(sim.plates, n * dt)
             if n % 2048 == 0:
                 bar.update(n)
     except NumericalFailure as exc:
         status, message = "failed", str(exc)
+    except (ArithmeticError, ValueError) as exc:    # overflow, division by zero, math domain...
+        status, message = "failed", str(NumericalFailure(n, n * dt, f"{type(exc).__name__}: {exc}"))
     except KeyboardInterrupt:
         status, message = "interrupted", f"interrupted at step {n} (t = {n * dt:.6g} s)"
     bar.close()
@@ -208,7 +215,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     idx = [cols.index(c) for c in order]
     data = buf[:k][:, idx]
     res = Result(order, data, status, message, runtime, total_iter, worst_iter, (p1, p2), dict(sim.info))
-    res.steps = n if status == "ok" else n - 1
+    # a failed or interrupted step n is not counted, unless its row was already kept
+    res.steps = n if status == "ok" or last_row == n else n - 1
     return res
 
 

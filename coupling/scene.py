@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import copy
 import difflib
+import json
 import math
 import os
 import re
@@ -25,12 +26,18 @@ RECORDS = {
 class SceneError(ValueError):
     """Bad input: the message is the one line shown to the user."""
 
+    def __init__(self, message: str = ""):
+        # one line whatever the user typed: control characters shown escaped
+        super().__init__("".join(c if c.isprintable() else repr(c)[1:-1] for c in str(message)))
+
 
 # -- schema -------------------------------------------------------------------
 # Each key: (kind, default, check). kind: "float", "int", "bool", "str",
 # "floats" (list of numbers) or a tuple of allowed strings. default REQUIRED
 # means the key must be given; None means optional with no value.
 REQUIRED = object()
+# beyond these, squares and products overflow (floats) or nothing fits in memory (ints, steps)
+MAX_MAGNITUDE, MAX_INT, MAX_STEPS = 1e100, 10**9, 2 * 10**7
 
 
 def _pos(x):
@@ -67,29 +74,35 @@ FRICTION_KEYS = {
     "table": {"T_C": ("floats", REQUIRED, None), "mu": ("floats", REQUIRED, None)},
 }
 
-THERMAL_KEYS = {
-    "model": (("none", "lumped", "fe1d", "axisym"), "lumped", None),
-    "source": (("follow-pad", "fixed-point"), "follow-pad", None),
-    "radius_m": ("float", 0.0, _nonneg),
-    "T0_C": ("float", 20.0, _temp),
-    "T_air_C": ("float", 20.0, _temp),
-    "heat_share": ("float", 1.0, _share),
-    "plate_thickness": ("float", 0.05, _pos),
-    "plate_radius": ("float", 0.40, _pos),
-    "k": ("float", 16.0, _pos),
-    "rho": ("float", 7850.0, _pos),
-    "c": ("float", 500.0, _pos),
-    "h_conv": ("float", 10.0, _nonneg),
-    "back": (("convection", "adiabatic", "fixed"), "convection", None),
-    "T_back_C": ("float", 20.0, _temp),
-    "exchange_area_m2": ("float", 0.0, _nonneg),
-    "n_elements": ("int", 100, _atleast(2)),
-    "grading": ("float", 1.1, _atleast(1.0)),
-    "nr": ("int", 60, _atleast(2)),
-    "nz": ("int", 30, _atleast(2)),
-    "scheme": (("bdf2", "cn", "be"), "bdf2", None),
-    "mesh_file": ("str", "", None),
-}
+def _plate_default(name):
+    """Defaults of the [thermal] keys are PlateParams' (one source of truth)."""
+    from thermal.params import PlateParams
+    return PlateParams.__dataclass_fields__[name].default
+
+
+THERMAL_KEYS = {name: (kind, _plate_default(name), check) for name, kind, check in (
+    ("model", ("none", "lumped", "fe1d", "axisym"), None),
+    ("source", ("follow-pad", "fixed-point"), None),
+    ("radius_m", "float", _nonneg),
+    ("T0_C", "float", _temp),
+    ("T_air_C", "float", _temp),
+    ("heat_share", "float", _share),
+    ("plate_thickness", "float", _pos),
+    ("plate_radius", "float", _pos),
+    ("k", "float", _pos),
+    ("rho", "float", _pos),
+    ("c", "float", _pos),
+    ("h_conv", "float", _nonneg),
+    ("back", ("convection", "adiabatic", "fixed"), None),
+    ("T_back_C", "float", _temp),
+    ("exchange_area_m2", "float", _nonneg),
+    ("n_elements", "int", _atleast(2)),
+    ("grading", "float", _atleast(1.0)),
+    ("nr", "int", _atleast(2)),
+    ("nz", "int", _atleast(2)),
+    ("scheme", ("bdf2", "cn", "be"), None),
+    ("mesh_file", "str", None),
+)}
 
 LOADING_KEYS = {
     "record": {"record": ("str", None, None), "file": ("str", None, None),
@@ -104,7 +117,8 @@ LOADING_KEYS = {
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
               "duration_s": ("float", None, _pos)},
     "heat": {"flux_W_m2": ("float", REQUIRED, _nonneg), "duration_s": ("float", REQUIRED, _pos),
-             "plate": (("lower", "upper", "both"), "lower", None)},
+             "plate": (("lower", "upper", "both"), "lower", None),
+             "reference": (("none", "halfspace", "slab", "disk"), "none", None)},
 }
 
 TABLES = {
@@ -193,6 +207,8 @@ def _check_value(ctx: _Ctx, key: str, value, spec):
     if kind == "float":
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             ctx.fail(key, value, "must be a number")
+        if not (isinstance(value, float) and not math.isfinite(value)) and not abs(value) <= MAX_MAGNITUDE:
+            ctx.fail(key, value, f"is out of range: |value| must be <= {MAX_MAGNITUDE:g}")
         value = float(value)
         if not math.isfinite(value):
             ctx.fail(key, value, "must be finite")
@@ -202,6 +218,8 @@ def _check_value(ctx: _Ctx, key: str, value, spec):
                 value = int(value)
             else:
                 ctx.fail(key, value, "must be a whole number")
+        if abs(value) > MAX_INT:
+            ctx.fail(key, value, f"is out of range: must be <= {MAX_INT:g}")
     elif kind == "bool":
         if not isinstance(value, bool):
             ctx.fail(key, value, "must be true or false")
@@ -265,7 +283,7 @@ def _friction(ctx: _Ctx, given) -> dict:
         merged.update(over)
         where = f"friction.{side}" if over else "friction"
         law = merged.get("law", "constant")
-        if law not in FRICTION_KEYS:
+        if not isinstance(law, str) or law not in FRICTION_KEYS:
             ctx.fail(f"{where}.law", law, "must be one of " + ", ".join(f'"{k}"' for k in FRICTION_KEYS))
         schema = FRICTION_KEYS[law]
         # a key of the base table that belongs to another law is an error
@@ -326,7 +344,7 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
     if "kind" not in given:
         ctx.missing("loading.kind", "give one of " + ", ".join(f'"{k}"' for k in LOADING_KEYS))
     kind = given["kind"]
-    if kind not in LOADING_KEYS:
+    if not isinstance(kind, str) or kind not in LOADING_KEYS:
         ctx.fail("loading.kind", kind, "must be one of " + ", ".join(f'"{k}"' for k in LOADING_KEYS))
     res = _table(ctx, "loading", {k: v for k, v in given.items() if k != "kind"}, LOADING_KEYS[kind])
     res["kind"] = kind
@@ -414,6 +432,9 @@ def _cross_checks(ctx: _Ctx, data: dict):
     length = loading_length(ld)
     if length is not None and "duration" not in sol and sol["dt"] > length:
         ctx.fail("solver.dt", sol["dt"], f"must not exceed the loading's length {length:g} s")
+    length = sol.get("duration", length)
+    if length is not None:
+        check_steps(ctx.path, sol["dt"], length)
     for side in ("lower", "upper"):
         t = data["thermal"][side]
         if t["source"] == "fixed-point" and t["radius_m"] > t["plate_radius"]:
@@ -421,6 +442,13 @@ def _cross_checks(ctx: _Ctx, data: dict):
         if dev["pad_diameter"] / 2 > t["plate_radius"] and t["model"] != "none":
             ctx.fail("thermal.plate_radius", t["plate_radius"],
                      f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
+
+
+def check_steps(path: str, dt: float, length: float) -> None:
+    """A dt so small that the run cannot fit in memory is an input error (a typo, most often)."""
+    if length / dt > MAX_STEPS:
+        raise SceneError(f"{path}: solver.dt = {dt:g}: gives {length / dt:.3g} steps over {length:g} s; "
+                         f"at most {MAX_STEPS:.0e} allowed (raise solver.dt or set a shorter solver.duration)")
 
 
 def loading_length(ld: dict):
@@ -502,12 +530,18 @@ def read_toml(path: Path) -> dict:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise SceneError(f"{path}: invalid TOML: {exc}") from None
+    except RecursionError:
+        raise SceneError(f"{path}: invalid TOML: arrays or tables nested too deeply") from None
 
 
 def load(scene: str | None = None, overrides: list[str] | None = None) -> Scene:
     """Resolve, read, override and validate a scene."""
     path = resolve_path(scene)
-    raw = apply_overrides(read_toml(path), overrides or [])
+    raw = read_toml(path)
+    try:
+        raw = apply_overrides(raw, overrides or [])
+    except SceneError as exc:       # name the scene the override was meant for
+        raise SceneError(f"{path}: {exc}") from None
     if "name" not in raw:
         raw["name"] = path.stem
     return validate(raw, str(path))
@@ -519,8 +553,8 @@ def _toml_value(v) -> str:
         return "true" if v else "false"
     if isinstance(v, (int, float)):
         return repr(v)
-    if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, str):   # a TOML basic string: JSON's escapes are TOML's, and DEL must be escaped too
+        return json.dumps(v, ensure_ascii=False).replace("\x7f", "\\u007f")
     if isinstance(v, list):
         return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     raise TypeError(v)

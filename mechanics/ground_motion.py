@@ -37,7 +37,8 @@ class RecordError(ValueError):
 
     def __init__(self, path, message: str, line: int | None = None):
         where = f"{path}" + (f", line {line}" if line is not None else "")
-        super().__init__(f"{where}: {message}")
+        text = f"{where}: {message}"     # one line: control characters (in names, values) escaped
+        super().__init__("".join(c if c.isprintable() else repr(c)[1:-1] for c in text))
 
 
 @dataclass
@@ -122,15 +123,19 @@ def parse_at2(text: str, path="<record>") -> Record:
     if parsed is None:
         raise RecordError(path, f"cannot read NPTS and DT from '{lines[head].strip()[:60]}'", head + 1)
     npts, dt = parsed
-    if npts != int(npts) or npts < 2:
+    if not np.isfinite(npts) or npts != int(npts) or npts < 2:
         raise RecordError(path, f"NPTS = {npts:g} must be a whole number >= 2", head + 1)
     if not (np.isfinite(dt) and dt > 0):
-        raise RecordError(path, f"DT = {dt:g} must be > 0", head + 1)
+        raise RecordError(path, f"DT = {dt:g} must be a finite number > 0", head + 1)
     vals = []
     for j, line in enumerate(lines[head + 1:], start=head + 2):
         toks = line.replace(",", " ").split()
         if toks:
-            vals.extend(_floats(toks, path, j))
+            row = _floats(toks, path, j)
+            for tok, x in zip(toks, row):
+                if not np.isfinite(x):
+                    raise RecordError(path, f"non-finite acceleration value '{tok[:30]}'", j)
+            vals.extend(row)
     a = np.asarray(vals, dtype=float)
     if len(a) != int(npts):
         raise RecordError(path, f"header says NPTS = {int(npts)} but {len(a)} values follow")
@@ -172,8 +177,12 @@ def parse_two_column(text: str, path="<record>", units: str = "g") -> Record:
     if len(t) < 2:
         raise RecordError(path, "fewer than two (time, acceleration) rows")
     scale = {"g": 1.0, "m/s2": 1.0 / G_ACC}[units]
-    return Record(name=str(path), t=np.asarray(t) - t[0], a_g=np.asarray(a) * scale,
-                  source=" / ".join(header))
+    with np.errstate(over="ignore"):
+        tt, aa = np.asarray(t) - t[0], np.asarray(a) * scale
+    if not (np.all(np.isfinite(tt)) and np.all(np.isfinite(aa)) and np.all(np.diff(tt) > 0)):
+        raise RecordError(path, f"times from {t[0]:g} s to {t[-1]:g} s (or the accelerations) "
+                          "are out of the range of floating-point numbers")
+    return Record(name=str(path), t=tt, a_g=aa, source=" / ".join(header))
 
 
 def guess_format(text: str) -> str:

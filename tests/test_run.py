@@ -69,3 +69,17 @@ def test_every_packaged_scene_checks(tmp_path):
     for name in scene.packaged_scenes():
         r = fpd("check", name, cwd=tmp_path)
         assert r.returncode == 0, (name, r.stderr)
+
+
+@pytest.mark.parametrize("name,bound_K", [("heat-halfspace", 0.1), ("heat-slab", 0.1), ("heat-disk", None)])
+def test_packaged_closed_form_scenes(tmp_path, name, bound_K):
+    r = fpd("run", name, "--out", "o", "--quiet", "--set", "output.plots=false", "--set", "output.vtk_every=0",
+            cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    ref = s["reference"]
+    if bound_K is not None:
+        assert abs(ref["error_end_K"]) < bound_K
+    else:   # disk source: within 0.5 % of the closed form
+        assert abs(ref["error_end_K"]) < 0.005 * (ref["T_exact_end_C"] - 20.0)
+    assert s["heat_residual_rel"] < 1e-9
