@@ -246,3 +246,23 @@ def test_time_order_through_switch_off(scheme, order, bound):
         errs.append(abs(m.integ.u[0] - ref[0]))
     assert abs(rate(dts, errs) - order) < 0.1
     assert errs[-1] < bound
+
+
+@pytest.mark.parametrize("scheme", ["cn", "bdf2"])
+def test_smooth_reversals_are_not_jumps(scheme):
+    """Power ~ |sin|, as at velocity reversals while sliding: once the load
+    scale is known (first half cycle), the smooth passages through zero do
+    not restart the stepping; a switch-on from zero after a stick does."""
+    p = PlateParams(model="fe1d", n_elements=30, scheme=scheme)
+    m = FE1DPlate(p, 1e-3)
+    P = power_of(p)
+    for i in range(200):
+        m.step(P * abs(math.sin(2 * math.pi * i / 400)), 0.0)
+    after_first = m.integ.half_steps
+    for i in range(200, 1400):
+        m.step(P * abs(math.sin(2 * math.pi * i / 400)), 0.0)
+    assert m.integ.half_steps == after_first
+    for _ in range(50):
+        m.step(0.0, 0.0)      # stick: the power drops to zero at once -> restart
+    m.step(P, 0.0)            # and comes back at once -> restart
+    assert m.integ.half_steps > after_first

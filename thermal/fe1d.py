@@ -190,6 +190,12 @@ class ColumnIntegrator(Integrator):
         self._bdf2_solve = self.solver(self._c23)
         return self._c23
 
+    def _jump(self, q: float) -> bool:
+        """Integrator.is_jump for the scalar surface load."""
+        if abs(q) > self.load_scale:
+            self.load_scale = abs(q)
+        return abs(q - self._q) > self.jump_rtol * self.load_scale
+
     def step_surface(self, q: float) -> None:
         """Advance dt with the power q (W) into the surface node (schemes and
         start-up as Integrator.step)."""
@@ -197,9 +203,8 @@ class ColumnIntegrator(Integrator):
         sch = self.scheme
         if sch == "be":
             self._be1(h, q)
-        elif self.rannacher and (self._start_left > 0 or self.steps == 0
-                                 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q))):
-            if self.steps == 0 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q)):
+        elif self.rannacher and (self._start_left > 0 or self.steps == 0 or self._jump(q)):
+            if self.steps == 0 or self._jump(q):
                 self._start_left = START_STEPS[sch]
             self._start_left -= 1
             nf = self.nf

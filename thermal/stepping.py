@@ -84,6 +84,7 @@ class Integrator:
         self.heat_lost = 0.0
         self.loss_prev = 0.0           # BDF2 filtered loss of the last step
         self.steps = 0
+        self.load_scale = 0.0          # largest load 1-norm seen (jump detection)
         self.half_steps = 0            # start-up BE substeps taken (diagnostic)
 
     # -- factorisations, one per gamma ------------------------------------
@@ -96,11 +97,12 @@ class Integrator:
     # -- state ----------------------------------------------------------------
     def save(self):
         return (self.u.copy(), self.du.copy(), self.b.copy(), self.heat_in,
-                self.heat_lost, self.loss_prev, self.steps, self.half_steps, self._start_left)
+                self.heat_lost, self.loss_prev, self.steps, self.half_steps, self._start_left,
+                self.load_scale)
 
     def restore(self, snap) -> None:
         (u, du, b, self.heat_in, self.heat_lost, self.loss_prev, self.steps, self.half_steps,
-         self._start_left) = snap
+         self._start_left, self.load_scale) = snap
         self.u[:] = u
         self.du[:] = du
         self.b[:] = b
@@ -157,11 +159,16 @@ class Integrator:
         self.heat_lost += loss
 
     def is_jump(self, b: np.ndarray) -> bool:
-        """A change of the load pattern or magnitude larger than jump_rtol
-        (relative, 1-norm): the non-smooth data that makes plain CN ring."""
-        db = np.abs(b - self.b).sum()
-        ref = max(np.abs(b).sum(), np.abs(self.b).sum())
-        return db > self.jump_rtol * ref
+        """A change of the load (pattern or magnitude, 1-norm) larger than
+        jump_rtol times the largest load seen so far: the non-smooth data
+        that makes plain CN ring. Relative to the running maximum, not to the
+        current load, so that a smooth ramp up from zero (a sliding speed
+        through a reversal) is not taken for a jump, while a switch-on after
+        a stick phase is."""
+        size = np.abs(b).sum()
+        if size > self.load_scale:
+            self.load_scale = size
+        return np.abs(b - self.b).sum() > self.jump_rtol * self.load_scale
 
     def _starting(self, jump: bool) -> bool:
         """Whether this step belongs to a start-up (after t = 0 or a jump)."""
