@@ -9,7 +9,6 @@ surface temperature. axisym: a 5 mm disk source on a 30 x 30 mm section for
 """
 from __future__ import annotations
 
-import math
 import sys
 import time
 from pathlib import Path

@@ -7,7 +7,6 @@ quads of a graded mesh). Boundaries: ``top`` (z = 0, the sliding face),
 """
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
@@ -141,7 +140,12 @@ def read_rz_mesh(path):
     pts = np.asarray(m.points)[used, :2]
     if pts[:, 0].min() < -1e-12 * max(1.0, np.ptp(pts[:, 0])):
         raise ValueError(f"{path}: negative radius (first coordinate must be r >= 0)")
-    mesh = cls(pts.T.copy(), renum[t].T.copy())
+    t = renum[t]
+    # counter-clockwise cells (shoelace sign), whatever the writer's convention
+    x, y = pts[t, 0], pts[t, 1]
+    area2 = np.sum(x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y, axis=1)
+    t[area2 < 0] = t[area2 < 0, ::-1]
+    mesh = cls(pts.T.copy(), t.T.copy())
     facet_of = {tuple(sorted(f)): i for i, f in enumerate(mesh.facets.T)}
     boundaries, missing = {}, []
     for name in BOUNDARIES:

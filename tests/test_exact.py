@@ -81,3 +81,8 @@ def test_lumped_newton():
     assert T[0] == 20.0 and abs(T[-1] - (20.0 + P / H)) < 1e-9
     dTdt = (exact.lumped_newton(1e3 + 1e-3, P, H, Cap, 20, 20) - T[1]) / 1e-3
     assert abs(Cap * dTdt - (P - H * (T[1] - 20))) < 1e-4
+
+
+def test_halfspace_surface_alias():
+    assert exact.halfspace_surface(Q, 10.0, K, RHO, C) == pytest.approx(
+        exact.halfspace_flux_surface(10.0, Q, K, KAPPA), rel=1e-14)

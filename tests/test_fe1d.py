@@ -198,3 +198,53 @@ def test_rannacher_restarts_at_every_switch():
         was_on = on
         m.step(5e3, centre)
     assert restarts >= 5 and m.integ.half_steps == 2 * restarts
+
+
+def test_hot_loop_calls_no_scikit_fem(monkeypatch):
+    import skfem
+
+    m = FE1DPlate(PlateParams(model="fe1d", scheme="cn"), 1e-3)
+
+    def boom(*a, **k):
+        raise AssertionError("scikit-fem called in step()")
+    monkeypatch.setattr(skfem.BilinearForm, "assemble", boom)
+    for i in range(10):
+        m.step(1e3 * (i % 2), 0.0)
+
+
+@pytest.mark.parametrize("bad", [dict(back="insulated"), dict(source="moving"), dict(scheme="rk4"),
+                                 dict(k=0.0), dict(n_elements=0), dict(n_elements=1000, grading=1.05)])
+def test_bad_parameters_raise_one_line(bad):
+    with pytest.raises(ValueError) as err:
+        FE1DPlate(PlateParams(model="fe1d", **bad), 1e-3)
+    assert "\n" not in str(err.value)
+
+
+@pytest.mark.parametrize("scheme", ["bdf2", "cn", "be"])
+def test_blas_and_numpy_band_products_agree(scheme):
+    p = PlateParams(model="fe1d", n_elements=50, scheme=scheme, back="fixed")
+    a, b = FE1DPlate(p, 0.01), FE1DPlate(p, 0.01)
+    b.integ._use_blas = False
+    for i in range(50):
+        P = 1e4 * (i % 7 < 4)
+        assert abs(a.step(P, 0.0) - b.step(P, 0.0)) < 1e-9
+    assert abs(a.heat_lost() - b.heat_lost()) < 1e-9 * a.heat_in()
+
+
+@pytest.mark.parametrize("scheme,order,bound", [("bdf2", 2.0, 1e-3), ("be", 1.0, 0.1)])
+def test_time_order_through_switch_off(scheme, order, bound):
+    """Flux on for 5 s then off: BDF2 with its conservative load
+    G = 3/2 b^{n+1} - 1/2 b^n stays second order through the switch (the
+    reference is the exact-in-time response, S(10) - S(5) by superposition)."""
+    dts, errs = [0.2, 0.1, 0.05, 0.025], []
+    for dt in dts:
+        p = PlateParams(model="fe1d", n_elements=100, back="adiabatic", scheme=scheme)
+        m = FE1DPlate(p, dt)
+        P = power_of(p)
+        ref = semidiscrete(m, P, 10.0) - semidiscrete(m, P, 5.0)
+        n = int(round(10.0 / dt))
+        for i in range(n):
+            m.step(P if i < n // 2 else 0.0, 0.0)
+        errs.append(abs(m.integ.u[0] - ref[0]))
+    assert abs(rate(dts, errs) - order) < 0.1
+    assert errs[-1] < bound

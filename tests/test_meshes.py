@@ -78,6 +78,24 @@ def test_read_vtu_cell_sets(tmp_path):
     assert {k: len(v) for k, v in got.boundaries.items()} == {"top": 4, "bottom": 4, "outer": 2, "axis": 2}
 
 
+def test_read_clockwise_cells_are_reoriented(tmp_path):
+    from thermal.axisym import AxisymPlate
+    from thermal.params import PlateParams
+
+    m, pts, cells, names, tags = _section(tmp_path, "quad")
+    cells = [("quad", cells[0][1][:, ::-1]), cells[1]]
+    sets = {n: [np.array([], dtype=int), np.flatnonzero(tags == i)] for i, n in enumerate(names)}
+    path = tmp_path / "cw.vtu"
+    meshio.write(path, meshio.Mesh(pts, cells, cell_sets=sets))
+    base = dict(model="axisym", plate_radius=0.2, plate_thickness=0.02, nr=4, nz=2, grading=1.0,
+                a_contact_m=0.07)
+    a = AxisymPlate(PlateParams(**base), 0.1)
+    b = AxisymPlate(PlateParams(mesh_file=str(path), **base), 0.1)
+    assert b.stored_heat() == 0.0 and np.all(b.M.diagonal() > 0)
+    for i in range(3):
+        assert abs(a.step(1e4, 0.02 * i) - b.step(1e4, 0.02 * i)) < 1e-9
+
+
 def test_read_mesh_missing_boundary_is_a_clear_error(tmp_path):
     m, pts, cells, names, tags = _section(tmp_path, "quad")
     sets = {"top": [np.array([], dtype=int), np.flatnonzero(tags == 0)]}

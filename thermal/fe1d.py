@@ -52,6 +52,19 @@ def assemble_column(z: np.ndarray, rho_c: float, k: float, area: float):
     return diags(M), diags(K)
 
 
+def check_params(p: PlateParams) -> None:
+    """One clear line for a value the FE models cannot use."""
+    for name in ("k", "rho", "c", "plate_thickness", "plate_radius", "a_contact_m"):
+        if not getattr(p, name) > 0:
+            raise ValueError(f"thermal.{name} must be > 0, got {getattr(p, name)!r}")
+    if not p.h_conv >= 0:
+        raise ValueError(f"thermal.h_conv must be >= 0, got {p.h_conv!r}")
+    if p.back not in BACKS:
+        raise ValueError(f"thermal.back must be one of {BACKS}, got {p.back!r}")
+    if p.source not in SOURCES:
+        raise ValueError(f"thermal.source must be one of {SOURCES}, got {p.source!r}")
+
+
 class ColumnIntegrator(Integrator):
     """The Integrator specialised to the column (same schemes, same ledger):
     the load sits on the surface node, convection and the fixed temperature
@@ -67,6 +80,10 @@ class ColumnIntegrator(Integrator):
         self._Ab = np.zeros((2, n), order="F")
         self._Ab[1], self._Ab[0, 1:] = dA, eA
         self._tri = tri
+        # reference-BLAS dsbmv costs ~25 ns per row; numpy's tridiagonal
+        # product wins beyond a few hundred rows (measured, docs/thermal.md)
+        self._use_blas = n <= 300
+        self._t1 = np.empty(n - 1)
         conv = np.zeros(n)
         conv[-1] = conv_back
         self._cb = conv_back
@@ -79,12 +96,32 @@ class ColumnIntegrator(Integrator):
         super().__init__(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
                          u0, dt, scheme, jump_rtol, rannacher)
         self._q = 0.0
+        self._c23 = None
+
+    def _band(self, alpha: float, band: np.ndarray, x: np.ndarray, y=None) -> np.ndarray:
+        """alpha B x (+ y, in place, when y is given) for a tridiagonal B in
+        upper band storage."""
+        if self._use_blas:
+            if y is None:
+                return blas.dsbmv(1, alpha, band, x)
+            return blas.dsbmv(1, alpha, band, x, beta=1.0, y=y, overwrite_y=1)
+        t = self._t1
+        out = np.multiply(band[1], x)
+        np.multiply(band[0, 1:], x[1:], out=t)
+        out[:-1] += t
+        np.multiply(band[0, 1:], x[:-1], out=t)
+        out[1:] += t
+        out *= alpha
+        if y is None:
+            return out
+        y += out
+        return y
 
     def _mass(self, x):
-        return blas.dsbmv(1, 1.0, self._Mb, x)
+        return self._band(1.0, self._Mb, x)
 
     def _stiff(self, x):
-        return blas.dsbmv(1, 1.0, self._Ab, x)
+        return self._band(1.0, self._Ab, x)
 
     def _factor(self, gamma: float):
         dM, eM, dA, eA = self._tri
@@ -101,7 +138,7 @@ class ColumnIntegrator(Integrator):
 
     def _be1(self, h: float, q: float) -> float:
         nf, u = self.nf, self.u
-        rhs = blas.dsbmv(1, -h, self._Ab, u)
+        rhs = self._band(-h, self._Ab, u)
         rhs[0] += h * q
         du = self.solver(h)(rhs[:nf])
         u[:nf] += du
@@ -115,7 +152,7 @@ class ColumnIntegrator(Integrator):
 
     def _cn1(self, h: float, q: float) -> None:
         nf, u = self.nf, self.u
-        rhs = blas.dsbmv(1, -h, self._Ab, u)
+        rhs = self._band(-h, self._Ab, u)
         rhs[0] += h * q
         u2, u1 = u[-2], u[-1]
         du = self.solver(0.5 * h)(rhs[:nf])
@@ -129,21 +166,29 @@ class ColumnIntegrator(Integrator):
 
     def _bdf21(self, h: float, q: float) -> None:
         nf, u = self.nf, self.u
-        g = 1.5 * q - 0.5 * self._q
-        rhs = blas.dsbmv(1, -2.0 * h / 3.0, self._Ab, u)
-        rhs = blas.dsbmv(1, 1.0 / 3.0, self._Mb, self.du, beta=1.0, y=rhs, overwrite_y=1)
-        rhs[0] += 2.0 * h / 3.0 * g
-        du = self.solver(2.0 * h / 3.0)(rhs[:nf])
-        last_prev = self.du[nf - 1]
+        c23 = self._c23 if self._c23 is not None else self._bdf2_setup(h)
+        rhs = self._band(-c23, self._Ab, u)
+        rhs = self._band(1.0 / 3.0, self._Mb, self.du, rhs)
+        rhs[0] += c23 * (1.5 * q - 0.5 * self._q)
+        du = self._bdf2_solve(rhs[:nf])
         u[:nf] += du
-        self.du[:nf] = du
-        s = h * self._cb * u[-1]
-        if nf < len(u):
-            s -= self._reaction(1.5 * du[-1] - 0.5 * last_prev, h, u[-2], u[-1])
+        if nf == len(u):
+            last_prev = 0.0
+            self.du = du                    # fresh array from dpttrs: no copy needed
+            s = h * self._cb * u[-1]
+        else:
+            last_prev = self.du[nf - 1]
+            self.du[:nf] = du
+            s = h * self._cb * u[-1] - self._reaction(1.5 * du[-1] - 0.5 * last_prev, h, u[-2], u[-1])
         loss = (2.0 / 3.0) * (s + 0.5 * self.loss_prev)
         self.loss_prev = loss
         self.heat_in += h * q
         self.heat_lost += loss
+
+    def _bdf2_setup(self, h: float) -> float:
+        self._c23 = 2.0 * h / 3.0
+        self._bdf2_solve = self.solver(self._c23)
+        return self._c23
 
     def step_surface(self, q: float) -> None:
         """Advance dt with the power q (W) into the surface node."""
@@ -175,10 +220,7 @@ class FE1DPlate:
     """PlateModel of docs/architecture.md on a graded through-thickness column."""
 
     def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, rannacher: bool = True):
-        if params.back not in BACKS:
-            raise ValueError(f"thermal.back must be one of {BACKS}, got {params.back!r}")
-        if params.source not in SOURCES:
-            raise ValueError(f"thermal.source must be one of {SOURCES}, got {params.source!r}")
+        check_params(params)
         self.params = p = params
         self.dt = float(dt)
         self.area = p.contact_area
