@@ -67,6 +67,27 @@ def main() -> None:
         print(f"dt {dt*1e3:5.2f} ms  peak {np.abs(uu).max()/np.abs(us).max()-1:+.3e}  "
               f"W {(st.W1+st.W2)/Ws-1:+.3e}  max|du| {np.abs(uu-us).max():.3e} m")
 
+    print("\n## Northridge 1994 (CDMG 24278, 090) x1.0, against the seated model")
+    from mechanics.geometry import G_ACC
+    from mechanics.ground_motion import ground_motion_from_samples, read_record
+    from mechanics.seated import SeatedStepper
+    rec = read_record(Path(__file__).resolve().parents[1] / "scenes" / "records"
+                      / "Northridge_CDMG24278_090.dat")
+    for dt in (1e-3, 2.5e-4):
+        gm = ground_motion_from_samples("northridge", rec.t, rec.a_g * G_ACC, dt)
+        h, st = run(DEVICE, gm)
+        se = SeatedStepper(DEVICE, gm)
+        us = [se.u]
+        for _ in range(se.n_steps):
+            se.step(MU, MU)
+            us.append(se.u)
+        us, uu = np.array(us), h[:, COL["u_m"]]
+        W, Ws = st.W1 + st.W2, se.W1 + se.W2
+        print(f"dt {dt*1e3:5.2f} ms  peak {np.abs(uu).max()*1e3:.3f} mm (seated "
+              f"{np.abs(us).max()*1e3:.3f})  W {W:.1f} J (seated {Ws:.1f})  "
+              f"max|du| {np.abs(uu-us).max():.2e} m  ledger "
+              f"{np.abs(ledger_residual(h)).max()/st.E_input:.1e}  E_reseat {st.E_reseat:.3g} J")
+
     print("\n## beta1, squat pad, El Centro 0-6 s")
     peaks = []
     for dt in (2e-3, 1e-3, 5e-4):

@@ -37,7 +37,7 @@ COLUMNS = (
     "E_input_J", "E_kin_J", "E_pot_J", "E_reseat_J",
     # diagnostics of the two-phase step
     "beta1_rad", "beta2_rad", "pad_tilt_rad", "diagonal", "ds1_m", "ds2_m",
-    "Ff1_N", "Ff2_N", "theta_dot_radps", "slip1_m", "slip2_m",
+    "Ff1_N", "Ff2_N", "theta_dot_radps", "slip1_m", "slip2_m", "tip_ratio",
 )
 
 _FIXED_POINT_TOL = 1e-15   # rad, on the step increment
@@ -220,6 +220,10 @@ class TwoPhaseStepper:
         self._R1, self._R2 = geom.R1, geom.R2
         c = geom.pad_corners_body()
         self._corner = (geom.a, c["A"][1], c["C"][1], geom.pad_height, geom.R2)
+        self._corner_height = c["C"][1] - c["A"][1]  # h' = eta_t - eta_b
+        # the phase-1 chains of Eq. (7) in the pad frame, A-C and B-D
+        self._body_chains = (pivot_chain(geom, 0.0, DIAGONAL_AC),
+                             pivot_chain(geom, 0.0, DIAGONAL_BD))
         # kinetic-energy weight of the translating parts (superstructure, pad centroid)
         self._I_trans = self._M * self._L ** 2 + self._m * self._rho ** 2
 
@@ -243,6 +247,8 @@ class TwoPhaseStepper:
         self.slip1 = self.slip2 = 0.0  # cumulative sliding path per interface (m)
         self.Ff1 = self.Ff2 = 0.0
         self.F = 0.0
+        # an initial displacement or velocity is energy put in before t = 0
+        self.E_input = self.kinetic_energy() + self.potential_energy()
         a0 = self._a_step[0] if self._a_step else 0.0
         self.N1, self.N2 = seated_normal_forces(geom, self.theta, self.theta_dot, a0)
         self.slip_v1 = self._R1 * abs(self.theta_dot)
@@ -287,8 +293,18 @@ class TwoPhaseStepper:
             s._R1 * s.theta, s._R2 * s.theta, s.N1, s.N2, s.W1, s.W2, s.mode,
             s.E_input, s.kinetic_energy(), s.potential_energy(), s.E_reseat,
             s.beta1, s.beta2, s.pad_tilt, s.diagonal, s.ds1, s.ds2, s.Ff1, s.Ff2,
-            s.theta_dot, s.slip1, s.slip2,
+            s.theta_dot, s.slip1, s.slip2, s.tip_ratio(),
         )
+
+    def tip_ratio(self) -> float:
+        """Forward-tipping ratio of the last step: tangential force carried to
+        the superstructure times the corner height h' over N2 2a. Above 1 the
+        friction couple would tip the pad on its leading corner, outside what
+        this model represents (docs/two_phase.md section 6, item 5)."""
+        if self.N2 <= 0.0:
+            return 0.0
+        F_t = self.Ff2 if self.mode == TILT else self.Ff1 + self.Ff2
+        return abs(F_t) * self._corner_height / (self.N2 * 2.0 * self.geom.a)
 
     @property
     def u(self) -> float:
@@ -367,7 +383,15 @@ class TwoPhaseStepper:
         its |d theta| and the ledger closes at the event too.
         """
         th0, v0 = self.theta, self.theta_dot
-        N1, N2 = seated_normal_forces(self.geom, th0, v0, a)
+        # seated_normal_forces, inlined with the cached constants (hot path)
+        g_axis = self._g * math.cos(th0) - a * math.sin(th0)
+        w2 = v0 * v0
+        N2 = self._M * (g_axis + self._L * w2)
+        N1 = N2 + self._m * (g_axis + self._rho * w2)
+        if N2 < 0.0:
+            N1, N2 = max(N1, 0.0), 0.0
+        elif N1 < 0.0:
+            N1 = 0.0
         self.N1, self.N2 = N1, N2
         f1, f2 = mu1 * N1 * self._R1, mu2 * N2 * self._R2  # friction moments about the centres
         cap = f1 + f2  # = F_c L: both interfaces capped together, never one alone
@@ -378,10 +402,9 @@ class TwoPhaseStepper:
             sign = 1.0 if v0 > 0.0 else -1.0
             self.Ff1, self.Ff2 = sign * f1 / self._L, sign * f2 / self._L
             self._two_phase_update(th0, dth, 0.0, a, f1, f2)
-            if h - tau > 0.0:
+            self.mode = STICK
+            if h - tau > 0.0:  # the rest of the step starts from rest (and labels it)
                 self._seated_step(a, h - tau, mu1, mu2, rocking_allowed)
-            if self.theta_dot == 0.0:
-                self.mode = STICK
             return
         self.Ff1, self.Ff2 = lam * f1 / self._L, lam * f2 / self._L
 
@@ -478,13 +501,18 @@ class TwoPhaseStepper:
 
     def _start_rocking(self, a: float) -> bool:
         """Rocking check (model.md 3, step 2): does Eq. (7) give the pad a
-        beta'' opening the gap at beta = 0 about a bottom corner?"""
+        beta'' opening the gap at beta = 0 about a bottom corner?
+
+        The chains are kept in the pad frame (theta = 0) and turned by theta:
+        the first moments and arms rotate rigidly, I_P does not change."""
+        c, s = math.cos(self.theta), math.sin(self.theta)
         g = self._g
         for diagonal, sign in ((DIAGONAL_AC, 1.0), (DIAGONAL_BD, -1.0)):
-            chain = pivot_chain(self.geom, self.theta, diagonal)
-            I_P, X0, Z0 = chain[:3]
+            I_P, Xb, Zb, rGx, rGz, rQx, rQz = self._body_chains[diagonal]
+            X0, Z0 = c * Xb - s * Zb, s * Xb + c * Zb
             if sign * rocking_acceleration(I_P, X0, Z0, a, g) > 0.0:
-                self._chain = chain + (sign,)
+                self._chain = (I_P, X0, Z0, c * rGx - s * rGz, s * rGx + c * rGz,
+                               c * rQx - s * rQz, s * rQx + c * rQz, sign)
                 self.diagonal = diagonal
                 self.rocking = True
                 self.beta = self.beta_dot = 0.0
@@ -516,7 +544,6 @@ class TwoPhaseStepper:
         self.mode = TILT
         self.beta2 = 0.0
         self.ds1 = self.ds2 = 0.0
-        self.Ff1 = self.Ff2 = 0.0
         self.slip_v1 = self.slip_v2 = 0.0
         if sign * b1 > 0.0:
             if sign * (math.cos(b1) * X0 - math.sin(b1) * Z0) <= 0.0:
@@ -535,7 +562,9 @@ class TwoPhaseStepper:
         """Normal forces of the rocking chain at the pivot (N1) and at the top
         corner (N2), from the accelerations of Eq. (7) and each body's
         momentum balance; the normals are those of the plates at the corners
-        (the plates do not rotate, so they keep their seated directions)."""
+        (the plates do not rotate, so they keep their seated directions).
+        Sets Ff1, Ff2: the tangential forces the pinned joints carry (the
+        model does not let them slip; a test checks |Ff_i| <= mu_i N_i)."""
         I_P, X0, Z0, rGx0, rGz0, rQx0, rQz0, sign = self._chain
         b, w, g = self.beta, self.beta_dot, self._g
         c, s = math.cos(b), math.sin(b)
@@ -557,8 +586,15 @@ class TwoPhaseStepper:
         # C1, upper plate at the top corner (-+a, eta2)/R2 pointing away from C2
         n1x, n1z = sign * xa / R1, eta1 / R1
         n2x, n2z = sign * xa / R2, eta2 / R2
-        N1 = FPx * (ct * n1x - st * n1z) + FPz * (st * n1x + ct * n1z)
-        N2 = FMx * (ct * n2x - st * n2z) + FMz * (st * n2x + ct * n2z)
+        # world normals, and the tangents (normal turned clockwise, along +x
+        # when seated at the centre) for the friction the pinned joints need
+        w1x, w1z = ct * n1x - st * n1z, st * n1x + ct * n1z
+        w2x, w2z = ct * n2x - st * n2z, st * n2x + ct * n2z
+        N1 = FPx * w1x + FPz * w1z
+        N2 = FMx * w2x + FMz * w2z
+        # friction on the pad at the pivot (from RB1) and on RB3+4 at the corner
+        self.Ff1 = FPx * w1z - FPz * w1x
+        self.Ff2 = FMx * w2z - FMz * w2x
         return N1, N2
 
     def _land(self, a: float, h: float, b0: float, w0: float, mu1: float, mu2: float) -> None:
@@ -589,7 +625,6 @@ class TwoPhaseStepper:
         self.beta = self.beta_dot = 0.0
         self.theta_dot = v_seat
         self._chain = None
-        W1_0, W2_0 = self.W1, self.W2
         beta_land = self.beta1
         if h - tau > 0.0:
             self._seated_step(a, h - tau, mu1, mu2, rocking_allowed=False)
