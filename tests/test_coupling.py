@@ -127,3 +127,22 @@ def test_lab_scene_friction_falls_as_the_plates_heat_and_converges():
     lumped = _per_cycle(run("lab-sine", "thermal.model=lumped")[1])
     assert np.all(lumped[:, 0] - 20.0 < 0.1 * (finest[:, 0] - 20.0))
     assert abs(lumped[-1, 1] - lumped[0, 1]) < 0.2 * abs(finest[-1, 1] - finest[0, 1])
+
+
+def test_an_overturned_pad_is_a_failed_run_with_its_history():
+    from mechanics.geometry import G_ACC
+    from mechanics.two_phase import TwoPhaseStepper
+    from records_helper import pulse
+
+    path = scn.resolve_path("default")
+    raw = scn.apply_overrides(scn.read_toml(path), ["device.pad_height=0.5", "device.pad_diameter=0.1",
+                                                    "thermal.model=none"])
+    raw["friction"] = {"law": "constant", "mu": 0.6}
+    sim = build(scn.validate(raw, str(path)))
+    ground = pulse(1e-3, 0.5 * G_ACC, 1.0, 2.0)
+    sim.mechanics = TwoPhaseStepper(sim.geometry, ground)
+    sim.n_steps = ground.n_steps
+    res = simulate(sim)
+    assert res.status == "failed"
+    assert "overturned" in res.message and "step" in res.message
+    assert res.n_rows > 100 and np.all(np.isfinite(res.data))       # the history up to then is kept
