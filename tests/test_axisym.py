@@ -251,3 +251,14 @@ def test_benchmark_script_runs(capsys):
 def test_degenerate_grading_is_a_clear_error():
     with pytest.raises(ValueError, match="grading"):
         AxisymPlate(PlateParams(model="axisym", nz=1000, grading=1.05), 0.1)
+
+
+def test_footprint_off_the_plate_delivers_nothing():
+    p = PlateParams(model="axisym", plate_radius=0.1, a_contact_m=0.02, nr=20, nz=6)
+    m = AxisymPlate(p, 0.1)
+    T_on = m.step(1e4, 0.05)
+    hin = m.heat_in()
+    T_off = m.step(1e4, 0.5)               # pad far beyond the edge
+    assert m.heat_in() == hin
+    assert abs(T_off - T_on) < 0.5 * (T_on - p.T0_C)   # still the last footprint's mean, cooling
+    assert abs(m.heat_in() - m.stored_heat() - m.heat_lost()) < 1e-9 * hin

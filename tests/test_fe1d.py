@@ -47,7 +47,7 @@ def test_space_order_halfspace():
     assert errs[-1] < 0.02
 
 
-@pytest.mark.parametrize("scheme,order,bound", [("bdf2", 2.0, 1e-3), ("cn", 2.0, 5e-4), ("be", 1.0, 0.3)])
+@pytest.mark.parametrize("scheme,order,bound", [("bdf2", 2.0, 2e-3), ("cn", 2.0, 5e-4), ("be", 1.0, 0.3)])
 def test_time_order_halfspace(scheme, order, bound):
     """Time error at t = 10 s against the exact-in-time solution of the same
     mesh (space error removed), plus the total error against the closed form."""
@@ -69,33 +69,30 @@ def test_time_order_halfspace(scheme, order, bound):
 @pytest.mark.parametrize("scheme", ["bdf2", "cn"])
 def test_defaults_meet_0p1K_halfspace(scheme):
     """Default mesh, dt = 1 ms, 1 MW/m2 for 10 s: surface within 0.1 K of the
-    half-space solution at every 0.1 s."""
+    half-space solution at every step, the first included (the start-up
+    substeps resolve the sqrt(t) onset)."""
     p = PlateParams(model="fe1d", scheme=scheme)
     dt = 1e-3
     m = FE1DPlate(p, dt)
-    worst = 0.0
-    for i in range(1, 10001):
-        Ts = m.step(power_of(p), 0.0)
-        if i % 100 == 0:
-            ex = exact.halfspace_flux_surface(i * dt, Q, p.k, p.diffusivity)
-            worst = max(worst, abs(Ts - p.T0_C - ex))
-    assert worst < 0.1
+    T = np.array([m.step(power_of(p), 0.0) for _ in range(10000)])
+    ex = exact.halfspace_flux_surface(dt * np.arange(1, 10001), Q, p.k, p.diffusivity)
+    assert np.max(np.abs(T - p.T0_C - ex)) < 0.1
+    assert abs(T[-1] - p.T0_C - ex[-1]) < 0.03
 
 
-def test_defaults_meet_0p1K_slab():
+@pytest.mark.parametrize("scheme", ["bdf2", "cn"])
+def test_defaults_meet_0p1K_slab(scheme):
     """A 10 mm plate with an adiabatic back (kappa t / H^2 = 0.41 at 10 s):
-    surface against the series solution, mean rise exactly q t/(rho c H)."""
+    surface against the series solution at every step, mean rise exactly
+    q t/(rho c H)."""
     H = 0.01
-    p = PlateParams(model="fe1d", plate_thickness=H, back="adiabatic")
+    p = PlateParams(model="fe1d", plate_thickness=H, back="adiabatic", scheme=scheme)
     dt = 1e-3
     m = FE1DPlate(p, dt)
-    worst = 0.0
-    for i in range(1, 10001):
-        Ts = m.step(power_of(p), 0.0)
-        if i % 500 == 0:
-            ex = exact.slab_flux(0.0, i * dt, Q, p.k, p.diffusivity, H)[0]
-            worst = max(worst, abs(Ts - p.T0_C - ex))
-    assert worst < 0.1
+    T = np.array([m.step(power_of(p), 0.0) for _ in range(10000)])
+    pick = np.concatenate((np.arange(0, 100), np.arange(100, 10000, 50), [9999]))
+    ex = np.array([exact.slab_flux(0.0, dt * (i + 1), Q, p.k, p.diffusivity, H)[0] for i in pick])
+    assert np.max(np.abs(T[pick] - p.T0_C - ex)) < 0.1
     mean_rise = m.stored_heat() / (p.rho * p.c * p.contact_area * H)
     assert abs(mean_rise - exact.slab_flux_mean(10.0, Q, p.rho, p.c, H)) < 1e-9 * mean_rise
 
@@ -170,8 +167,8 @@ def test_field_for_vtk():
 
 def test_plain_cn_rings_rannacher_restores_second_order():
     """Flux switched on at t = 0: plain CN is first order at the surface (the
-    stiff modes it excites alternate in sign and hardly decay); two BE half
-    steps at the jump restore second order."""
+    stiff modes it excites alternate in sign and hardly decay); the start-up
+    backward-Euler substeps at the jump restore second order."""
     dts = [0.4, 0.2, 0.1, 0.05]
     errs = {True: [], False: []}
     for ran in (True, False):
@@ -197,7 +194,8 @@ def test_rannacher_restarts_at_every_switch():
         restarts += (i == 0) or (on != was_on)    # the start, then every on/off switch
         was_on = on
         m.step(5e3, centre)
-    assert restarts >= 5 and m.integ.half_steps == 2 * restarts
+    from thermal.stepping import START_SUBSTEPS
+    assert restarts >= 5 and m.integ.half_steps == START_SUBSTEPS * restarts
 
 
 def test_hot_loop_calls_no_scikit_fem(monkeypatch):
@@ -231,7 +229,7 @@ def test_blas_and_numpy_band_products_agree(scheme):
     assert abs(a.heat_lost() - b.heat_lost()) < 1e-9 * a.heat_in()
 
 
-@pytest.mark.parametrize("scheme,order,bound", [("bdf2", 2.0, 1e-3), ("be", 1.0, 0.1)])
+@pytest.mark.parametrize("scheme,order,bound", [("bdf2", 2.0, 1e-3), ("cn", 2.0, 3e-4), ("be", 1.0, 0.1)])
 def test_time_order_through_switch_off(scheme, order, bound):
     """Flux on for 5 s then off: BDF2 with its conservative load
     G = 3/2 b^{n+1} - 1/2 b^n stays second order through the switch (the
@@ -248,3 +246,23 @@ def test_time_order_through_switch_off(scheme, order, bound):
         errs.append(abs(m.integ.u[0] - ref[0]))
     assert abs(rate(dts, errs) - order) < 0.1
     assert errs[-1] < bound
+
+
+@pytest.mark.parametrize("scheme", ["cn", "bdf2"])
+def test_smooth_reversals_are_not_jumps(scheme):
+    """Power ~ |sin|, as at velocity reversals while sliding: once the load
+    scale is known (first half cycle), the smooth passages through zero do
+    not restart the stepping; a switch-on from zero after a stick does."""
+    p = PlateParams(model="fe1d", n_elements=30, scheme=scheme)
+    m = FE1DPlate(p, 1e-3)
+    P = power_of(p)
+    for i in range(200):
+        m.step(P * abs(math.sin(2 * math.pi * i / 400)), 0.0)
+    after_first = m.integ.half_steps
+    for i in range(200, 1400):
+        m.step(P * abs(math.sin(2 * math.pi * i / 400)), 0.0)
+    assert m.integ.half_steps == after_first
+    for _ in range(50):
+        m.step(0.0, 0.0)      # stick: the power drops to zero at once -> restart
+    m.step(P, 0.0)            # and comes back at once -> restart
+    assert m.integ.half_steps > after_first

@@ -273,7 +273,11 @@ class AxisymPlate:
             return
         pat = self.top.pattern(c, self.params.a_contact_m)
         total = pat.sum()
-        self._weights = pat / total if total > 0 else np.zeros_like(pat)
+        # a footprint wholly off the plate delivers nothing; the surface
+        # temperature then stays the mean under the last footprint on it
+        self._on_plate = total > 0
+        if self._on_plate:
+            self._weights = pat / total
         self._pattern_key = key
 
     # -- PlateModel interface -------------------------------------------------------
@@ -281,7 +285,7 @@ class AxisymPlate:
         """Advance dt with power_W over the footprint at centre_m; return the
         footprint-mean surface temperature (degC) at the end of the step."""
         self._set_footprint(centre_m)
-        power = float(power_W) if self._weights.any() else 0.0
+        power = float(power_W) if self._on_plate else 0.0
         self._load[self.top_nodes] = power * self._weights
         self.integ.step(self._load, power)
         return self.surface_temperature()
@@ -303,10 +307,10 @@ class AxisymPlate:
         return self.integ.heat_in
 
     def save(self):
-        return (self.integ.save(), self._weights.copy(), self._pattern_key)
+        return (self.integ.save(), self._weights.copy(), self._pattern_key, self._on_plate)
 
     def restore(self, snap) -> None:
-        s, w, key = snap
+        s, w, key, self._on_plate = snap
         self.integ.restore(s)
         self._weights = w.copy()
         self._pattern_key = key

@@ -23,7 +23,7 @@ from scipy.linalg import blas, lapack
 
 from meshes.line import line_mesh
 from thermal.params import PlateParams
-from thermal.stepping import Integrator
+from thermal.stepping import START_STEPS, Integrator
 
 BACKS = ("convection", "adiabatic", "fixed")
 SOURCES = ("follow-pad", "fixed-point")
@@ -190,23 +190,38 @@ class ColumnIntegrator(Integrator):
         self._bdf2_solve = self.solver(self._c23)
         return self._c23
 
+    def _jump(self, q: float) -> bool:
+        """Integrator.is_jump for the scalar surface load."""
+        if abs(q) > self.load_scale:
+            self.load_scale = abs(q)
+        return abs(q - self._q) > self.jump_rtol * self.load_scale
+
     def step_surface(self, q: float) -> None:
-        """Advance dt with the power q (W) into the surface node."""
+        """Advance dt with the power q (W) into the surface node (schemes and
+        start-up as Integrator.step)."""
         h = self.dt
-        if self.scheme == "bdf2":
-            if self.steps == 0:
-                self.loss_prev = self._be1(h, q)
-            else:
-                self._bdf21(h, q)
-        elif self.scheme == "cn":
-            if self.rannacher and (self.steps == 0 or abs(q - self._q) > self.jump_rtol * max(abs(q), abs(self._q))):
-                self._be1(0.5 * h, q)
-                self._be1(0.5 * h, q)
-                self.half_steps += 2
-            else:
-                self._cn1(h, q)
-        else:
+        sch = self.scheme
+        if sch == "be":
             self._be1(h, q)
+        elif self.rannacher and (self._start_left > 0 or self.steps == 0 or self._jump(q)):
+            if self.steps == 0 or self._jump(q):
+                self._start_left = START_STEPS[sch]
+            self._start_left -= 1
+            nf = self.nf
+            u_before = self.u[:nf].copy()
+            m = self.start_substeps
+            loss = 0.0
+            for _ in range(m):
+                loss += self._be1(h / m, q)
+            self.du[:nf] = self.u[:nf] - u_before
+            self.loss_prev = loss
+            self.half_steps += m
+        elif sch == "cn":
+            self._cn1(h, q)
+        elif self.steps == 0:
+            self.loss_prev = self._be1(h, q)
+        else:
+            self._bdf21(h, q)
         self._q = q
         self.b[0] = q
         self.steps += 1

@@ -14,14 +14,18 @@ Dirichlet columns drop out exactly.
 Schemes (all use a matrix M + gamma A, factorised once per gamma):
 
 - ``be``:   (M + dt A) du = dt (b - A u)
-- ``cn``:   (M + dt/2 A) du = dt (b - A u); after a jump of the load the step
-  is replaced by two backward-Euler half steps (Rannacher), whose matrix
-  M + dt/2 A is the same one.
-- ``bdf2``: (M + 2 dt/3 A) du = 2 dt/3 (G - A u) + 1/3 M du_prev, first step
-  backward Euler. G = 3/2 b^{n+1} - 1/2 b^n is the BDF2 derivative of the
+- ``cn``:   (M + dt/2 A) du = dt (b - A u).
+- ``bdf2``: (M + 2 dt/3 A) du = 2 dt/3 (G - A u) + 1/3 M du_prev.
+  G = 3/2 b^{n+1} - 1/2 b^n is the BDF2 derivative of the
   cumulative heat input, so the scheme delivers exactly sum(b) dt per step
   (and G is a second-order value of the load at t_{n+1} when the step loads
   sample a smooth flux at mid-step).
+- start-up (cn, bdf2): at t = 0 and after every jump of the load (a change
+  larger than jump_rtol), the next step (cn) or two steps (bdf2) are each
+  taken as START_SUBSTEPS backward-Euler substeps (Rannacher's remedy,
+  with more, smaller substeps: they also resolve the sqrt(t) onset of the
+  surface temperature). ``rannacher=False`` turns it off (plain CN rings;
+  BDF2 then starts with one backward-Euler step).
 
 Ledger: heat_in += dt sum(b). The loss is computed from the boundary fluxes
 with the scheme's own time rule, never as a difference: the convective part
@@ -37,6 +41,12 @@ from typing import Callable
 import numpy as np
 
 SCHEMES = ("bdf2", "cn", "be")
+# Start-up after t = 0 and after every jump of the load (Rannacher-type): the
+# first START_STEPS[scheme] steps are each taken as START_SUBSTEPS backward-Euler
+# substeps. It damps the stiff modes a jump excites (CN would ring) and resolves
+# the sqrt(t) onset of the surface temperature (docs/thermal.md, section 2).
+START_SUBSTEPS = 8
+START_STEPS = {"cn": 1, "bdf2": 2}
 
 
 class Integrator:
@@ -51,7 +61,7 @@ class Integrator:
     def __init__(self, mass: Callable, stiff: Callable, factor: Callable,
                  conv: np.ndarray, nf: int, mD: np.ndarray, aD: np.ndarray,
                  u0: np.ndarray, dt: float, scheme: str, jump_rtol: float = 0.1,
-                 rannacher: bool = True):
+                 rannacher: bool = True, start_substeps: int = START_SUBSTEPS):
         if scheme not in SCHEMES:
             raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
         if not dt > 0:
@@ -60,7 +70,9 @@ class Integrator:
         self.conv, self.nf, self.mD, self.aD = conv, nf, mD, aD
         self.has_dirichlet = nf < len(u0)
         self.dt, self.scheme, self.jump_rtol = float(dt), scheme, jump_rtol
-        self.rannacher = rannacher     # False: plain CN (rings after load jumps; for tests)
+        self.rannacher = rannacher     # False: plain CN / plain BDF2 start (for tests)
+        self.start_substeps = int(start_substeps)
+        self._start_left = 0           # steps of the current start-up still to take
         self._solvers: dict[float, Callable] = {}
         n = len(u0)
         self.u = np.array(u0, dtype=float)
@@ -72,7 +84,8 @@ class Integrator:
         self.heat_lost = 0.0
         self.loss_prev = 0.0           # BDF2 filtered loss of the last step
         self.steps = 0
-        self.half_steps = 0            # Rannacher half steps taken (diagnostic)
+        self.load_scale = 0.0          # largest load 1-norm seen (jump detection)
+        self.half_steps = 0            # start-up BE substeps taken (diagnostic)
 
     # -- factorisations, one per gamma ------------------------------------
     def solver(self, gamma: float) -> Callable:
@@ -84,10 +97,12 @@ class Integrator:
     # -- state ----------------------------------------------------------------
     def save(self):
         return (self.u.copy(), self.du.copy(), self.b.copy(), self.heat_in,
-                self.heat_lost, self.loss_prev, self.steps, self.half_steps)
+                self.heat_lost, self.loss_prev, self.steps, self.half_steps, self._start_left,
+                self.load_scale)
 
     def restore(self, snap) -> None:
-        u, du, b, self.heat_in, self.heat_lost, self.loss_prev, self.steps, self.half_steps = snap
+        (u, du, b, self.heat_in, self.heat_lost, self.loss_prev, self.steps, self.half_steps,
+         self._start_left, self.load_scale) = snap
         self.u[:] = u
         self.du[:] = du
         self.b[:] = b
@@ -144,24 +159,48 @@ class Integrator:
         self.heat_lost += loss
 
     def is_jump(self, b: np.ndarray) -> bool:
-        """A change of the load pattern or magnitude larger than jump_rtol
-        (relative, 1-norm): the non-smooth data that makes plain CN ring."""
-        db = np.abs(b - self.b).sum()
-        ref = max(np.abs(b).sum(), np.abs(self.b).sum())
-        return db > self.jump_rtol * ref
+        """A change of the load (pattern or magnitude, 1-norm) larger than
+        jump_rtol times the largest load seen so far: the non-smooth data
+        that makes plain CN ring. Relative to the running maximum, not to the
+        current load, so that a smooth ramp up from zero (a sliding speed
+        through a reversal) is not taken for a jump, while a switch-on after
+        a stick phase is."""
+        size = np.abs(b).sum()
+        if size > self.load_scale:
+            self.load_scale = size
+        return np.abs(b - self.b).sum() > self.jump_rtol * self.load_scale
+
+    def _starting(self, jump: bool) -> bool:
+        """Whether this step belongs to a start-up (after t = 0 or a jump)."""
+        if not self.rannacher or self.scheme == "be":
+            return False
+        if self.steps == 0 or jump:
+            self._start_left = START_STEPS[self.scheme]
+        if self._start_left > 0:
+            self._start_left -= 1
+            return True
+        return False
+
+    def _substeps(self, h: float, b: np.ndarray, power: float) -> float:
+        """One step of length h as start_substeps backward-Euler substeps;
+        du is the whole step's increment (BDF2 history), the loss their sum."""
+        nf = self.nf
+        u_before = self.u[:nf].copy()
+        m = self.start_substeps
+        loss = sum(self._be(h / m, b, power) for _ in range(m))
+        self.du[:nf] = self.u[:nf] - u_before
+        self.half_steps += m
+        return loss
 
     def step(self, b: np.ndarray, power: float) -> None:
         """Advance one step dt with the load vector b (W), sum(b) = power."""
         h = self.dt
         if self.scheme == "be":
             self._be(h, b, power)
+        elif self._starting(self.steps > 0 and self.is_jump(b)):
+            self.loss_prev = self._substeps(h, b, power)
         elif self.scheme == "cn":
-            if self.rannacher and (self.steps == 0 or self.is_jump(b)):
-                self._be(0.5 * h, b, power)
-                self._be(0.5 * h, b, power)
-                self.half_steps += 2
-            else:
-                self._cn(h, b, power)
+            self._cn(h, b, power)
         else:
             if self.steps == 0:
                 self.loss_prev = self._be(h, b, power)
