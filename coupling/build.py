@@ -64,6 +64,10 @@ def loading_of(scene: Scene, dt: float):
         return gmod.harmonic_ground_motion(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "displacement":
         return gmod.sine_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
+    if ld["kind"] == "pulse":
+        from .scene import loading_length
+        return gmod.pulse_ground_motion(ld["shape"], ld["velocity_mps"], ld["period_s"], ld["t0_s"],
+                                        duration or loading_length(ld), dt)
     raise AssertionError(ld["kind"])
 
 

@@ -112,6 +112,10 @@ LOADING_KEYS = {
                  "cycles": ("float", REQUIRED, _pos)},
     "displacement": {"waveform": (("sine",), "sine", None), "amplitude_m": ("float", REQUIRED, _pos),
                      "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos)},
+    "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
+              "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
+              "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
+              "duration_s": ("float", None, _pos)},
     "heat": {"flux_W_m2": ("float", REQUIRED, _nonneg), "duration_s": ("float", REQUIRED, _pos),
              "plate": (("lower", "upper", "both"), "lower", None),
              "reference": (("none", "halfspace", "slab", "disk"), "none", None)},
@@ -460,6 +464,8 @@ def loading_length(ld: dict):
         return ld["cycles"] / ld["frequency_Hz"]
     if ld["kind"] == "heat":
         return ld["duration_s"]
+    if ld["kind"] == "pulse":
+        return ld.get("duration_s") or ld["t0_s"] + ld["period_s"] + 10.0
     return None
 
 

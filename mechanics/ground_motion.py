@@ -332,3 +332,42 @@ def sine_programme(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> Disp
         u=amplitude_m * np.sin(w * tt),
         ud=np.where(on, amplitude_m * w * np.cos(w * tt), 0.0),
         udd=np.where(on, -amplitude_m * w * w * np.sin(w * tt), 0.0))
+
+
+def pulse_ground_motion(shape, velocity_mps, period_s, t0_s, duration, dt) -> GroundMotion:
+    """Analytic ground velocity pulses (near-fault and impulsive loadings).
+
+    ``step``: the ground velocity jumps from 0 to V at t0 and stays (an
+    impulse V of the relative motion: the step containing t0 sees the mean
+    acceleration V / dt, whatever dt is); ``cosine``: a one-sided fling,
+    v = V/2 (1 - cos(2 pi (t - t0) / Tp)) for one period Tp (net ground
+    displacement V Tp / 2); ``sine``: a forward-directivity cycle,
+    v = V sin(2 pi (t - t0) / Tp) for one period (no net displacement).
+    Ground at rest before t0 and after the pulse (except ``step``).
+    a_step is the exact step mean diff(v) / dt.
+    """
+    n = max(1, int(round(duration / dt)))
+    t = np.arange(n + 1) * dt
+    tau = t - t0_s
+    V = velocity_mps
+    if shape == "step":
+        on = tau >= -1e-12 * dt
+        v = np.where(on, V, 0.0)
+        d = np.where(on, V * np.maximum(tau, 0.0), 0.0)
+        a = np.zeros_like(t)
+    else:
+        w = 2.0 * np.pi / period_s
+        s = np.clip(tau, 0.0, period_s)
+        on = (tau >= 0) & (tau <= period_s)
+        if shape == "cosine":
+            v = 0.5 * V * (1.0 - np.cos(w * s))
+            d = 0.5 * V * (s - np.sin(w * s) / w)
+            a = np.where(on, 0.5 * V * w * np.sin(w * s), 0.0)
+        elif shape == "sine":
+            v = V * np.sin(w * s)
+            d = V * (1.0 - np.cos(w * s)) / w
+            a = np.where(on, V * w * np.cos(w * s), 0.0)
+        else:
+            raise ValueError(f"unknown pulse shape {shape!r}")
+    return GroundMotion(name=f"{shape} pulse {V:g} m/s", dt=dt, t=t, d=d, v=v, a=a,
+                        a_step=np.diff(v) / dt)
