@@ -85,13 +85,16 @@ def make_plate(params: PlateParams, dt: float):
         return LumpedPlate(params, dt)
     if params.model == "fe1d":
         from thermal.fe1d import FE1DPlate
-        return FE1DPlate(params, dt)
+        try:
+            return FE1DPlate(params, dt)
+        except ValueError as exc:          # e.g. a grading that makes the first element vanish
+            raise SceneError(f"{exc} (thermal.n_elements / thermal.grading)") from None
     if params.model == "axisym":
         from thermal.axisym import AxisymPlate
         try:
             return AxisymPlate(params, dt)
-        except ValueError as exc:          # a user mesh without the named boundaries
-            raise SceneError(f"{exc} (thermal.mesh_file)") from None
+        except ValueError as exc:          # a user mesh without the named boundaries, a degenerate grading
+            raise SceneError(f"{exc} (thermal.mesh_file / thermal.nz / thermal.grading)") from None
     raise AssertionError(params.model)
 
 

@@ -201,5 +201,20 @@ def main(argv=None) -> int:
         return EXIT_INTERRUPTED
 
 
+def entry() -> None:
+    """The console script: run, then ignore further Ctrl-C/SIGTERM while the
+    interpreter exits (the results are already complete and in place; a late
+    signal must not turn a finished run's exit status into a crash)."""
+    try:
+        code = main()
+        sys.stdout.flush()
+    except BrokenPipeError:             # `fpd scenes | head`: the reader left, not an error of ours
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        code = EXIT_OK
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()

@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from mechanics.seated import PHASES
+from mechanics.seated import PHASES, MechanicsFailure
 
 from .build import Simulation
 
@@ -206,6 +206,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 bar.update(n)
     except NumericalFailure as exc:
         status, message = "failed", str(exc)
+    except MechanicsFailure as exc:                 # e.g. the pad overturned
+        status, message = "failed", str(NumericalFailure(n, n * dt, str(exc)))
     except (ArithmeticError, ValueError) as exc:    # overflow, division by zero, math domain...
         status, message = "failed", str(NumericalFailure(n, n * dt, f"{type(exc).__name__}: {exc}"))
     except KeyboardInterrupt:

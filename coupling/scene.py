@@ -437,6 +437,13 @@ def _cross_checks(ctx: _Ctx, data: dict):
         check_steps(ctx.path, sol["dt"], length)
     for side in ("lower", "upper"):
         t = data["thermal"][side]
+        n_key = {"fe1d": "n_elements", "axisym": "nz"}.get(t["model"])
+        if n_key and t["grading"] > 1.0:
+            n, g = t[n_key], t["grading"]
+            first = (g - 1.0) / (g ** min(n, 10000) - 1.0) if n * math.log(g) < 700 else 0.0
+            if first < 1e-9:
+                ctx.fail(f"thermal.{n_key}", n, f"with grading = {g:g} the first element is {first:.1e} of the "
+                         "thickness (< 1e-9): lower the grading or the element count")
         if t["source"] == "fixed-point" and t["radius_m"] > t["plate_radius"]:
             ctx.fail("thermal.radius_m", t["radius_m"], f"must be <= plate_radius = {t['plate_radius']:g} m")
         if dev["pad_diameter"] / 2 > t["plate_radius"] and t["model"] != "none":

@@ -278,16 +278,18 @@ def ground_motion_from_samples(name, t_rec, a_rec, dt, duration=None,
     return gm
 
 
-def harmonic_ground_motion(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> GroundMotion:
-    """x_g = A sin(2 pi f t) for the given number of cycles, then at rest."""
+def _sine_grid(frequency_Hz, cycles, dt, duration):
+    """Grid of a sine lasting ``cycles`` cycles: (t, t clipped to the end, on, omega)."""
     w = 2.0 * np.pi * frequency_Hz
     t_end = cycles / frequency_Hz
-    if duration is None:
-        duration = t_end
-    n = max(1, int(round(duration / dt)))
+    n = max(1, int(round((t_end if duration is None else duration) / dt)))
     t = np.arange(n + 1) * dt
-    on = t <= t_end + 1e-12
-    tt = np.minimum(t, t_end)
+    return t, np.minimum(t, t_end), t <= t_end + 1e-12, w
+
+
+def harmonic_ground_motion(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> GroundMotion:
+    """x_g = A sin(2 pi f t) for the given number of cycles, then at rest."""
+    t, tt, on, w = _sine_grid(frequency_Hz, cycles, dt, duration)
     d = amplitude_m * np.sin(w * tt)
     v = np.where(on, amplitude_m * w * np.cos(w * tt), 0.0)
     a = np.where(on, -amplitude_m * w * w * np.sin(w * tt), 0.0)
@@ -319,14 +321,8 @@ class DisplacementProgramme:
 
 
 def sine_programme(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> DisplacementProgramme:
-    w = 2.0 * np.pi * frequency_Hz
-    t_end = cycles / frequency_Hz
-    if duration is None:
-        duration = t_end
-    n = max(1, int(round(duration / dt)))
-    t = np.arange(n + 1) * dt
-    tt = np.minimum(t, t_end)
-    on = t <= t_end + 1e-12
+    """Test machine: u = A sin(2 pi f t) for the given number of cycles."""
+    t, tt, on, w = _sine_grid(frequency_Hz, cycles, dt, duration)
     return DisplacementProgramme(
         name=f"sine {amplitude_m:g} m {frequency_Hz:g} Hz x {cycles:g}", dt=dt, t=t,
         u=amplitude_m * np.sin(w * tt),

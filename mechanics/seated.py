@@ -25,6 +25,12 @@ import math
 from .geometry import DeviceGeometry
 
 PHASES = ("stick", "slip", "tilt")
+
+
+class MechanicsFailure(RuntimeError):
+    """A state the mechanics model cannot continue from (e.g. an overturned
+    pad): the run stops as a numerical failure, keeping its history."""
+
 STICK, SLIP, TILT = 0, 1, 2
 
 SEATED_COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",

@@ -29,7 +29,7 @@ import math
 
 from .geometry import DeviceGeometry
 from .ground_motion import GroundMotion
-from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, TILT
+from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, TILT, MechanicsFailure
 
 COLUMNS = (
     "t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad",
@@ -56,7 +56,7 @@ def _smallest_positive_root(c2: float, c1: float, c0: float, default: float) -> 
     return min(roots) if roots else default
 
 
-class PadOverturned(RuntimeError):
+class PadOverturned(MechanicsFailure):
     """The rocking pad passed the angle where gravity stops restoring it."""
 
 

@@ -361,3 +361,9 @@ def test_out_under_a_file(dirs):
     assert proc.returncode == 2 and "Traceback" not in proc.stderr, proc.stderr
     assert len(proc.stderr.splitlines()) == 1 and "afile" in proc.stderr and "--out" in proc.stderr
     assert [p.name for p in runs.iterdir()] == ["afile"] and (runs / "afile").read_text() == "keep me"
+
+
+def test_grading_that_makes_the_first_element_vanish(tmp_path):
+    from coupling.scene import SceneError, load
+    with pytest.raises(SceneError, match=r"default.toml: thermal.n_elements = 1000: with grading = 1.05"):
+        load("default", ["thermal.n_elements=1000", "thermal.grading=1.05"])
