@@ -32,3 +32,21 @@ def test_history_matches_pre_optimisation(ref, name):
     assert list(cols) == list(ref[f"{name}/columns"])
     assert n == int(ref[f"{name}/n_rows"])
     assert_same(data, ref[f"{name}/data"])
+
+
+def test_chunked_csv_writes_the_bytes_savetxt_wrote(tmp_path):
+    from coupling.output import write_csv
+    from mechanics.seated import PHASES
+
+    class R:
+        columns = ["t_s", "u_m", "phase", "T1_C"]
+        data = np.random.default_rng(0).standard_normal((9000, 4))
+    R.data[:, 2] = np.arange(9000) % 3
+    R.data[5, 1], R.data[6, 3], R.data[7, 2] = np.nan, np.inf, np.nan
+    write_csv(tmp_path / "a.csv", R, chunk=1000)
+    with open(tmp_path / "b.csv", "w", newline="") as fh:
+        fh.write(",".join(R.columns) + "\n")
+        obj = R.data.astype(object)
+        obj[:, 2] = np.array(PHASES, dtype=object)[np.nan_to_num(R.data[:, 2]).astype(int)]
+        np.savetxt(fh, obj, fmt=["%.10g", "%.10g", "%s", "%.10g"], delimiter=",")
+    assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
