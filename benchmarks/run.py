@@ -48,9 +48,13 @@ def loop_time(scene_name, overrides, repeat=1):
     return sim.n_steps, best
 
 
-_CHILD = ("import atexit, resource, sys\n"
-          "atexit.register(lambda: sys.stderr.write("
-          "f'\\nMAXRSS_KIB {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss}\\n'))\n"
+# the child reports its own high-water mark: VmHWM belongs to the process's
+# address space (getrusage's ru_maxrss would carry over the forking parent's)
+_CHILD = ("import atexit, sys\n"
+          "def _hwm():\n"
+          "    kib = [l.split()[1] for l in open('/proc/self/status') if l.startswith('VmHWM')][0]\n"
+          "    sys.stderr.write(f'\\nMAXRSS_KIB {kib}\\n')\n"
+          "atexit.register(_hwm)\n"
           "sys.argv = ['fpd'] + sys.argv[1:]\n"
           "from coupling.cli import entry\n"
           "entry()\n")

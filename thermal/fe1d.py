@@ -41,6 +41,7 @@ def jit_kernels():
         if not os.environ.get("FPD_NO_JIT"):
             try:
                 from thermal import _column_jit
+                _column_jit.warm_up()
                 _JIT = _column_jit
             except ImportError:
                 pass
