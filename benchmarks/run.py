@@ -13,7 +13,6 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
 import json  # noqa: E402
-import resource  # noqa: E402
 import subprocess  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
@@ -49,22 +48,35 @@ def loop_time(scene_name, overrides, repeat=1):
     return sim.n_steps, best
 
 
+# the child reports its own high-water mark: VmHWM belongs to the process's
+# address space (getrusage's ru_maxrss would carry over the forking parent's)
+_CHILD = ("import atexit, sys\n"
+          "def _hwm():\n"
+          "    kib = [l.split()[1] for l in open('/proc/self/status') if l.startswith('VmHWM')][0]\n"
+          "    sys.stderr.write(f'\\nMAXRSS_KIB {kib}\\n')\n"
+          "atexit.register(_hwm)\n"
+          "sys.argv = ['fpd'] + sys.argv[1:]\n"
+          "from coupling.cli import entry\n"
+          "entry()\n")
+
+
 def process_time(scene_name, overrides):
+    """Wall time and peak RSS of the whole `fpd run` process (its own
+    getrusage at exit: RUSAGE_CHILDREN would report the largest child so far)."""
     with tempfile.TemporaryDirectory() as tmp:
-        args = [sys.executable, "-m", "coupling.cli", "run", scene_name, "--out", f"{tmp}/out", "--quiet",
+        args = [sys.executable, "-c", _CHILD, "run", scene_name, "--out", f"{tmp}/out", "--quiet",
                 "--set", "output.plots=false", "--set", "output.vtk_every=0"]
         for o in overrides:
             args += ["--set", o]
         env = dict(os.environ, PYTHONPATH=str(ROOT))
         t0 = time.perf_counter()
-        before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-        r = subprocess.run(args, env=env, capture_output=True, text=True)
+        r = subprocess.run(args, env=env, capture_output=True, text=True, cwd=ROOT)
         wall = time.perf_counter() - t0
-        peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
         if r.returncode != 0:
             raise RuntimeError(r.stderr.strip())
+        peak = [int(x.split()[1]) for x in r.stderr.splitlines() if x.startswith("MAXRSS_KIB")][-1]
         summary = json.loads(Path(tmp, "out", "summary.json").read_text())
-    return wall, max(peak, before) / 1024.0, summary
+    return wall, peak / 1024.0, summary
 
 
 def thermal_error():
@@ -88,8 +100,16 @@ def thermal_error():
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="skip the axisym case and the 10^6-step check")
+    ap.add_argument("--repeat", type=int, default=1, help="best of N loop timings per case")
     args = ap.parse_args()
-    print(f"machine: {os.cpu_count()} cores, Python {sys.version.split()[0]}")
+    import numpy
+    try:
+        from thermal.fe1d import jit_kernels
+        jit = "numba kernel" if jit_kernels() is not None else "pure numpy/LAPACK"
+    except ImportError:
+        jit = "?"
+    print(f"machine: {os.cpu_count()} cores, Python {sys.version.split()[0]}, numpy {numpy.__version__}, "
+          f"OPENBLAS_NUM_THREADS={os.environ.get('OPENBLAS_NUM_THREADS')}, fe1d path: {jit}")
     err = None
     try:
         err = thermal_error()
@@ -100,7 +120,7 @@ def main():
         if args.quick and "axisym" in name:
             continue
         try:
-            n, loop = loop_time(scene_name, over)
+            n, loop = loop_time(scene_name, over, args.repeat)
             wall, mem, _ = process_time(scene_name, over)
         except Exception as exc:
             print(f"{name:42s} not available: {str(exc)[:60]}")

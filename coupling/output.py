@@ -68,23 +68,26 @@ class ResultsFolder:
         shutil.rmtree(self.tmp, ignore_errors=True)
 
 
-def write_csv(path: Path, result) -> None:
-    """timeseries.csv: one row per recorded step, units in the column names."""
+def write_csv(path: Path, result, chunk: int = 4096) -> None:
+    """timeseries.csv: one row per recorded step, units in the column names.
+
+    Written in blocks of `chunk` rows, each formatted by one %-operation
+    (the bytes np.savetxt wrote, ~10% faster, and without the object copy of
+    the whole history: a 10^6-step run stays well under 1 GiB)."""
     cols = result.columns
     data = result.data
-    fmts = []
-    for c in cols:
-        fmts.append("%s" if c == "phase" else "%.10g")
+    j = cols.index("phase") if "phase" in cols else -1
+    rowfmt = ",".join("%s" if c == "phase" else "%.10g" for c in cols) + "\n"
+    names = np.array(PHASES, dtype=object)
     with open(path, "w", newline="") as fh:
         fh.write(",".join(cols) + "\n")
-        if "phase" in cols:
-            j = cols.index("phase")
-            names = np.array(PHASES, dtype=object)[np.nan_to_num(data[:, j]).astype(int)]
-            obj = data.astype(object)
-            obj[:, j] = names
-            np.savetxt(fh, obj, fmt=fmts, delimiter=",")
-        else:
-            np.savetxt(fh, data, fmt="%.10g", delimiter=",")
+        for s in range(0, data.shape[0], chunk):
+            block = data[s:s + chunk]
+            rows = block.tolist()
+            if j >= 0:
+                for row, name in zip(rows, names[np.nan_to_num(block[:, j]).astype(int)].tolist()):
+                    row[j] = name
+            fh.write((rowfmt * len(rows)) % tuple(x for row in rows for x in row))
 
 
 def _f(x):

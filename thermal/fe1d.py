@@ -18,6 +18,8 @@ Source placement (params.source):
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 from scipy.linalg import blas, lapack
 
@@ -27,6 +29,23 @@ from thermal.stepping import START_STEPS, Integrator
 
 BACKS = ("convection", "adiabatic", "fixed")
 SOURCES = ("follow-pad", "fixed-point")
+
+_JIT = None     # the numba kernel module once loaded, False when unavailable
+
+
+def jit_kernels():
+    """thermal._column_jit if numba is installed and FPD_NO_JIT is unset, else None."""
+    global _JIT
+    if _JIT is None:
+        _JIT = False
+        if not os.environ.get("FPD_NO_JIT"):
+            try:
+                from thermal import _column_jit
+                _column_jit.warm_up()
+                _JIT = _column_jit
+            except ImportError:
+                pass
+    return _JIT or None
 
 
 def assemble_column(z: np.ndarray, rho_c: float, k: float, area: float):
@@ -71,7 +90,8 @@ class ColumnIntegrator(Integrator):
     on the back node, so the hot loop is two banded BLAS products, one
     dpttrs and scalar ledger updates; no per-step skfem, no sparse matrices."""
 
-    def __init__(self, tri, conv_back: float, nf: int, u0, dt, scheme, jump_rtol, rannacher=True):
+    def __init__(self, tri, conv_back: float, nf: int, u0, dt, scheme, jump_rtol, rannacher=True,
+                 jit: bool | None = None):
         dM, eM, dA, eA = tri
         n = len(dM)
         # upper band storage, Fortran order so that f2py passes it without a copy
@@ -97,6 +117,27 @@ class ColumnIntegrator(Integrator):
                          u0, dt, scheme, jump_rtol, rannacher)
         self._q = 0.0
         self._c23 = None
+        self._factors = {}
+        # the numba path (bdf2 without a Dirichlet node; start-up steps stay
+        # pure): constants K and state W packed as _column_jit expects, with
+        # u and du views of W so that both paths share the state
+        kern = jit_kernels() if jit is None or jit else None
+        if jit and kern is None:
+            raise ImportError("fe1d: jit=True needs numba")
+        # (beyond 300 rows the pure path's products are numpy's, not dsbmv)
+        self._kern = kern if (kern is not None and scheme == "bdf2" and nf == n and self._use_blas) else None
+        self._stored_ok = False
+        if self._kern is not None:
+            self._K = np.zeros(7 * n)
+            self._K[:2 * n] = self._Mb.ravel(order="F")
+            self._K[2 * n:4 * n] = self._Ab.ravel(order="F")
+            self._K[6 * n:] = self._m1
+            self._W = np.zeros(3 * n + kern.N_SCALARS)
+            self._W[:n], self._W[n:2 * n] = self.u, self.du
+            self.u, self.du = self._W[:n], self._W[n:2 * n]
+            self._I = np.array([n, 1, 2, 1, 1, 0, ord("U")], dtype=np.int32)
+            self._sc = 3 * n
+            self._bdf2_kernel = kern.bdf2_column
 
     def _band(self, alpha: float, band: np.ndarray, x: np.ndarray, y=None) -> np.ndarray:
         """alpha B x (+ y, in place, when y is given) for a tridiagonal B in
@@ -129,6 +170,7 @@ class ColumnIntegrator(Integrator):
         df, ef, info = lapack.dpttrf(dM[:nf] + gamma * dA[:nf], eM[:nf - 1] + gamma * eA[:nf - 1])
         if info != 0:
             raise np.linalg.LinAlgError(f"dpttrf failed (info={info})")
+        self._factors[gamma] = (df, ef)
         dpttrs = lapack.dpttrs
         return lambda rhs: dpttrs(df, ef, rhs)[0]
 
@@ -167,6 +209,15 @@ class ColumnIntegrator(Integrator):
     def _bdf21(self, h: float, q: float) -> None:
         nf, u = self.nf, self.u
         c23 = self._c23 if self._c23 is not None else self._bdf2_setup(h)
+        if self._kern is not None:
+            W = self._W
+            self._bdf2_kernel(self._K, W, self._I, c23, 1.5 * q - 0.5 * self._q, h * self._cb)
+            self._stored_ok = True
+            loss = (2.0 / 3.0) * (W[self._sc + 2] + 0.5 * self.loss_prev)
+            self.loss_prev = loss
+            self.heat_in += h * q
+            self.heat_lost += loss
+            return
         rhs = self._band(-c23, self._Ab, u)
         rhs = self._band(1.0 / 3.0, self._Mb, self.du, rhs)
         rhs[0] += c23 * (1.5 * q - 0.5 * self._q)
@@ -174,7 +225,7 @@ class ColumnIntegrator(Integrator):
         u[:nf] += du
         if nf == len(u):
             last_prev = 0.0
-            self.du = du                    # fresh array from dpttrs: no copy needed
+            self.du[:] = du
             s = h * self._cb * u[-1]
         else:
             last_prev = self.du[nf - 1]
@@ -188,6 +239,11 @@ class ColumnIntegrator(Integrator):
     def _bdf2_setup(self, h: float) -> float:
         self._c23 = 2.0 * h / 3.0
         self._bdf2_solve = self.solver(self._c23)
+        if self._kern is not None:
+            df, ef = self._factors[self._c23]
+            n = len(self.u)
+            self._K[4 * n:5 * n] = df
+            self._K[5 * n:6 * n - 1] = ef
         return self._c23
 
     def _jump(self, q: float) -> bool:
@@ -198,9 +254,31 @@ class ColumnIntegrator(Integrator):
 
     def step_surface(self, q: float) -> None:
         """Advance dt with the power q (W) into the surface node (schemes and
-        start-up as Integrator.step)."""
+        start-up as Integrator.step). Returns u[0] on the kernel's fast path,
+        else None."""
+        if (self._kern is not None and self._c23 is not None and self.rannacher
+                and self._start_left <= 0 and self.steps > 0):
+            # the common BDF2 step, inlined (same operations as below); a jump
+            # falls through to the start-up, whose _jump gives the same answer
+            aq = abs(q)
+            if aq > self.load_scale:
+                self.load_scale = aq
+            if not abs(q - self._q) > self.jump_rtol * self.load_scale:
+                h = self.dt
+                W = self._W
+                u0 = self._bdf2_kernel(self._K, W, self._I, self._c23, 1.5 * q - 0.5 * self._q, h * self._cb)
+                self._stored_ok = True
+                loss = (2.0 / 3.0) * (W[self._sc + 2] + 0.5 * self.loss_prev)
+                self.loss_prev = loss
+                self.heat_in += h * q
+                self.heat_lost += loss
+                self._q = q
+                self.b[0] = q
+                self.steps += 1
+                return u0
         h = self.dt
         sch = self.scheme
+        self._stored_ok = False
         if sch == "be":
             self._be1(h, q)
         elif self.rannacher and (self._start_left > 0 or self.steps == 0 or self._jump(q)):
@@ -229,16 +307,27 @@ class ColumnIntegrator(Integrator):
     def restore(self, snap) -> None:
         super().restore(snap)
         self._q = self.b[0]
+        self._stored_ok = False
+
+    def stored(self) -> float:
+        if self._stored_ok:                 # m1 . u from the kernel's ddot
+            return float(self._W[self._sc + 3] - self._e0)
+        return super().stored()
 
 
 class FE1DPlate:
     """PlateModel of docs/architecture.md on a graded through-thickness column."""
 
-    def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, rannacher: bool = True):
+    def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, rannacher: bool = True,
+                 jit: bool | None = None):
+        """jit: None uses the numba kernel when available (FPD_NO_JIT unset),
+        False the pure numpy/LAPACK path, True requires numba."""
         check_params(params)
         self.params = p = params
         self.dt = float(dt)
         self.area = p.contact_area
+        self._fixed_point = p.source == "fixed-point"
+        self._T_air = float(p.T_air_C)
         self.z = line_mesh(p.plate_thickness, p.n_elements, p.grading).p[0].copy()
         n = len(self.z)
         h_min = np.diff(self.z).min()
@@ -254,7 +343,7 @@ class FE1DPlate:
         if nf < n:
             u0[-1] = p.T_back_C - p.T_air_C
         self._tri = (dM, eM, dA, eK)
-        self.integ = ColumnIntegrator(self._tri, conv_back, nf, u0, self.dt, p.scheme, jump_rtol, rannacher)
+        self.integ = ColumnIntegrator(self._tri, conv_back, nf, u0, self.dt, p.scheme, jump_rtol, rannacher, jit)
 
     # -- PlateModel interface ---------------------------------------------------
     def covered(self, centre_m: float) -> bool:
@@ -266,10 +355,12 @@ class FE1DPlate:
     def step(self, power_W: float, centre_m: float = 0.0) -> float:
         """Advance dt with power_W over the footprint at centre_m; return the
         column's surface temperature (degC) at the end of the step."""
-        if self.params.source == "fixed-point" and not self.covered(centre_m):
+        if self._fixed_point and not self.covered(centre_m):
             power_W = 0.0
-        self.integ.step_surface(float(power_W))
-        return float(self.integ.u[0] + self.params.T_air_C)
+        u0 = self.integ.step_surface(float(power_W))
+        if u0 is not None:
+            return u0 + self._T_air
+        return float(self.integ.u[0] + self._T_air)
 
     def surface_temperature(self) -> float:
         return float(self.integ.u[0] + self.params.T_air_C)
