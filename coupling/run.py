@@ -17,6 +17,7 @@ import numpy as np
 from mechanics.seated import PHASES, MechanicsFailure
 
 from .build import Simulation
+from .fast_loop import compiled_loop
 
 # canonical column order (interface.md); extra diagnostic columns follow
 CANONICAL = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad", "s1_m", "s2_m",
@@ -144,10 +145,22 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     fast = mech is not None and not iterated and sub == 1
     mech_step = mech.step if mech else None
     p1_step, p2_step = (p1.step if p1 else None), (p2.step if p2 else None)
+    # the common case compiled (coupling/fast_loop.py); the loop below takes over where it stops
+    jit = compiled_loop(sim, every, n_rows, cols, inject_failure_at) if fast else None
     t_start = time.perf_counter()
-    n = last_row = 0
+    n = last_row = n0 = 0
     try:
-        for n in range(1, N + 1):
+        if jit is not None:
+            out = jit.run(buf, k, T1, T2, mu1, mu2, bar, hottest, hot_every, on_frame, frame_every)
+            n, k, last_row = out.n, out.k, out.last_row
+            T1, T2, mu1, mu2 = out.T1, out.T2, out.mu1, out.mu2
+            total_iter, worst_iter = out.steps, (1 if out.steps else 0)
+            if out.interrupted:
+                raise KeyboardInterrupt
+            if out.failure:
+                raise NumericalFailure(out.failure[0], out.failure[0] * dt, out.failure[1])
+            n0 = out.steps
+        for n in range(n0 + 1, N + 1):
             if fast:                    # staggered, one thermal step per step: the loop below, unrolled
                 mu1 = law1(T1, mech.N1 / area, mech.slip_v1)
                 mu2 = law2(T2, mech.N2 / area, mech.slip_v2)
