@@ -122,3 +122,43 @@ def run_chunk(MC, MS, MSAVE, G, LW1, LW2, F, PP,
     ctl[C_K], ctl[C_LAST], ctl[C_STATUS] = k, last_row, status
     F[F_T1], F[F_T2], F[F_MU1], F[F_MU2] = T1, T2, mu1, mu2
     return status
+
+
+def _refresh_stale_caches() -> None:
+    """numba keys a cached function on the source of its own file only, yet
+    run_chunk and the plate kernels carry compiled copies of the kernels they
+    call from other files: after an edit there, they would run the old code.
+    So the kernel files are hashed together, and when the hash changes the
+    caches of the callers are dropped (compiled afresh on first use)."""
+    import hashlib
+    import os
+
+    from thermal import _column_jit
+
+    files = [m.__file__ for m in (_column_jit, pj, tp)] + [__file__]
+    h = hashlib.sha256()
+    for f in files:
+        with open(f, "rb") as fh:
+            h.update(fh.read())
+    digest = h.hexdigest()
+    try:
+        stamp = os.path.join(run_chunk._cache.cache_path, "fpd_kernels.sha256")
+        with open(stamp) as fh:
+            if fh.read() == digest:
+                return
+    except (OSError, AttributeError):
+        pass
+    try:
+        for mod in (pj, tp):
+            for obj in vars(mod).values():
+                if hasattr(obj, "_cache") and hasattr(obj, "py_func") and obj.py_func.__module__ == mod.__name__:
+                    obj._cache.flush()
+        for obj in (_mech_ok, run_chunk):
+            obj._cache.flush()
+        with open(stamp, "w") as fh:
+            fh.write(digest)
+    except (OSError, AttributeError, NameError):
+        pass        # an unwritable cache: numba compiles in memory anyway
+
+
+_refresh_stale_caches()

@@ -125,6 +125,7 @@ class CompiledLoop:
             P = self.PP[i]
             P[pj.P_KIND] = {"none": pj.KIND_NONE, "lumped": pj.KIND_LUMPED, "fe1d": pj.KIND_FE1D}[kind]
             if kind == "fe1d":
+                from thermal.stepping import START_STEPS
                 integ = plate.integ
                 n = len(integ.u)
                 h = integ.dt
@@ -137,6 +138,7 @@ class CompiledLoop:
                 P[pj.P_C23V] = c23
                 P[pj.P_JR], P[pj.P_H], P[pj.P_CB] = integ.jump_rtol, h, integ._cb
                 P[pj.P_M], P[pj.P_E0] = integ.start_substeps, integ._e0
+                P[pj.P_START] = START_STEPS["bdf2"]
                 P[pj.P_TAIR] = plate._T_air
                 P[pj.P_FIXED] = plate._fixed_point
                 P[pj.P_R0], P[pj.P_AC] = plate.params.radius_m, plate.params.a_contact_m

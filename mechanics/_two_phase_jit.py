@@ -26,8 +26,8 @@ import math
 import numpy as np
 from numba import njit
 
+from . import two_phase as _tp
 from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, TILT
-from .two_phase import _FIXED_POINT_ITERS, _FIXED_POINT_TOL
 
 # -- state S (float64; n, mode, diagonal, rocking stored as exact floats) -------
 SN, TH, THD, MODE, DIAG, ROCK, BETA, BETAD = 0, 1, 2, 3, 4, 5, 6, 7
@@ -51,7 +51,8 @@ CL, CRHO, CI, CS, CM, Cm, CJ, CG, CR1, CR2 = 0, 1, 2, 3, 4, 5, 6, 7, 8, 9
 CA, CEB, CET, CPH, CR2C = 10, 11, 12, 13, 14     # the corner tuple (a, eta_b, eta_t, h, R2)
 CHC, CIT, CDT, TWO, CGA = 15, 16, 17, 18, 19     # h', I_trans, dt, 2.0, geom.a
 CBC = 20                                         # body chains A-C, B-D: 2 x 7
-N_CONST = 34
+CITER, CTOL = 34, 35     # two_phase._FIXED_POINT_ITERS, _TOL (read at run time: a cached kernel
+N_CONST = 36             # keeps the globals it was compiled with)
 
 N_VALUES = 31             # len(two_phase.COLUMNS)
 
@@ -66,6 +67,7 @@ def pack_constants(st) -> np.ndarray:
     C[CHC], C[CIT], C[CDT], C[TWO], C[CGA] = st._corner_height, st._I_trans, st.dt, 2.0, st.geom.a
     C[CBC:CBC + 7] = st._body_chains[DIAGONAL_AC]
     C[CBC + 7:CBC + 14] = st._body_chains[DIAGONAL_BD]
+    C[CITER], C[CTOL] = _tp._FIXED_POINT_ITERS, _tp._FIXED_POINT_TOL
     return C
 
 
@@ -166,7 +168,8 @@ def _moreau_trial(C, th0, v0, a, h, cap):
     hI = h / C[CI]
     dth = h * v0
     v1, lam = v0, 0.0
-    for _ in range(_FIXED_POINT_ITERS):
+    tol = C[CTOL]
+    for _ in range(int(C[CITER])):
         mid = th0 + 0.5 * dth
         drive = -S_ * _sinc(0.5 * dth) * (a * math.cos(mid) + g * math.sin(mid))
         v_free = v0 + hI * drive
@@ -176,7 +179,7 @@ def _moreau_trial(C, th0, v0, a, h, cap):
             lam = 1.0 if v_free > 0.0 else -1.0
             v1 = v_free - hI * cap * lam
         dth_new = 0.5 * h * (v0 + v1)
-        if abs(dth_new - dth) <= _FIXED_POINT_TOL:
+        if abs(dth_new - dth) <= tol:
             return v1, dth_new, lam
         dth = dth_new
     return v1, dth, lam
@@ -187,7 +190,7 @@ def _arrest(C, th0, v0, a, h, cap):
     S_, g, I = C[CS], C[CG], C[CI]
     sign = 1.0 if v0 > 0.0 else -1.0
     tau = h
-    for _ in range(_FIXED_POINT_ITERS):
+    for _ in range(int(C[CITER])):
         dth = 0.5 * tau * v0
         mid = th0 + 0.5 * dth
         drive = -S_ * _sinc(0.5 * dth) * (a * math.cos(mid) + g * math.sin(mid))
@@ -360,13 +363,14 @@ def _tilt(C, S, a, h, mu1, mu2):
     b0, w0 = S[BETA], S[BETAD]
     db = h * w0
     w1 = w0
-    for _ in range(_FIXED_POINT_ITERS):
+    tol = C[CTOL]
+    for _ in range(int(C[CITER])):
         mid = b0 + 0.5 * db
         c, s = math.cos(mid), math.sin(mid)
         torque = _sinc(0.5 * db) * (a * (s * X0 + c * Z0) - g * (c * X0 - s * Z0))
         w1 = w0 + h * torque / I_P
         db_new = 0.5 * h * (w0 + w1)
-        if abs(db_new - db) <= _FIXED_POINT_TOL:
+        if abs(db_new - db) <= tol:
             db = db_new
             break
         db = db_new

@@ -27,8 +27,8 @@ P_C23, P_C23V, P_Q, P_LS, P_JR, P_SL, P_STEPS, P_LP = 5, 6, 7, 8, 9, 10, 11, 12
 P_HIN, P_HLOST, P_HALF, P_SOK, P_H, P_CB, P_M, P_E0 = 13, 14, 15, 16, 17, 18, 19, 20
 # lumped (LumpedPlate attributes)
 P_LH, P_LT0, P_RISE, P_LIN, P_LLOST, P_DECAY, P_LC, P_LDT = 21, 22, 23, 24, 25, 26, 27, 28
+P_START = 29                # thermal.stepping.START_STEPS["bdf2"] (at run time, as all settings)
 N_P = 32
-START_STEPS_BDF2 = 2        # thermal.stepping.START_STEPS["bdf2"]
 
 
 @njit(cache=True, nogil=True)
@@ -115,7 +115,7 @@ def fe1d_step(K, W, I, X, P, power_W, centre_m):
     P[P_SOK] = 0.0
     if P[P_SL] > 0.0 or P[P_STEPS] == 0.0 or _jump(P, q):
         if P[P_STEPS] == 0.0 or _jump(P, q):
-            P[P_SL] = START_STEPS_BDF2
+            P[P_SL] = P[P_START]
         P[P_SL] -= 1.0
         ub = X[2 * n:3 * n]
         for i in range(n):
