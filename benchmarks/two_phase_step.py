@@ -39,6 +39,25 @@ def per_step_us(make, with_values: bool, repeats: int = 3) -> float:
     return best
 
 
+def numba_kernel_us(make, repeats: int = 3):
+    """The same steps through mechanics/_two_phase_jit.run_steps (None without numba)."""
+    try:
+        import numpy as np
+        from mechanics import _two_phase_jit as K
+    except ImportError:
+        return None
+    best = float("inf")
+    for _ in range(repeats + 1):              # the first loads (or compiles) the kernel
+        st = make()
+        C, G, S = K.pack_constants(st), K.ground_arrays(st), np.zeros(K.N_STATE)
+        K.pack_state(st, S)
+        rows = np.zeros((st.n_steps, K.N_VALUES))
+        t0 = time.perf_counter()
+        K.run_steps(C, S, G, 0.05, 0.05, st.n_steps, rows)
+        best = min(best, (time.perf_counter() - t0) / st.n_steps * 1e6)
+    return best
+
+
 def main() -> None:
     dt = float(sys.argv[1]) if len(sys.argv) > 1 else 1e-3
     scale = float(sys.argv[2]) if len(sys.argv) > 2 else 1.0
@@ -53,6 +72,9 @@ def main() -> None:
           f"(stick {counts[0]}, slip {counts[1]}, tilt {counts[2]})")
     print(f"two-phase step():            {per_step_us(make, False):6.2f} us/step")
     print(f"two-phase step() + values(): {per_step_us(make, True):6.2f} us/step")
+    kernel_us = numba_kernel_us(make)
+    if kernel_us is not None:
+        print(f"numba kernel step + values:  {kernel_us:6.2f} us/step (mechanics/_two_phase_jit.py)")
     try:
         from mechanics.seated import SeatedStepper
     except ImportError:
