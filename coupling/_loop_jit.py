@@ -25,7 +25,7 @@ from thermal import _plate_jit as pj
 C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT = range(9)
 N_CTL = 12
 # ctl[C_STATUS]
-RUNNING, DONE, REPLAY, ROW_FAILED = 0, 1, 2, 3
+RUNNING, DONE, REPLAY, ROW_FAILED, FULL = 0, 1, 2, 3, 4
 # F (float64): coupling constants, then the loop's floats
 F_AREA, F_ETA1, F_ETA2, F_DT, F_T1, F_T2, F_MU1, F_MU2 = range(8)
 N_F = 8
@@ -56,7 +56,8 @@ def run_chunk(MC, MS, MSAVE, G, LW1, LW2, F, PP,
               K1, W1, I1, X1, K2, W2, I2, X2, buf, row, ctl):
     """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
     (DONE; REPLAY: step ctl[C_NDONE] + 1 is for the Python loop, the state is
-    as before it; ROW_FAILED: that step's row, in ``row``, is not finite)."""
+    as before it; ROW_FAILED: that step's row, in ``row``, is not finite;
+    FULL: buf has no room left after step ctl[C_NDONE], before ctl[C_NEND])."""
     n0, n_end = ctl[C_NDONE], ctl[C_NEND]
     k, n_rows, every, last_row, N = ctl[C_K], ctl[C_NROWS], ctl[C_EVERY], ctl[C_LAST], ctl[C_N]
     heat = ctl[C_HEAT] != 0
@@ -115,8 +116,13 @@ def run_chunk(MC, MS, MSAVE, G, LW1, LW2, F, PP,
                     buf[k, i] = row[i]
                 k += 1
                 last_row = n
+                if k == n_rows and n < n_end:
+                    status = FULL
+                    break
     if status == DONE:
         ctl[C_NDONE] = n_end
+    elif status == FULL:
+        ctl[C_NDONE] = n
     else:
         ctl[C_NDONE] = n - 1
     ctl[C_K], ctl[C_LAST], ctl[C_STATUS] = k, last_row, status

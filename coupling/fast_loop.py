@@ -197,14 +197,18 @@ class CompiledLoop:
 
     # -- the run -----------------------------------------------------------------------
     def run(self, buf, k, T1, T2, mu1, mu2, bar=None, hottest=None, hot_every=1,
-            on_frame=None, frame_every=0):
-        """Steps 1..n_stop (or until a step the Python loop must take) into
-        buf from row k. Returns an Outcome; never raises for Ctrl-C or a
+            on_frame=None, frame_every=0, flush=None):
+        """Steps 1..n_stop (or until a step the Python loop must take),
+        their rows into buf (loop column order) from row k. When buf is full
+        before the end, ``flush(k)`` must empty it and return the new k
+        (without flush, the rows that do not fit are dropped, as in the
+        Python loop). Returns an Outcome; never raises for Ctrl-C or a
         failed row (the Outcome carries them, simulate() raises them once
         its own counters are set)."""
         lj = self.lj
         ctl, F = self.ctl, self.F
         ctl[lj.C_NDONE], ctl[lj.C_K], ctl[lj.C_LAST] = 0, k, 0
+        ctl[lj.C_NROWS] = len(buf)
         F[lj.F_T1], F[lj.F_T2], F[lj.F_MU1], F[lj.F_MU2] = T1, T2, mu1, mu2
         self._pack()
         (K1, W1, I1, X1), (K2, W2, I2, X2) = self.arrays
@@ -235,10 +239,12 @@ class CompiledLoop:
                     break
                 # simulate()'s events at the end of step n, in its order
                 events_of = n
+                if status == lj.FULL and flush is not None:
+                    ctl[lj.C_K] = flush(int(ctl[lj.C_K]))
                 if (on_frame is not None and frame_every and n % frame_every == 0
                         and int(ctl[lj.C_LAST]) == n):
                     self.tp.unpack_state(self.sim.mechanics, self.MS)
-                    self.sim.frame_values = self._frame_values(buf[int(ctl[lj.C_K]) - 1])
+                    self.sim.frame_values = self._frame_values(self.row)
                     on_frame(n, self.sim)
                 if hottest is not None and n % hot_every == 0:
                     hottest.update(self.sim.plates, n * self.sim.dt)

@@ -264,3 +264,29 @@ def test_default_scene_loop_is_compiled_and_fast():
     res = simulate(sim)
     assert res.status == "ok"
     assert math.isfinite(res.data.sum())
+
+
+def test_rows_into_a_small_buffer_with_flush():
+    """CompiledLoop.run hands a full buffer to flush(k) and goes on (a
+    streamed history records in blocks): the rows are those of one buffer."""
+    over = ["solver.duration=3"]
+    ref = simulate(_sim("default", over), every=3)
+    sim = _sim("default", over)
+    cols = _cols(sim)
+    n_rows = ref.n_rows
+    loop = fast_loop.compiled_loop(sim, 3, n_rows, cols)
+    buf, got = np.full((64, len(cols)), np.nan), []
+
+    def flush(k):
+        got.append(buf[:k].copy())
+        return 0
+
+    out = loop.run(buf, 0, ref["T1_C"][0], ref["T2_C"][0], ref["mu1"][0], ref["mu2"][0], flush=flush)
+    assert out.steps == sim.n_steps and not out.failure and not out.interrupted
+    got.append(buf[:out.k].copy())
+    rows = np.vstack(got)
+    from coupling.run import _columns
+    order = _columns(sim)[1]
+    want = ref.data[1:][:, [order.index(c) for c in cols]]
+    assert len(got) > 5
+    np.testing.assert_array_equal(rows, want)
