@@ -31,7 +31,7 @@ F_AREA, F_ETA1, F_ETA2, F_DT, F_T1, F_T2, F_MU1, F_MU2 = range(8)
 N_F = 8
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _mech_ok(C, S):
     """The state after a step is one the Python loop would also have reached
     and can print: no error flag, every value finite, and values() cannot
@@ -51,7 +51,7 @@ def _mech_ok(C, S):
     return True
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def run_chunk(MC, MS, MSAVE, G, LW1, LW2, F, PP,
               K1, W1, I1, X1, K2, W2, I2, X2, buf, row, ctl):
     """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
@@ -155,10 +155,9 @@ def _refresh_stale_caches() -> None:
     except (OSError, AttributeError):
         pass
     try:
-        for mod in (pj, tp):
-            for obj in vars(mod).values():
-                if hasattr(obj, "_cache") and hasattr(obj, "py_func") and obj.py_func.__module__ == mod.__name__:
-                    obj._cache.flush()
+        for obj in vars(pj).values():    # (tp calls nothing from another file: its caches stand)
+            if hasattr(obj, "_cache") and hasattr(obj, "py_func") and obj.py_func.__module__ == pj.__name__:
+                obj._cache.flush()
         for obj in (_mech_ok, run_chunk):
             obj._cache.flush()
         with open(stamp, "w") as fh:

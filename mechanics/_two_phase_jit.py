@@ -14,7 +14,9 @@ keeping it so:
 - No fastmath, so no reassociation or FMA contraction.
 - Where Python would raise (division by zero, the pad overturning), the
   kernel sets S[ERR] and the caller replays the step in Python, which raises
-  the same exception with the same message.
+  the same exception with the same message. error_model="numpy": a division
+  the Python code does not guard gives inf/NaN here instead of a numba
+  exception, and the caller replays a step that leaves a non-finite state.
 
 Only numba is imported here (no scipy): the layouts below are filled by
 ``pack_constants``/``pack_state`` and read back by ``unpack_state``.
@@ -97,26 +99,26 @@ def unpack_state(st, S: np.ndarray) -> None:
 
 
 # -- the step ---------------------------------------------------------------------------
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _pmax(a, b):
     """Python's max(a, b) for floats (a unless b > a: the same -0.0 and NaN)."""
     return b if b > a else a
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _pmin(a, b):
     """Python's min(a, b) for floats."""
     return b if b < a else a
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _sinc(x):
     if abs(x) < 1e-4:
         return 1.0 - x * x / 6.0
     return math.sin(x) / x
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _corner_pivot_rotation(S, a, eta_bottom, eta_top, h, R2, shift):
     e = abs(shift)
     px, pz = -a - e, eta_bottom - h + R2
@@ -134,7 +136,7 @@ def _corner_pivot_rotation(S, a, eta_bottom, eta_top, h, R2, shift):
     return beta if shift >= 0.0 else -beta
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _smallest_positive_root(c2, c1, c0, default):
     if c2 == 0.0:
         return -c0 / c1 if c1 != 0.0 and -c0 / c1 > 0.0 else default
@@ -153,7 +155,7 @@ def _smallest_positive_root(c2, c1, c0, default):
     return default
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def horizontal_momentum(C, S):
     if S[ROCK] != 0.0:
         X0, Z0 = S[CH + 1], S[CH + 2]
@@ -162,7 +164,7 @@ def horizontal_momentum(C, S):
     return C[CS] * math.cos(S[TH]) * S[THD]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _moreau_trial(C, th0, v0, a, h, cap):
     S_, g = C[CS], C[CG]
     hI = h / C[CI]
@@ -185,7 +187,7 @@ def _moreau_trial(C, th0, v0, a, h, cap):
     return v1, dth, lam
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _arrest(C, th0, v0, a, h, cap):
     S_, g, I = C[CS], C[CG], C[CI]
     sign = 1.0 if v0 > 0.0 else -1.0
@@ -204,7 +206,7 @@ def _arrest(C, th0, v0, a, h, cap):
     return tau, 0.5 * tau * v0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _two_phase_update(C, S, th0, dth, v1, a, f1, f2):
     I, S_ = C[CI], C[CS]
     S[B1] = _corner_pivot_rotation(S, C[CA], C[CEB], C[CET], C[CPH], C[CR2C], C[CL] * dth)
@@ -228,7 +230,7 @@ def _two_phase_update(C, S, th0, dth, v1, a, f1, f2):
     S[SV2] = C[CR2] * abs(v_proj)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _start_rocking(C, S, a):
     c, s = math.cos(S[TH]), math.sin(S[TH])
     g = C[CG]
@@ -251,7 +253,7 @@ def _start_rocking(C, S, a):
     return False
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _seated(C, S, a, h, mu1, mu2, rocking_allowed):
     """TwoPhaseStepper._seated_step, its recursion after an arrest unrolled.
     Returns -1.0, or the step length left when the pad starts rocking (the
@@ -296,7 +298,7 @@ def _seated(C, S, a, h, mu1, mu2, rocking_allowed):
         return -1.0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _chain_normal_forces(C, S, a):
     I_P, X0, Z0 = S[CH], S[CH + 1], S[CH + 2]
     rGx0, rGz0, rQx0, rQz0, sign = S[CH + 3], S[CH + 4], S[CH + 5], S[CH + 6], S[CH + 7]
@@ -325,7 +327,7 @@ def _chain_normal_forces(C, S, a):
     S[FF2] = FMx * w2z - FMz * w2x
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _land(C, S, a, h, b0, w0, mu1, mu2):
     I_P, X0, Z0 = S[CH], S[CH + 1], S[CH + 2]
     g = C[CG]
@@ -355,7 +357,7 @@ def _land(C, S, a, h, b0, w0, mu1, mu2):
     S[B1] = beta_land
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _tilt(C, S, a, h, mu1, mu2):
     I_P, X0, Z0 = S[CH], S[CH + 1], S[CH + 2]
     sign = S[CH + 7]
@@ -393,7 +395,7 @@ def _tilt(C, S, a, h, mu1, mu2):
     _land(C, S, a, h, b0, w0, mu1, mu2)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def step(C, S, G, mu1, mu2):
     """TwoPhaseStepper.step: one step with mu1, mu2 held; returns the
     friction work (J) of the lower and upper interface. S[ERR] != 0 after
@@ -414,7 +416,7 @@ def step(C, S, G, mu1, mu2):
     return S[W1] - W1_0, S[W2] - W2_0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def values(C, S, G, out):
     """TwoPhaseStepper.values() written into out[:N_VALUES]."""
     n = int(S[SN])
@@ -450,7 +452,7 @@ def values(C, S, G, out):
     out[25], out[26], out[27], out[28], out[29], out[30] = S[FF1], S[FF2], S[THD], S[SL1], S[SL2], tip
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def run_steps(C, S, G, mu1, mu2, count, rows):
     """count steps with mu1, mu2 held, values() after each into rows[i]
     (tests and benchmarks/two_phase_step.py). Returns the steps taken: fewer
@@ -491,7 +493,7 @@ def pack_law(law) -> np.ndarray | None:
     return None
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def law_mu(P, T_C, p_Pa, v_mps):
     """mu of the law packed in P (pack_law); NaN where Python would raise
     (a table asked at a NaN temperature): the caller then replays in Python."""

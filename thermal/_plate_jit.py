@@ -31,7 +31,7 @@ P_START = 29                # thermal.stepping.START_STEPS["bdf2"] (at run time,
 N_P = 32
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def lumped_step(P, power_W):
     """LumpedPlate.step."""
     if P[P_LH] > 0.0:
@@ -46,7 +46,7 @@ def lumped_step(P, power_W):
     return P[P_LT0] + P[P_RISE]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _be1(K, W, I, X, P, h, q):
     """ColumnIntegrator._be1 with nf == n: one backward-Euler substep."""
     n = I[0]
@@ -73,7 +73,7 @@ def _be1(K, W, I, X, P, h, q):
     return s
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _jump(P, q):
     """ColumnIntegrator._jump."""
     if abs(q) > P[P_LS]:
@@ -81,7 +81,7 @@ def _jump(P, q):
     return abs(q - P[P_Q]) > P[P_JR] * P[P_LS]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def _bdf2(K, W, I, P, q):
     h = P[P_H]
     n = I[0]
@@ -93,7 +93,7 @@ def _bdf2(K, W, I, P, q):
     P[P_HLOST] += loss
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def fe1d_step(K, W, I, X, P, power_W, centre_m):
     """FE1DPlate.step (kernel path, bdf2, nf == n, rannacher): returns the
     surface temperature (degC)."""
@@ -138,7 +138,7 @@ def fe1d_step(K, W, I, X, P, power_W, centre_m):
     return W[0] + P[P_TAIR]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def fe1d_stored(K, W, I, P):
     """ColumnIntegrator.stored()."""
     n = I[0]
@@ -147,14 +147,14 @@ def fe1d_stored(K, W, I, P):
     return _ddot(I[0:].ctypes, K[6 * n:].ctypes, I[3:].ctypes, W.ctypes, I[3:].ctypes) - P[P_E0]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def plate_step(kind, K, W, I, X, P, power_W, centre_m):
     if kind == KIND_FE1D:
         return fe1d_step(K, W, I, X, P, power_W, centre_m)
     return lumped_step(P, power_W)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def plate_stored(kind, K, W, I, P):
     if kind == KIND_FE1D:
         return fe1d_stored(K, W, I, P)
@@ -163,7 +163,7 @@ def plate_stored(kind, K, W, I, P):
     return 0.0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def plate_lost(kind, P):
     if kind == KIND_FE1D:
         return P[P_HLOST]
@@ -172,7 +172,7 @@ def plate_lost(kind, P):
     return 0.0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def plate_save(kind, W, X, P, Psave):
     """Copy the plate's state (P, and W for fe1d) aside (X's last block)."""
     for i in range(N_P):
@@ -183,7 +183,7 @@ def plate_save(kind, W, X, P, Psave):
             X[o + i] = W[i]
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def plate_restore(kind, W, X, P, Psave):
     for i in range(N_P):
         P[i] = Psave[i]
