@@ -13,9 +13,10 @@ kernel hands back because Python would raise there).
 
 Used only with numba installed and FPD_NO_JIT unset. A scene with an fe1d
 plate uses it always (numba is loaded for the column kernel anyway); a
-lumped or mechanics-only scene only when numba is already loaded or the run
-is long enough to pay for loading it (LUMPED_MIN_STEPS), so that such
-scenes still start without numba and scipy.
+lumped or mechanics-only scene only when numba is already loaded in the
+process (a study, a process that ran an fe1d scene): loading numba, scipy
+and the kernels costs ~0.7 s, which would take such a scene's start past
+1 s (issue 7), while its Python loop costs ~10 us per step.
 """
 from __future__ import annotations
 
@@ -25,7 +26,6 @@ import sys
 import numpy as np
 
 CHUNK = 2048                 # steps per call at most (progress bar, Ctrl-C latency)
-LUMPED_MIN_STEPS = 200_000   # ~10 us/step saved against ~0.5 s to import numba, scipy and the kernels
 
 _KERNELS = None              # (coupling._loop_jit, mechanics._two_phase_jit, thermal._plate_jit), False if unavailable
 
@@ -44,6 +44,10 @@ def kernels():
             except ImportError:
                 pass
     return _KERNELS or None
+
+
+def _numba_loaded() -> bool:
+    return "numba" in sys.modules
 
 
 def _plate_kind(plate):
@@ -76,7 +80,7 @@ def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
         return None
     if inject_failure_at is not None and inject_failure_at <= 1:
         return None
-    if "fe1d" not in kinds and "numba" not in sys.modules and sim.n_steps < LUMPED_MIN_STEPS:
+    if "fe1d" not in kinds and not _numba_loaded():
         return None
     if os.environ.get("FPD_NO_JIT"):
         return None

@@ -159,7 +159,6 @@ RUNS = {
 
 @pytest.mark.parametrize("name", list(RUNS))
 def test_compiled_loop_matches_python_loop(monkeypatch, tmp_path, name):
-    monkeypatch.setattr(fast_loop, "LUMPED_MIN_STEPS", 0)
     scene, over, *fr = RUNS[name]
     fr = fr[0] if fr else None
     sa, sb = _sim(scene, over, fr, tmp_path), _sim(scene, over, fr, tmp_path)
@@ -251,12 +250,12 @@ def test_not_compiled_where_the_python_loop_is_needed(monkeypatch):
     sim = _sim("default", ["solver.duration=2"])
     monkeypatch.setattr(sim.mechanics, "step", sim.mechanics.step)
     assert not cols_ok(sim)
-    # a lumped scene that would have to load numba for a short run stays in Python
-    # (it is loaded in this process, so the rule is checked on the threshold alone)
-    monkeypatch.setattr(fast_loop.sys, "modules", {k: v for k, v in fast_loop.sys.modules.items() if k != "numba"})
-    assert not cols_ok(_sim("default", ["solver.duration=2", "thermal.model=lumped"]))
-    monkeypatch.setattr(fast_loop, "LUMPED_MIN_STEPS", 1000)
+    # lumped and mechanics-only scenes: only where numba is loaded anyway (it is in this process)
     assert cols_ok(_sim("default", ["solver.duration=2", "thermal.model=lumped"]))
+    monkeypatch.setattr(fast_loop, "_numba_loaded", lambda: False)
+    assert not cols_ok(_sim("default", ["solver.duration=2", "thermal.model=lumped"]))
+    assert not cols_ok(_sim("default", ["solver.duration=2", "thermal.model=none"]))
+    assert cols_ok(_sim("default", ["solver.duration=2"]))
 
 
 def test_default_scene_loop_is_compiled_and_fast():
