@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.linalg import eigh, lapack
 from scipy.sparse.linalg import splu
 
 from meshes.line import graded_nodes
@@ -80,6 +81,152 @@ def assemble_section(mesh, rho_c: float, k: float, h: float, convective: tuple[s
         if facets is not None and len(facets) and h > 0:
             C = C + convection.assemble(FacetBasis(mesh, elem, facets=facets, intorder=4))
     return M.tocsr(), K.tocsr(), C.tocsr()
+
+
+def _line_matrices(x: np.ndarray, weighted: bool):
+    """1D P1 mass and stiffness on nodes x as (diagonal, off-diagonal) pairs,
+    weighted by 2 pi x (the r direction) or not (z). Exact integrals."""
+    h = np.diff(x)
+    dm, em = np.zeros(len(x)), np.zeros(len(x) - 1)
+    dk, ek = np.zeros(len(x)), np.zeros(len(x) - 1)
+    if weighted:
+        x0, x1 = x[:-1], x[1:]
+        w = 2 * np.pi
+        dm[:-1] += w * h * (3 * x0 + x1) / 12
+        dm[1:] += w * h * (x0 + 3 * x1) / 12
+        em[:] = w * h * (x0 + x1) / 12
+        kk = w * (x0 + x1) / (2 * h)
+    else:
+        dm[:-1] += h / 3
+        dm[1:] += h / 3
+        em[:] = h / 6
+        kk = 1.0 / h
+    dk[:-1] += kk
+    dk[1:] += kk
+    ek[:] = -kk
+    return (dm, em), (dk, ek)
+
+
+def _tridiag(d, e):
+    return sp.diags([e, d, e], [-1, 0, 1], format="csr")
+
+
+class TensorSolver:
+    """Fast diagonalisation of the free block of M + gamma A on a tensor-product
+    Q1 mesh (docs/thermal.md, section 2).
+
+    With the r-weighted Q1 forms on nodes r_i x z_j every matrix is a
+    Kronecker product of 1D P1 matrices (r-weighted in r, plain in z):
+
+        M = rho c Mr (x) Mz,   A = Ar (x) Mz + Mr (x) Az,
+        Ar = k Kr + h 2 pi R e_R e_R^T,   Az = k Kz + h (e_top e_top^T [+ e_bot e_bot^T]),
+
+    (convection on the outer face in Ar, on the top and bottom faces in Az).
+    The generalised eigenvectors of (Az, Mz), V^T Mz V = I, V^T Az V = diag(phi),
+    turn M + gamma A into one tridiagonal in r per z-mode j,
+    (rho c + gamma phi_j) Mr + gamma Ar. A solve is then a product with V^T,
+    one LAPACK dpttrs on all the modes' tridiagonals laid end to end (zero
+    coupling at the joints) and a product with V.
+
+    ``build`` returns None when the mesh is not such a tensor product, when
+    the fixed (Dirichlet) dofs are not whole z-layers, or when the Kronecker
+    matrices differ from the assembled ones by more than round-off: the
+    caller keeps the sparse LU then.
+    """
+
+    RTOL = 1e-13        # Kronecker vs assembled matrices, relative to the largest entry
+
+    def __init__(self, Mr, Ar, Mz, Az, rho_c, idx):
+        self.Mr, self.Ar = Mr, Ar                 # (diag, off) pairs in r
+        self.phi, self.V = eigh(_tridiag(*Az).toarray(), _tridiag(*Mz).toarray())
+        self.VT = np.ascontiguousarray(self.V.T)
+        self.rho_c = rho_c
+        self.nr1, self.nz1 = idx.shape
+        # idx[i, j]: free-dof index of node (r_i, z_j); None when it is the
+        # row-major order already (rhs.reshape is then a view, no gather)
+        self.idx = None if np.array_equal(idx.ravel(), np.arange(idx.size)) else idx
+
+    @classmethod
+    def build(cls, mesh, M, A, perm, nf, rho_c, k, h, convective):
+        from skfem import MeshQuad
+
+        if not isinstance(mesh, MeshQuad):
+            return None
+        r, z = mesh.p
+        ru, zu = np.unique(r), np.unique(z)
+        n = mesh.p.shape[1]
+        if len(ru) < 2 or len(zu) < 2 or len(ru) * len(zu) != n:
+            return None
+        i, j = np.searchsorted(ru, r), np.searchsorted(zu, z)
+        grid = np.full((len(ru), len(zu)), -1)
+        grid[i, j] = np.arange(n)
+        if (grid < 0).any():
+            return None
+        # every cell one tensor cell [i, i+1] x [j, j+1]
+        ti, tj = i[mesh.t], j[mesh.t]
+        i0, j0 = ti.min(axis=0), tj.min(axis=0)
+        if (len(i0) != (len(ru) - 1) * (len(zu) - 1) or np.ptp(ti, axis=0).max() != 1
+                or np.ptp(tj, axis=0).max() != 1
+                or len(np.unique(i0 * len(zu) + j0)) != len(i0)):
+            return None
+        # fixed dofs: whole z-layers
+        inv = np.empty(n, dtype=np.int64)
+        inv[perm] = np.arange(n)
+        free_node = inv < nf
+        free_z = free_node[grid[0]]
+        if not np.array_equal(free_node[grid], np.broadcast_to(free_z, grid.shape)) or not free_z.any():
+            return None
+        (dmr, emr), (dkr, ekr) = _line_matrices(ru, True)
+        (dmz, emz), (dkz, ekz) = _line_matrices(zu, False)
+        dar, ear = k * dkr, k * ekr
+        daz, eaz = k * dkz, k * ekz
+        if h > 0:
+            if "outer" in convective:
+                dar[-1] += h * 2 * np.pi * ru[-1]
+            if "top" in convective:
+                daz[-1] += h
+            if "bottom" in convective:
+                daz[0] += h
+        # the Kronecker matrices, in the internal (permuted) numbering, against the assembled ones
+        Mr_, Mz_, Ar_, Az_ = _tridiag(dmr, emr), _tridiag(dmz, emz), _tridiag(dar, ear), _tridiag(daz, eaz)
+        P = grid.ravel()                                   # row-major grid -> mesh node
+        Pi = np.empty(n, dtype=np.int64)
+        Pi[P] = np.arange(n)
+        to_int = Pi[perm]                                  # internal dof -> row-major grid
+        Mk = (rho_c * sp.kron(Mr_, Mz_)).tocsr()[to_int][:, to_int]
+        Ak = (sp.kron(Ar_, Mz_) + sp.kron(Mr_, Az_)).tocsr()[to_int][:, to_int]
+        for want, got in ((M, Mk), (A, Ak)):
+            scale = abs(want).max()
+            if abs(want - got).max() > cls.RTOL * scale:
+                return None
+        fz = np.flatnonzero(free_z)
+        sub = lambda d, e: (d[fz], e[fz[:-1]] * (np.diff(fz) == 1))
+        idx = inv[grid[:, fz]]
+        return cls((dmr, emr), (dar, ear), sub(dmz, emz), sub(daz, eaz), rho_c, idx)
+
+    def factor(self, gamma: float):
+        """solve(rhs_free) for M + gamma A (free block)."""
+        nr1, nz1 = self.nr1, self.nz1
+        s = (self.rho_c + gamma * self.phi)[:, None]            # (modes, 1)
+        d = (s * self.Mr[0] + gamma * self.Ar[0]).ravel()
+        e = np.zeros((nz1, nr1))
+        e[:, :-1] = s * self.Mr[1] + gamma * self.Ar[1]
+        df, ef, info = lapack.dpttrf(d, e.ravel()[:-1])
+        if info != 0:
+            raise np.linalg.LinAlgError(f"dpttrf failed (info={info})")
+        dpttrs, V, VT, idx = lapack.dpttrs, self.V, self.VT, self.idx
+        if idx is None:
+            def solve(rhs):
+                # rows of y: the z-modes, each a tridiagonal solve in r
+                y = dpttrs(df, ef, (VT @ rhs.reshape(nr1, nz1).T).ravel())[0]
+                return (y.reshape(nz1, nr1).T @ VT).ravel()
+        else:
+            def solve(rhs):
+                y = dpttrs(df, ef, (VT @ rhs[idx].T).ravel())[0]
+                out = np.empty(len(rhs))
+                out[idx] = y.reshape(nz1, nr1).T @ VT
+                return out
+        return solve
 
 
 class TopLoad:
@@ -196,7 +343,7 @@ class AxisymPlate:
     """PlateModel of docs/architecture.md on the plate's r-z section."""
 
     def __init__(self, params: PlateParams, dt: float, jump_rtol: float = 0.1, mesh=None,
-                 band_r: float | None = None, rannacher: bool = True):
+                 band_r: float | None = None, rannacher: bool = True, fast_solver: bool = True):
         from thermal.fe1d import check_params
 
         check_params(params)
@@ -231,6 +378,9 @@ class AxisymPlate:
         mD = np.asarray(self.M[nf:].sum(axis=0)).ravel()
         aD = np.asarray(self.A[nf:].sum(axis=0)).ravel()
         self._nf = nf
+        # a tensor-product quad mesh: fast diagonalisation instead of the sparse LU
+        self._tensor = TensorSolver.build(mesh, self.M, self.A, self.perm, nf, p.rho * p.c, p.k,
+                                          p.h_conv, conv_faces) if fast_solver else None
         # top face: nodes, radii, facets -> the precomputed load operator
         top_facets = mesh.boundaries["top"]
         top_mesh_nodes = np.unique(mesh.facets[:, top_facets])
@@ -258,6 +408,8 @@ class AxisymPlate:
         return self.A @ x
 
     def _factor(self, gamma: float):
+        if self._tensor is not None:
+            return self._tensor.factor(gamma)
         nf = self._nf
         S = (self.M[:nf, :nf] + gamma * self.A[:nf, :nf]).tocsc()
         # SPD: no pivoting and a symmetric ordering keep the fill at the
