@@ -83,71 +83,121 @@ def assemble_section(mesh, rho_c: float, k: float, h: float, convective: tuple[s
     return M.tocsr(), K.tocsr(), C.tocsr()
 
 
-def _line_matrices(x: np.ndarray, weighted: bool):
-    """1D P1 mass and stiffness on nodes x as (diagonal, off-diagonal) pairs,
-    weighted by 2 pi x (the r direction) or not (z). Exact integrals."""
-    h = np.diff(x)
-    dm, em = np.zeros(len(x)), np.zeros(len(x) - 1)
-    dk, ek = np.zeros(len(x)), np.zeros(len(x) - 1)
-    if weighted:
-        x0, x1 = x[:-1], x[1:]
-        w = 2 * np.pi
-        dm[:-1] += w * h * (3 * x0 + x1) / 12
-        dm[1:] += w * h * (x0 + 3 * x1) / 12
-        em[:] = w * h * (x0 + x1) / 12
-        kk = w * (x0 + x1) / (2 * h)
-    else:
-        dm[:-1] += h / 3
-        dm[1:] += h / 3
-        em[:] = h / 6
-        kk = 1.0 / h
-    dk[:-1] += kk
-    dk[1:] += kk
-    ek[:] = -kk
-    return (dm, em), (dk, ek)
+class _Line:
+    """One direction of a tensor-product Q1 mesh: the 1D P1 forms on nodes x
+    (exact integrals), weighted by 2 pi x (r) or not (z), kept per element:
+
+        mass       sum_e  m0_e w_a^2 + 2 m1_e w_a w_b + m2_e w_b^2
+        stiffness  sum_e  s_e (w_b - w_a)^2  +  sum_b beta_b w_b^2   (k and boundary h)
+
+    so that Rayleigh quotients can be summed from squares (no cancellation)."""
+
+    def __init__(self, x: np.ndarray, weighted: bool, k: float):
+        h = np.diff(x)
+        if weighted:
+            x0, x1, w = x[:-1], x[1:], 2 * np.pi
+            self.m0, self.m1, self.m2 = w * h * (3 * x0 + x1) / 12, w * h * (x0 + x1) / 12, w * h * (x0 + 3 * x1) / 12
+            self.s = k * w * (x0 + x1) / (2 * h)
+        else:
+            self.m0 = self.m2 = h / 3
+            self.m1 = h / 6
+            self.s = k / h
+        self.beta = np.zeros(len(x))      # boundary (convective) terms on the diagonal
+
+    def matrices(self, keep=None):
+        """(diag, off) of mass and of stiffness + boundary terms, restricted to
+        the nodes ``keep`` (the free ones) when given."""
+        n = len(self.beta)
+        dm, dk = np.zeros(n), self.beta.copy()
+        dm[:-1] += self.m0
+        dm[1:] += self.m2
+        dk[:-1] += self.s
+        dk[1:] += self.s
+        em, ek = self.m1.copy(), -self.s
+        if keep is None:
+            return (dm, em), (dk, ek)
+        adj = np.diff(keep) == 1            # neighbours among the kept nodes
+        return (dm[keep], em[keep[:-1]] * adj), (dk[keep], ek[keep[:-1]] * adj)
+
+    def rayleigh(self, X: np.ndarray) -> np.ndarray:
+        """Rayleigh quotients of the columns of X (one value per node; zero on
+        removed nodes), from sums of squares: accurate to round-off relative
+        to each quotient, also for the smallest ones, which a dense
+        eigensolver only gets to round-off relative to the largest."""
+        a, b = X[:-1], X[1:]
+        num = self.s @ (b - a) ** 2 + self.beta @ X ** 2
+        den = self.m0 @ a ** 2 + 2 * self.m1 @ (a * b) + self.m2 @ b ** 2
+        return num / den
 
 
 def _tridiag(d, e):
     return sp.diags([e, d, e], [-1, 0, 1], format="csr")
 
 
-class TensorSolver:
-    """Fast diagonalisation of the free block of M + gamma A on a tensor-product
-    Q1 mesh (docs/thermal.md, section 2).
+class TensorModes:
+    """Eigenbasis of the plate's matrices on a tensor-product Q1 mesh
+    (docs/thermal.md, section 2).
 
     With the r-weighted Q1 forms on nodes r_i x z_j every matrix is a
     Kronecker product of 1D P1 matrices (r-weighted in r, plain in z):
 
         M = rho c Mr (x) Mz,   A = Ar (x) Mz + Mr (x) Az,
-        Ar = k Kr + h 2 pi R e_R e_R^T,   Az = k Kz + h (e_top e_top^T [+ e_bot e_bot^T]),
+        Ar = k Kr + h 2 pi R e_R e_R^T,   Az = k Kz + h (e_top e_top^T [+ e_bot e_bot^T])
 
-    (convection on the outer face in Ar, on the top and bottom faces in Az).
-    The generalised eigenvectors of (Az, Mz), V^T Mz V = I, V^T Az V = diag(phi),
-    turn M + gamma A into one tridiagonal in r per z-mode j,
-    (rho c + gamma phi_j) Mr + gamma Ar. A solve is then a product with V^T,
-    one LAPACK dpttrs on all the modes' tridiagonals laid end to end (zero
-    coupling at the joints) and a product with V.
+    (convection on the outer face in Ar, on the top and bottom faces in Az;
+    fixed dofs are whole z-layers and drop out of the z factor). With the
+    generalised eigenvectors Ar W = Mr W diag(theta), W^T Mr W = I, and
+    Az V = Mz V diag(phi), V^T Mz V = I, the change of variables
+    u_free = (W (x) V) y makes M and A diagonal on the free dofs:
+
+        (W (x) V)^T M (W (x) V) = rho c I,   (W (x) V)^T A (W (x) V) = diag(theta_i + phi_j),
+
+    so every scheme's solve is a division (ModalIntegrator). Vectors are
+    (nr1, nzf) grids, row-major, in both bases.
 
     ``build`` returns None when the mesh is not such a tensor product, when
-    the fixed (Dirichlet) dofs are not whole z-layers, or when the Kronecker
-    matrices differ from the assembled ones by more than round-off: the
-    caller keeps the sparse LU then.
+    the fixed dofs are not whole z-layers not containing the sliding face,
+    when a direction has more than MAX_NODES nodes (dense eigenvectors), or
+    when the Kronecker matrices differ from the assembled ones by more than
+    round-off: the caller keeps the sparse LU then.
     """
 
-    RTOL = 1e-13        # Kronecker vs assembled matrices, relative to the largest entry
+    RTOL = 1e-13         # Kronecker vs assembled matrices, relative to the largest entry
+    MAX_NODES = 2000     # per direction: W is dense (nr1^2), its setup O(nr1^3)
 
-    def __init__(self, Mr, Ar, Mz, Az, rho_c, idx):
-        self.Mr, self.Ar = Mr, Ar                 # (diag, off) pairs in r
-        self.phi, self.V = eigh(_tridiag(*Az).toarray(), _tridiag(*Mz).toarray())
-        self.VT = np.ascontiguousarray(self.V.T)
-        self.rho_c = rho_c
-        self.nr1, self.nz1 = idx.shape
-        # idx[i, j]: free-dof index of node (r_i, z_j); None when it is the
-        # row-major order already (rhs.reshape is then a view, no gather)
+    def __init__(self, ru, zu, jf, rline: _Line, zline: _Line, idx):
+        self.ru, self.zu, self.jf = ru, zu, jf
+        (Mr, Ar), (Mz, Az) = rline.matrices(), zline.matrices(jf)
+        Mr, Ar, Mz, Az = (_tridiag(*m).toarray() for m in (Mr, Ar, Mz, Az))
+        self.theta, self.W = self._eig(Ar, Mr)
+        self.phi, self.V = self._eig(Az, Mz)
+        # eigenvalues as Rayleigh quotients summed from squares: the small ones
+        # (the slow modes that hold most of the heat) to round-off relative to
+        # themselves; with eigh's they carry ~1e-11 relative error, a spurious
+        # loss of heat that shows in the ledger at ~1e-13
+        self.theta = rline.rayleigh(self.W)
+        Vfull = np.zeros((len(zu), len(jf)))
+        Vfull[jf] = self.V
+        self.phi = zline.rayleigh(Vfull)
+        self.Wi = self.W.T @ Mr               # W^-1
+        self.Vi = self.V.T @ Mz               # V^-1
+        self.nr1, self.nzf = idx.shape
+        self.lam = np.add.outer(self.theta, self.phi).ravel()
+        # idx[i, j]: free-dof index of node (r_i, z_jf[j]); None when that is
+        # the row-major order already (a reshape is then a view, no gather)
         self.idx = None if np.array_equal(idx.ravel(), np.arange(idx.size)) else idx
 
+    @staticmethod
+    def _eig(A, M):
+        """eigh(A, M), M = LL^T, on the diagonally scaled pair: the r weight makes
+        Mr's diagonal span ~nr^2 near the axis, and the error of W W^T = Mr^-1
+        (the heat a load delivers in the modal basis) grows with cond(M)."""
+        d = 1.0 / np.sqrt(np.diag(M))
+        lam, X = eigh(d[:, None] * A * d, d[:, None] * M * d)
+        return lam, d[:, None] * X
+
     @classmethod
-    def build(cls, mesh, M, A, perm, nf, rho_c, k, h, convective):
+    def build(cls, mesh, M, A, perm, nf, rho_c, k, h, convective, z_top):
         from skfem import MeshQuad
 
         if not isinstance(mesh, MeshQuad):
@@ -155,7 +205,8 @@ class TensorSolver:
         r, z = mesh.p
         ru, zu = np.unique(r), np.unique(z)
         n = mesh.p.shape[1]
-        if len(ru) < 2 or len(zu) < 2 or len(ru) * len(zu) != n:
+        if (len(ru) < 2 or len(zu) < 2 or len(ru) * len(zu) != n
+                or max(len(ru), len(zu)) > cls.MAX_NODES):
             return None
         i, j = np.searchsorted(ru, r), np.searchsorted(zu, z)
         grid = np.full((len(ru), len(zu)), -1)
@@ -169,64 +220,180 @@ class TensorSolver:
                 or np.ptp(tj, axis=0).max() != 1
                 or len(np.unique(i0 * len(zu) + j0)) != len(i0)):
             return None
-        # fixed dofs: whole z-layers
+        # fixed dofs: whole z-layers, the sliding face free
         inv = np.empty(n, dtype=np.int64)
         inv[perm] = np.arange(n)
         free_node = inv < nf
         free_z = free_node[grid[0]]
-        if not np.array_equal(free_node[grid], np.broadcast_to(free_z, grid.shape)) or not free_z.any():
+        jt = np.searchsorted(zu, z_top)
+        if (not np.array_equal(free_node[grid], np.broadcast_to(free_z, grid.shape))
+                or jt >= len(zu) or zu[jt] != z_top or not free_z[jt]):
             return None
-        (dmr, emr), (dkr, ekr) = _line_matrices(ru, True)
-        (dmz, emz), (dkz, ekz) = _line_matrices(zu, False)
-        dar, ear = k * dkr, k * ekr
-        daz, eaz = k * dkz, k * ekz
+        rline, zline = _Line(ru, True, k), _Line(zu, False, k)
         if h > 0:
             if "outer" in convective:
-                dar[-1] += h * 2 * np.pi * ru[-1]
+                rline.beta[-1] = h * 2 * np.pi * ru[-1]
             if "top" in convective:
-                daz[-1] += h
+                zline.beta[-1] += h
             if "bottom" in convective:
-                daz[0] += h
+                zline.beta[0] += h
         # the Kronecker matrices, in the internal (permuted) numbering, against the assembled ones
-        Mr_, Mz_, Ar_, Az_ = _tridiag(dmr, emr), _tridiag(dmz, emz), _tridiag(dar, ear), _tridiag(daz, eaz)
+        (Mr, Ar), (Mz, Az) = ((_tridiag(*m) for m in line.matrices()) for line in (rline, zline))
         P = grid.ravel()                                   # row-major grid -> mesh node
         Pi = np.empty(n, dtype=np.int64)
         Pi[P] = np.arange(n)
-        to_int = Pi[perm]                                  # internal dof -> row-major grid
-        Mk = (rho_c * sp.kron(Mr_, Mz_)).tocsr()[to_int][:, to_int]
-        Ak = (sp.kron(Ar_, Mz_) + sp.kron(Mr_, Az_)).tocsr()[to_int][:, to_int]
-        for want, got in ((M, Mk), (A, Ak)):
-            scale = abs(want).max()
-            if abs(want - got).max() > cls.RTOL * scale:
+        to_grid = Pi[perm]                                 # internal dof -> row-major grid
+        Mk = (rho_c * sp.kron(Mr, Mz)).tocsr()[to_grid][:, to_grid]
+        Ak = (sp.kron(Ar, Mz) + sp.kron(Mr, Az)).tocsr()[to_grid][:, to_grid]
+        for want, got in ((M.copy(), Mk), (A.copy(), Ak)):     # copies: a sparse binop sorts indices in place
+            if abs(want - got).max() > cls.RTOL * abs(want).max():
                 return None
         fz = np.flatnonzero(free_z)
-        sub = lambda d, e: (d[fz], e[fz[:-1]] * (np.diff(fz) == 1))
-        idx = inv[grid[:, fz]]
-        return cls((dmr, emr), (dar, ear), sub(dmz, emz), sub(daz, eaz), rho_c, idx)
+        modes = cls(ru, zu, fz, rline, zline, inv[grid[:, fz]])
+        modes.jt = int(np.searchsorted(fz, jt))            # the sliding face's row in the free z-layers
+        return modes
 
-    def factor(self, gamma: float):
-        """solve(rhs_free) for M + gamma A (free block)."""
-        nr1, nz1 = self.nr1, self.nz1
-        s = (self.rho_c + gamma * self.phi)[:, None]            # (modes, 1)
-        d = (s * self.Mr[0] + gamma * self.Ar[0]).ravel()
-        e = np.zeros((nz1, nr1))
-        e[:, :-1] = s * self.Mr[1] + gamma * self.Ar[1]
-        df, ef, info = lapack.dpttrf(d, e.ravel()[:-1])
-        if info != 0:
-            raise np.linalg.LinAlgError(f"dpttrf failed (info={info})")
-        dpttrs, V, VT, idx = lapack.dpttrs, self.V, self.VT, self.idx
-        if idx is None:
-            def solve(rhs):
-                # rows of y: the z-modes, each a tridiagonal solve in r
-                y = dpttrs(df, ef, (VT @ rhs.reshape(nr1, nz1).T).ravel())[0]
-                return (y.reshape(nz1, nr1).T @ VT).ravel()
-        else:
-            def solve(rhs):
-                y = dpttrs(df, ef, (VT @ rhs[idx].T).ravel())[0]
-                out = np.empty(len(rhs))
-                out[idx] = y.reshape(nz1, nr1).T @ VT
-                return out
-        return solve
+    # -- changes of basis on the free dofs (internal numbering <-> modal) -----------
+    def _grid(self, x):
+        return x.reshape(self.nr1, self.nzf) if self.idx is None else x[self.idx]
+
+    def _vector(self, X):
+        if self.idx is None:
+            return X.ravel()
+        out = np.empty(X.size)
+        out[self.idx] = X
+        return out
+
+    def adjoint(self, x):
+        """(W (x) V)^T x: loads and row vectors (conv, 1^T M) to the modal basis."""
+        return (self.W.T @ self._grid(x) @ self.V).ravel()
+
+    def to_modal(self, u):
+        """(W (x) V)^-1 u: a state to the modal basis."""
+        return (self.Wi @ self._grid(u) @ self.Vi.T).ravel()
+
+    def to_nodal(self, y):
+        """(W (x) V) y: a modal state back to the free dofs."""
+        return self._vector(self.W @ y.reshape(self.nr1, self.nzf) @ self.V.T)
+
+
+class ModalIntegrator(Integrator):
+    """stepping.Integrator in the basis of TensorModes, where M = rho c I and
+    A = diag(lam) on the free dofs: each scheme's solve is a division and its
+    right-hand side a few elementwise operations on preallocated arrays.
+
+    The same schemes, start-up and ledger as Integrator (step, _starting,
+    _substeps, stored are inherited; _be, _cn, _bdf2 are the same formulas
+    with M, A diagonal). State: u = (modal free dofs, nodal Dirichlet dofs),
+    likewise du and b. ``mass``/``stiff`` stay the nodal products (for
+    callers that ask for nodal capacities). Jumps are judged on the nodal
+    top-face load (``top``, set before each step), as in Integrator.
+    """
+
+    def __init__(self, modes: TensorModes, rho_c: float, fD: np.ndarray, n_top: int,
+                 mass, stiff, conv, nf, mD, aD, u0, dt, scheme, jump_rtol, rannacher):
+        super().__init__(mass, stiff, self._modal_factor, conv, nf, mD, aD, u0, dt, scheme,
+                         jump_rtol, rannacher)
+        self.modes, self.rho_c = modes, rho_c
+        self.lam = modes.lam
+        tm = lambda v: np.concatenate((modes.adjoint(v[:nf]), v[nf:]))
+        self.conv, self.mD, self.aD = tm(conv), tm(mD), tm(aD)
+        self._m1 = tm(self._m1)
+        self.u[:nf] = modes.to_modal(self.u[:nf])
+        self._e0 = float(self._m1 @ self.u)
+        self.fD = modes.adjoint(fD) if self.has_dirichlet else None     # A_fD u_D, constant
+        self.top = np.zeros(n_top)          # nodal top-face load of the step being taken
+        self.top_prev = np.zeros(n_top)
+        self._t = np.empty(nf)
+
+    def _modal_factor(self, gamma: float) -> np.ndarray:
+        return 1.0 / (self.rho_c + gamma * self.lam)
+
+    def _au(self, out):
+        """A u on the free dofs, into out."""
+        np.multiply(self.lam, self.u[:self.nf], out=out)
+        if self.fD is not None:
+            out += self.fD
+        return out
+
+    def is_jump(self, b) -> bool:
+        top = self.top
+        size = np.abs(top).sum()
+        if size > self.load_scale:
+            self.load_scale = size
+        return np.abs(top - self.top_prev).sum() > self.jump_rtol * self.load_scale
+
+    def step(self, b, power) -> None:
+        super().step(b, power)
+        self.top_prev[:] = self.top
+
+    def _be(self, h, b, power):
+        nf = self.nf
+        du = self._au(self._t)
+        np.subtract(b[:nf], du, out=du)
+        du *= h
+        du *= self.solver(h)
+        self.u[:nf] += du
+        self.du[:nf] = du
+        s = h * (self.conv @ self.u)
+        if self.has_dirichlet:
+            s -= self._dirichlet_reaction(self.mD[:nf] @ du, self.aD @ self.u, h, b[nf:].sum())
+        self.heat_in += h * power
+        self.heat_lost += s
+        return s
+
+    def _cn(self, h, b, power):
+        nf = self.nf
+        cu = self.conv @ self.u
+        aDu = self.aD @ self.u if self.has_dirichlet else 0.0
+        du = self._au(self._t)
+        np.subtract(b[:nf], du, out=du)
+        du *= h
+        du *= self.solver(0.5 * h)
+        self.u[:nf] += du
+        self.du[:nf] = du
+        s = 0.5 * h * (cu + self.conv @ self.u)
+        if self.has_dirichlet:
+            aDu = 0.5 * (aDu + self.aD @ self.u)
+            s -= self._dirichlet_reaction(self.mD[:nf] @ du, aDu, h, b[nf:].sum())
+        self.heat_in += h * power
+        self.heat_lost += s
+
+    def _bdf2(self, h, b, power):
+        nf = self.nf
+        du = self._au(self._t)                             # A u
+        g = 1.5 * b[:nf]
+        g -= 0.5 * self.b[:nf]                             # G
+        g -= du
+        g *= (2.0 / 3.0) * h
+        dprev = self.du[:nf]
+        du_prev_f = dprev.copy() if self.has_dirichlet else None
+        np.multiply(dprev, self.rho_c / 3.0, out=du)       # 1/3 M du_prev
+        du += g
+        du *= self.solver(2.0 * h / 3.0)
+        self.u[:nf] += du
+        dprev[:] = du
+        s = h * (self.conv @ self.u)
+        if self.has_dirichlet:
+            Mdu = self.mD[:nf] @ (1.5 * du - 0.5 * du_prev_f)
+            G_D = (1.5 * b[nf:] - 0.5 * self.b[nf:]).sum()
+            s -= self._dirichlet_reaction(Mdu, self.aD @ self.u, h, G_D)
+        loss = (2.0 / 3.0) * (s + 0.5 * self.loss_prev)
+        self.loss_prev = loss
+        self.heat_in += h * power
+        self.heat_lost += loss
+
+    def save(self):
+        return super().save() + (self.top_prev.copy(),)
+
+    def restore(self, snap) -> None:
+        super().restore(snap[:-1])
+        self.top_prev[:] = snap[-1]
+
+    def nodal(self) -> np.ndarray:
+        """u in the internal (nodal) numbering."""
+        nf = self.nf
+        return np.concatenate((self.modes.to_nodal(self.u[:nf]), self.u[nf:]))
 
 
 class TopLoad:
@@ -378,9 +545,6 @@ class AxisymPlate:
         mD = np.asarray(self.M[nf:].sum(axis=0)).ravel()
         aD = np.asarray(self.A[nf:].sum(axis=0)).ravel()
         self._nf = nf
-        # a tensor-product quad mesh: fast diagonalisation instead of the sparse LU
-        self._tensor = TensorSolver.build(mesh, self.M, self.A, self.perm, nf, p.rho * p.c, p.k,
-                                          p.h_conv, conv_faces) if fast_solver else None
         # top face: nodes, radii, facets -> the precomputed load operator
         top_facets = mesh.boundaries["top"]
         top_mesh_nodes = np.unique(mesh.facets[:, top_facets])
@@ -396,8 +560,22 @@ class AxisymPlate:
         self._load = np.zeros(n)
         self._weights = np.zeros(len(self.top_nodes))
         self._pattern_key = None
-        self.integ = Integrator(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
-                                u0, self.dt, p.scheme, jump_rtol, rannacher)
+        # a tensor-product quad mesh: step in the eigenbasis (TensorModes),
+        # otherwise on the nodes with a sparse LU
+        self.modes = TensorModes.build(mesh, self.M, self.A, self.perm, nf, p.rho * p.c, p.k, p.h_conv,
+                                       conv_faces, float(z_top[0])) if fast_solver else None
+        if self.modes is not None:
+            m = self.modes
+            self._top_i = np.searchsorted(m.ru, mesh.p[0, top_mesh_nodes])   # top node -> r index
+            self._vtop = m.V[m.jt].copy()
+            self._wgrid = np.zeros(m.nr1)
+            self._pat_hat = np.zeros(n)      # modal footprint weights (free dofs; Dirichlet part 0)
+            fD = self.A[:nf, nf:] @ u0[nf:]
+            self.integ = ModalIntegrator(m, p.rho * p.c, fD, len(self.top_nodes), self._mass, self._stiff,
+                                         conv, nf, mD, aD, u0, self.dt, p.scheme, jump_rtol, rannacher)
+        else:
+            self.integ = Integrator(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
+                                    u0, self.dt, p.scheme, jump_rtol, rannacher)
         self._set_footprint(0.0)
 
     # -- kernels ------------------------------------------------------------------
@@ -408,8 +586,6 @@ class AxisymPlate:
         return self.A @ x
 
     def _factor(self, gamma: float):
-        if self._tensor is not None:
-            return self._tensor.factor(gamma)
         nf = self._nf
         S = (self.M[:nf, :nf] + gamma * self.A[:nf, :nf]).tocsc()
         # SPD: no pivoting and a symmetric ordering keep the fill at the
@@ -430,6 +606,11 @@ class AxisymPlate:
         self._on_plate = total > 0
         if self._on_plate:
             self._weights = pat / total
+            if self.modes is not None:
+                # (W (x) V)^T of the weights on the sliding face's z-layer jt:
+                # (W^T w)_i V[jt, j]; it is also the modal surface-mean functional
+                self._wgrid[self._top_i] = self._weights
+                self._pat_hat[:self._nf] = np.outer(self.modes.W.T @ self._wgrid, self._vtop).ravel()
         self._pattern_key = key
 
     # -- PlateModel interface -------------------------------------------------------
@@ -438,16 +619,23 @@ class AxisymPlate:
         footprint-mean surface temperature (degC) at the end of the step."""
         self._set_footprint(centre_m)
         power = float(power_W) if self._on_plate else 0.0
-        self._load[self.top_nodes] = power * self._weights
+        if self.modes is not None:
+            np.multiply(self._weights, power, out=self.integ.top)    # nodal, for the jump test
+            np.multiply(self._pat_hat, power, out=self._load)
+        else:
+            self._load[self.top_nodes] = power * self._weights
         self.integ.step(self._load, power)
         return self.surface_temperature()
 
     def surface_temperature(self) -> float:
+        if self.modes is not None:
+            return float(self._pat_hat @ self.integ.u + self.params.T_air_C)
         return float(self._weights @ self.integ.u[self.top_nodes] + self.params.T_air_C)
 
     def temperature(self) -> np.ndarray:
         """Nodal temperatures (degC) in the mesh's node order."""
-        return self.integ.u[self.inv] + self.params.T_air_C
+        u = self.integ.nodal() if self.modes is not None else self.integ.u
+        return u[self.inv] + self.params.T_air_C
 
     def stored_heat(self) -> float:
         return self.integ.stored()
@@ -459,13 +647,16 @@ class AxisymPlate:
         return self.integ.heat_in
 
     def save(self):
-        return (self.integ.save(), self._weights.copy(), self._pattern_key, self._on_plate)
+        pat = self._pat_hat.copy() if self.modes is not None else None
+        return (self.integ.save(), self._weights.copy(), self._pattern_key, self._on_plate, pat)
 
     def restore(self, snap) -> None:
-        s, w, key, self._on_plate = snap
+        s, w, key, self._on_plate, pat = snap
         self.integ.restore(s)
         self._weights = w.copy()
         self._pattern_key = key
+        if pat is not None:
+            self._pat_hat[:] = pat
 
     def field(self):
         """(points, cells, T): the section with x = r, z = depth coordinate."""
