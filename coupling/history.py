@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-CHUNK_ROWS = 1 << 15        # rows per block streamed (37 columns: 9.7 MB)
+CHUNK_ROWS = 1 << 14        # rows per block streamed (37 columns: 4.8 MB)
 PLOT_FULL_ROWS = 50_000     # up to this many rows the plots get every row
 PLOT_BINS = 2000            # beyond: this many bins (a few per pixel of a 770-px plot)
 PLOT_COLUMNS = ("u_m", "F_N", "xg_m", "W1_J", "W2_J", "E_input_J", "E_reseat_J", "T1_C", "T2_C",
@@ -141,7 +141,7 @@ class MemoryHistory:
 
     streamed = False
 
-    def __init__(self, chunk_rows: int = CHUNK_ROWS):
+    def __init__(self, chunk_rows: int | None = None):
         self.chunk_rows = chunk_rows
         self.rows = 0
 
@@ -151,7 +151,7 @@ class MemoryHistory:
         self.idx = [list(loop_columns).index(c) for c in columns]
         self.data = np.empty((n_rows_max, len(columns)))    # pages touched only as rows arrive
         self.rows = 0
-        return max(1, min(n_rows_max, self.chunk_rows))
+        return max(1, min(n_rows_max, self.chunk_rows or CHUNK_ROWS))
 
     def prepare(self, block: np.ndarray):
         """The slow part of taking a block, changing nothing (may be interrupted)."""
@@ -174,11 +174,12 @@ class StreamHistory:
 
     streamed = True
 
-    def __init__(self, csv_path, spill_path=None, chunk_rows: int = CHUNK_ROWS,
+    def __init__(self, csv_path, spill_path=None, chunk_rows: int | None = None, plots: bool = True,
                  plot_full_rows: int = PLOT_FULL_ROWS, plot_bins: int = PLOT_BINS):
         self.csv_path = Path(csv_path)
         self.spill_path = Path(spill_path) if spill_path is not None else None
         self.chunk_rows = chunk_rows
+        self.keep_plot = plots
         self._plot_args = (plot_full_rows, plot_bins)
         self.rows = 0
         self._fh = self._spill = None
@@ -196,27 +197,35 @@ class StreamHistory:
             self._spill = open(self.spill_path, "wb")
         self.rows = 0
         b = self.plot.bin_rows            # blocks before the last hold whole plot bins
-        return max(1, min(n_rows_max, max(b, self.chunk_rows // b * b)))
+        return max(1, min(n_rows_max, max(b, (self.chunk_rows or CHUNK_ROWS) // b * b)))
 
     def prepare(self, block: np.ndarray):
         rows = block[:, self.idx]
         return rows, self._csv.format(rows)
 
     def commit(self, prepared) -> None:
-        rows, text = prepared
+        rows, texts = prepared
         if not len(rows):
             return
-        self._fh.write(text)
+        for text in texts:
+            self._fh.write(text)
         if self._spill is not None:
             self._spill.write(rows.tobytes())
         self.stats.add(rows)
-        self.plot.add(rows)
+        if self.keep_plot:
+            self.plot.add(rows)
         self.rows += len(rows)
 
     def finish(self) -> None:
         for f in (self._fh, self._spill):
             if f is not None:
                 f.close()
+
+    def plot_data(self) -> np.ndarray:
+        """The bounded copy of the rows for the plots (PlotSampler)."""
+        if not self.keep_plot:
+            raise RuntimeError("this history kept no rows for plots (StreamHistory(plots=False))")
+        return self.plot.data()
 
     def rows_at(self, index) -> np.ndarray:
         """Rows (canonical order) at these indices, read back from the spill."""

@@ -85,8 +85,8 @@ class CsvWriter:
         self.names = np.array(PHASES, dtype=object)
         fh.write(",".join(cols) + "\n")
 
-    def format(self, data: np.ndarray) -> str:
-        """The text of these rows (changes nothing)."""
+    def format(self, data: np.ndarray) -> list[str]:
+        """The text of these rows, in pieces of SUB rows (changes nothing)."""
         parts = []
         for s in range(0, data.shape[0], self.SUB):
             block = data[s:s + self.SUB]
@@ -95,10 +95,11 @@ class CsvWriter:
                 for row, name in zip(rows, self.names[np.nan_to_num(block[:, self.j]).astype(int)].tolist()):
                     row[self.j] = name
             parts.append((self.rowfmt * len(rows)) % tuple(x for row in rows for x in row))
-        return "".join(parts)
+        return parts
 
     def write(self, data: np.ndarray) -> None:
-        self.fh.write(self.format(data))
+        for text in self.format(data):
+            self.fh.write(text)
 
 
 def write_csv(path: Path, result, chunk: int = 4096) -> None:
@@ -226,6 +227,7 @@ def stream_history(folder: ResultsFolder, scene: Scene, **kw):
     the summary reads rows back)."""
     from .history import StreamHistory
     spill = folder.path(".history.f64") if needs_rows(scene) else None
+    kw.setdefault("plots", bool(scene["output"]["plots"]))
     return StreamHistory(folder.path("timeseries.csv"), spill_path=spill, **kw)
 
 

@@ -91,7 +91,7 @@ class Result:
         """What the plots draw: this result, or the streamed history's bounded copy."""
         if not self.streamed:
             return self
-        return Result(self.columns, self.history.plot.data(), self.status, self.message, self.runtime_s)
+        return Result(self.columns, self.history.plot_data(), self.status, self.message, self.runtime_s)
 
     def rows_at(self, index) -> np.ndarray:
         """Whole rows (canonical order) at these row indices."""
