@@ -183,6 +183,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     if mech:
         mu1 = law1(T1, mech.N1 / area, 0.0)
         mu2 = law2(T2, mech.N2 / area, 0.0)
+
     def flush():
         """Hand buf[:k] to the history; the slow part (formatting) may be
         interrupted and is then redone, the commit and emptying are atomic."""
