@@ -4,7 +4,9 @@ For each case: steps, time-stepping loop time, per-step time, the whole
 `fpd run` process (imports, CSV, summary; plots and VTK off), that
 process's own loop time, its peak memory, and the thermal error against a
 closed form where the case has one.
-Also the cost-linearity check: loop time at N and 2N steps.
+Also the cost-linearity check: loop time at N and 2N steps, and the peak
+memory of `fpd run` at 10^5 and 10^6 steps (the history is streamed to disk,
+so it should not grow with the steps).
 """
 from __future__ import annotations
 
@@ -61,12 +63,12 @@ _CHILD = ("import atexit, sys\n"
           "entry()\n")
 
 
-def process_time(scene_name, overrides):
+def process_time(scene_name, overrides, plots=False):
     """Wall time and peak RSS of the whole `fpd run` process (its own
-    getrusage at exit: RUSAGE_CHILDREN would report the largest child so far)."""
+    VmHWM at exit: RUSAGE_CHILDREN would report the largest child so far)."""
     with tempfile.TemporaryDirectory() as tmp:
         args = [sys.executable, "-c", _CHILD, "run", scene_name, "--out", f"{tmp}/out", "--quiet",
-                "--set", "output.plots=false", "--set", "output.vtk_every=0"]
+                "--set", f"output.plots={'true' if plots else 'false'}", "--set", "output.vtk_every=0"]
         for o in overrides:
             args += ["--set", o]
         env = dict(os.environ, PYTHONPATH=str(ROOT))
@@ -100,7 +102,7 @@ def thermal_error():
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--quick", action="store_true", help="skip the axisym case and the 10^6-step check")
+    ap.add_argument("--quick", action="store_true", help="skip the axisym case and the 10^6-step checks")
     ap.add_argument("--repeat", type=int, default=1, help="best of N loop timings per case")
     args = ap.parse_args()
     import numpy
@@ -132,6 +134,17 @@ def main():
               f"{mem:8.0f} {e:>13s}")
     print("(loop s: best in this process, where numba is loaded; its loop s: the fpd process's own loop,\n"
           " which for a short lumped or mechanics-only scene is the Python one: coupling/fast_loop.py)")
+    # memory against steps: the default scene (two-phase, fe1d) with a finer dt
+    print("\nfpd run default, memory against steps (whole process, VmHWM):")
+    for dt in ("4e-4", "4e-5")[:1 if args.quick else 2]:
+        for plots in (False, True):
+            try:
+                wall, mem, s = process_time("default", [f"solver.dt={dt}"], plots=plots)
+            except Exception as exc:
+                print(f"  dt = {dt}: not available: {str(exc)[:60]}")
+                continue
+            print(f"  {s['steps']:8d} steps, plots {'on ' if plots else 'off'}: loop {s['runtime_s']:7.2f} s, "
+                  f"process {wall:7.2f} s, peak {mem:6.0f} MiB")
     # cost linear in steps: the same scene over 2x and 4x the steps (record repeats at rest)
     print("\ncost against steps (two-phase if available, else seated; fe1d if available, else lumped):")
     base = ["solver.dt=1e-3"]

@@ -57,7 +57,7 @@ def run_chunk(MC, MS, MSAVE, G, LW1, LW2, F, PP,
     """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
     (DONE; REPLAY: step ctl[C_NDONE] + 1 is for the Python loop, the state is
     as before it; ROW_FAILED: that step's row, in ``row``, is not finite;
-    FULL: buf has no room left after step ctl[C_NDONE], before ctl[C_NEND])."""
+    FULL: buf has no room left after step ctl[C_NDONE]: the caller empties it)."""
     n0, n_end = ctl[C_NDONE], ctl[C_NEND]
     k, n_rows, every, last_row, N = ctl[C_K], ctl[C_NROWS], ctl[C_EVERY], ctl[C_LAST], ctl[C_N]
     heat = ctl[C_HEAT] != 0
@@ -116,7 +116,7 @@ def run_chunk(MC, MS, MSAVE, G, LW1, LW2, F, PP,
                     buf[k, i] = row[i]
                 k += 1
                 last_row = n
-                if k == n_rows and n < n_end:
+                if k == n_rows:
                     status = FULL
                     break
     if status == DONE:

@@ -73,7 +73,8 @@ class _HoldSignals:
     old = {}
 
     def start(self):
-        self.old = {sig: signal.signal(sig, self._hold) for sig in (signal.SIGINT, signal.SIGTERM)}
+        if not self.old:
+            self.old = {sig: signal.signal(sig, self._hold) for sig in (signal.SIGINT, signal.SIGTERM)}
 
     def _hold(self, signum, frame):
         self.got = signum
@@ -87,7 +88,7 @@ class _HoldSignals:
 def cmd_run(args) -> int:
     from . import scene as scn
     from .build import build
-    from .output import ResultsFolder, check_out_dir, write_all
+    from .output import ResultsFolder, check_out_dir, stream_history, write_all
     from .run import simulate
 
     scene = scn.load(args.scene, args.set)
@@ -110,10 +111,13 @@ def cmd_run(args) -> int:
         if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
             from .hottest import HottestFields
             hottest = vtk.hottest if vtk else HottestFields()
+        # timeseries.csv is written as the run goes (memory bounded whatever the
+        # steps); signals are held from the end of the stepping until the folder is complete
         result = simulate(sim, progress=progress, every=scene["output"]["csv_every"],
                           inject_failure_at=int(inject) if inject else None,
                           on_frame=vtk.frame if vtk else None,
-                          frame_every=scene["output"]["vtk_every"], hottest=hottest)
+                          frame_every=scene["output"]["vtk_every"], hottest=hottest,
+                          history=stream_history(folder, scene), on_loop_end=held.start)
         held.start()
         if vtk:
             vtk.close()

@@ -200,18 +200,20 @@ class CompiledLoop:
                 plate.rise, plate._in, plate._lost = v[pj.P_RISE], v[pj.P_LIN], v[pj.P_LLOST]
 
     # -- the run -----------------------------------------------------------------------
-    def run(self, buf, k, T1, T2, mu1, mu2, bar=None, hottest=None, hot_every=1,
-            on_frame=None, frame_every=0, flush=None):
-        """Steps 1..n_stop (or until a step the Python loop must take),
-        their rows into buf (loop column order) from row k. When buf is full
-        before the end, ``flush(k)`` must empty it and return the new k
-        (without flush, the rows that do not fit are dropped, as in the
-        Python loop). Returns an Outcome; never raises for Ctrl-C or a
-        failed row (the Outcome carries them, simulate() raises them once
-        its own counters are set)."""
+    def run(self, buf, k, last_row, T1, T2, mu1, mu2, bar=None, hottest=None, hot_every=1,
+            on_frame=None, frame_every=0, start=0, pending=False):
+        """Steps start+1..n_stop (or until a step the Python loop must take),
+        their rows into buf (loop column order) from row k, with simulate()'s
+        floats T1, T2, mu1, mu2 and counters as they are after step start.
+        Returns an Outcome; never raises for Ctrl-C or a failed row (the
+        Outcome carries them, simulate() raises them once its own counters
+        are set). Outcome.full: buf filled up at step Outcome.steps; the
+        caller empties it and calls again with start=that step and
+        pending=True (that step's frame, hottest and progress events are run
+        then, after the flush, in simulate()'s order)."""
         lj = self.lj
         ctl, F = self.ctl, self.F
-        ctl[lj.C_NDONE], ctl[lj.C_K], ctl[lj.C_LAST] = 0, k, 0
+        ctl[lj.C_NDONE], ctl[lj.C_K], ctl[lj.C_LAST] = start, k, last_row
         ctl[lj.C_NROWS] = len(buf)
         F[lj.F_T1], F[lj.F_T2], F[lj.F_MU1], F[lj.F_MU2] = T1, T2, mu1, mu2
         self._pack()
@@ -219,11 +221,15 @@ class CompiledLoop:
         run_chunk = lj.run_chunk
         args = (self.MC, self.MS, self.MSAVE, self.G, self.LW1, self.LW2, F, self.PP,
                 K1, W1, I1, X1, K2, W2, I2, X2, buf, self.row, ctl)
-        # (MC..row are fixed for the run: one tuple, one dispatch per chunk)
+        events = (bar, hottest, hot_every, on_frame, frame_every)
         out = Outcome()
-        n = 0
+        n = start
         events_of = 0                # the step whose events are running (Ctrl-C there: that step)
         try:
+            if pending:
+                events_of = n
+                self._events(n, *events)
+                events_of = 0
             while n < self.n_stop:
                 n_end = min(self.n_stop, (n // CHUNK + 1) * CHUNK)
                 if hottest is not None:
@@ -241,19 +247,11 @@ class CompiledLoop:
                     bad = [c for c, x in zip(self.cols, vals) if not np.isfinite(x)]
                     out.failure = (n, "non-finite " + ", ".join(bad))
                     break
-                # simulate()'s events at the end of step n, in its order
+                if status == lj.FULL:
+                    out.full = True
+                    break
                 events_of = n
-                if status == lj.FULL and flush is not None:
-                    ctl[lj.C_K] = flush(int(ctl[lj.C_K]))
-                if (on_frame is not None and frame_every and n % frame_every == 0
-                        and int(ctl[lj.C_LAST]) == n):
-                    self.tp.unpack_state(self.sim.mechanics, self.MS)
-                    self.sim.frame_values = self._frame_values(self.row)
-                    on_frame(n, self.sim)
-                if hottest is not None and n % hot_every == 0:
-                    hottest.update(self.sim.plates, n * self.sim.dt)
-                if bar is not None and n % 2048 == 0:
-                    bar.update(n)
+                self._events(n, *events)
                 events_of = 0
         except KeyboardInterrupt:
             out.interrupted = True
@@ -270,6 +268,17 @@ class CompiledLoop:
             out.n = min(out.steps + 1, self.sim.n_steps)
         return out
 
+    def _events(self, n, bar, hottest, hot_every, on_frame, frame_every):
+        """simulate()'s events at the end of step n, in its order."""
+        if on_frame is not None and frame_every and n % frame_every == 0 and int(self.ctl[self.lj.C_LAST]) == n:
+            self.tp.unpack_state(self.sim.mechanics, self.MS)
+            self.sim.frame_values = self._frame_values(self.row)
+            on_frame(n, self.sim)
+        if hottest is not None and n % hot_every == 0:
+            hottest.update(self.sim.plates, n * self.sim.dt)
+        if bar is not None and n % 2048 == 0:
+            bar.update(n)
+
     def _frame_values(self, r):
         vals = dict(zip(self.cols, r.tolist()))
         for c in ("phase", "diagonal"):
@@ -284,4 +293,5 @@ class Outcome:
     steps = n = k = last_row = 0
     T1 = T2 = mu1 = mu2 = 0.0
     interrupted = False
+    full = False             # the row buffer filled up (see CompiledLoop.run)
     failure = None           # (step, what) of a non-finite row

@@ -68,26 +68,49 @@ class ResultsFolder:
         shutil.rmtree(self.tmp, ignore_errors=True)
 
 
-def write_csv(path: Path, result, chunk: int = 4096) -> None:
-    """timeseries.csv: one row per recorded step, units in the column names.
+class CsvWriter:
+    """timeseries.csv on an open text file: the header at once, then blocks
+    of rows (canonical columns, ``phase`` as its code) as they come.
 
-    Written in blocks of `chunk` rows, each formatted by one %-operation
-    (the bytes np.savetxt wrote, ~10% faster, and without the object copy of
-    the whole history: a 10^6-step run stays well under 1 GiB)."""
-    cols = result.columns
-    data = result.data
-    j = cols.index("phase") if "phase" in cols else -1
-    rowfmt = ",".join("%s" if c == "phase" else "%.10g" for c in cols) + "\n"
-    names = np.array(PHASES, dtype=object)
-    with open(path, "w", newline="") as fh:
+    Each ``SUB`` rows are formatted by one %-operation (the bytes np.savetxt
+    wrote, ~10% faster, and without an object copy of the whole history)."""
+
+    SUB = 4096
+
+    def __init__(self, fh, columns):
+        self.fh = fh
+        cols = list(columns)
+        self.j = cols.index("phase") if "phase" in cols else -1
+        self.rowfmt = ",".join("%s" if c == "phase" else "%.10g" for c in cols) + "\n"
+        self.names = np.array(PHASES, dtype=object)
         fh.write(",".join(cols) + "\n")
-        for s in range(0, data.shape[0], chunk):
-            block = data[s:s + chunk]
+
+    def format(self, data: np.ndarray) -> list[str]:
+        """The text of these rows, in pieces of SUB rows (changes nothing)."""
+        parts = []
+        for s in range(0, data.shape[0], self.SUB):
+            block = data[s:s + self.SUB]
             rows = block.tolist()
-            if j >= 0:
-                for row, name in zip(rows, names[np.nan_to_num(block[:, j]).astype(int)].tolist()):
-                    row[j] = name
-            fh.write((rowfmt * len(rows)) % tuple(x for row in rows for x in row))
+            if self.j >= 0:
+                for row, name in zip(rows, self.names[np.nan_to_num(block[:, self.j]).astype(int)].tolist()):
+                    row[self.j] = name
+            parts.append((self.rowfmt * len(rows)) % tuple(x for row in rows for x in row))
+        return parts
+
+    def write(self, data: np.ndarray) -> None:
+        for text in self.format(data):
+            self.fh.write(text)
+
+
+def write_csv(path: Path, result, chunk: int = 4096) -> None:
+    """timeseries.csv of an in-memory result: one row per recorded step, units
+    in the column names (a streamed result has written it as it ran), in
+    blocks of ``chunk`` rows: a 10^6-step run stays well under 1 GiB."""
+    data = result.data
+    with open(path, "w", newline="") as fh:
+        w = CsvWriter(fh, result.columns)
+        for s in range(0, data.shape[0], chunk):
+            w.write(data[s:s + chunk])
 
 
 def _f(x):
@@ -108,29 +131,29 @@ def summary(scene: Scene, result, sim) -> dict:
          "dt_s": sim.dt, "runtime_s": result.runtime_s, "version": VERSION}
     if result.n_rows == 0:
         return s
+    st = result.stats          # max, min, last row: the same in memory or streamed
     if "u_m" in result:
-        u = result["u_m"]
-        s["peak_u_m"] = _f(np.max(np.abs(u)))
-        s["residual_u_m"] = _f(u[-1])
-        s["peak_F_N"] = _f(np.max(np.abs(result["F_N"])))
-        s["friction_work_J"] = {"lower": _f(result["W1_J"][-1]), "upper": _f(result["W2_J"][-1])}
-        e_in = result["E_input_J"][-1]
-        out = result["E_kin_J"][-1] + result["E_pot_J"][-1] + result["W1_J"][-1] + result["W2_J"][-1]
+        s["peak_u_m"] = _f(st.peak_abs("u_m"))
+        s["residual_u_m"] = _f(st.final("u_m"))
+        s["peak_F_N"] = _f(st.peak_abs("F_N"))
+        s["friction_work_J"] = {"lower": _f(st.final("W1_J")), "upper": _f(st.final("W2_J"))}
+        e_in = st.final("E_input_J")
+        out = st.final("E_kin_J") + st.final("E_pot_J") + st.final("W1_J") + st.final("W2_J")
         if "E_reseat_J" in result:
-            out += result["E_reseat_J"][-1]
-            s["reseat_loss_J"] = _f(result["E_reseat_J"][-1])
+            out += st.final("E_reseat_J")
+            s["reseat_loss_J"] = _f(st.final("E_reseat_J"))
         s["input_work_J"] = _f(e_in)
         s["energy_residual_rel"] = _f(abs(e_in - out) / abs(e_in)) if e_in else 0.0
     if "T1_C" in result:
-        s["peak_T1_C"] = _f(np.max(result["T1_C"]))
-        s["peak_T2_C"] = _f(np.max(result["T2_C"]))
+        s["peak_T1_C"] = _f(st.peak("T1_C"))
+        s["peak_T2_C"] = _f(st.peak("T2_C"))
         s["heat"] = heat_ledger(result, sim)
         s["heat_residual_rel"] = s["heat"]["residual_rel"]
     if d["loading"]["kind"] == "heat" and d["loading"]["reference"] != "none" and result.n_rows > 1:
         s["reference"] = closed_form_check(result, sim)
     if "mu1" in result:
-        s["min_mu1"] = _f(np.min(result["mu1"]))
-        s["min_mu2"] = _f(np.min(result["mu2"]))
+        s["min_mu1"] = _f(st.low("mu1"))
+        s["min_mu2"] = _f(st.low("mu2"))
     if d["coupling"]["scheme"] == "iterated":
         s["coupling_iterations"] = {"total": int(result.iterations), "max_per_step": int(result.max_iterations)}
     s.update(result.info)
@@ -146,10 +169,11 @@ def closed_form_check(result, sim) -> dict:
     side = 0 if ld["plate"] in ("lower", "both") else 1
     p = sim.plate_params[side]
     q, kappa = ld["flux_W_m2"], p.diffusivity
-    t = result["t_s"][1:]
-    T = result[f"T{side + 1}_C"][1:]
-    pick = np.unique(np.linspace(0, len(t) - 1, min(len(t), 50)).astype(int))
-    t, T = t[pick], T[pick]
+    m = result.n_rows - 1              # rows after the initial one
+    pick = np.unique(np.linspace(0, m - 1, min(m, 50)).astype(int))
+    rows = result.rows_at(1 + pick)    # in memory, or read back from a streamed run's spill
+    t = rows[:, result.columns.index("t_s")]
+    T = rows[:, result.columns.index(f"T{side + 1}_C")]
     kind = ld["reference"]
     if kind == "halfspace":
         rise = exact.halfspace_flux_surface(t, q, p.k, kappa)
@@ -181,7 +205,7 @@ def heat_ledger(result, sim) -> dict:
             # the column at r0 receives the flux only while the footprint covers it
             entry["work_vs_heat"] = "not compared: fixed-point column heated only while covered"
         elif sim.mechanics is not None and result.status == "ok":
-            W = result[f"W{i + 1}_J"][-1] * sim.plate_params[i].heat_share
+            W = result.stats.final(f"W{i + 1}_J") * sim.plate_params[i].heat_share
             entry["friction_heat_J"] = W
             entry["work_vs_heat_rel"] = abs(W - q_in) / W if W else abs(q_in)
             res = max(res, entry["work_vs_heat_rel"])
@@ -191,12 +215,33 @@ def heat_ledger(result, sim) -> dict:
     return out
 
 
+def needs_rows(scene: Scene) -> bool:
+    """Does the summary read rows back (the closed-form check of a heat scene)?"""
+    ld = scene["loading"]
+    return ld["kind"] == "heat" and ld["reference"] != "none"
+
+
+def stream_history(folder: ResultsFolder, scene: Scene, **kw):
+    """The history ``fpd run`` gives ``simulate``: timeseries.csv written into
+    the folder as the run goes (plus a raw spill, removed by write_all, when
+    the summary reads rows back)."""
+    from .history import StreamHistory
+    spill = folder.path(".history.f64") if needs_rows(scene) else None
+    kw.setdefault("plots", bool(scene["output"]["plots"]))
+    return StreamHistory(folder.path("timeseries.csv"), spill_path=spill, **kw)
+
+
 def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = True) -> dict:
-    write_csv(folder.path("timeseries.csv"), result)
+    """Everything but what the run streamed: timeseries.csv (unless streamed
+    already), scene.toml, summary.json, plots/."""
+    if not result.streamed:
+        write_csv(folder.path("timeseries.csv"), result)
     folder.path("scene.toml").write_text(to_toml(scene))
     s = summary(scene, result, sim)
+    if result.streamed:
+        result.history.discard_spill()
     if plots and result.n_rows > 1:
         from .plots import make_plots
-        s["plots"] = make_plots(folder.subdir("plots"), result, scene)
+        s["plots"] = make_plots(folder.subdir("plots"), result.plot_view(), scene)
     folder.path("summary.json").write_text(json.dumps(s, indent=2) + "\n")
     return s

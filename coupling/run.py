@@ -18,6 +18,7 @@ from mechanics.seated import PHASES, MechanicsFailure
 
 from .build import Simulation
 from .fast_loop import compiled_loop
+from .history import MemoryHistory, signals_held
 
 # canonical column order (interface.md); extra diagnostic columns follow
 CANONICAL = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad", "s1_m", "s2_m",
@@ -36,10 +37,17 @@ class Interrupted(RuntimeError):
 
 
 class Result:
-    """A run's history (numpy columns) and its bookkeeping."""
+    """A run's history (numpy columns) and its bookkeeping.
+
+    In memory (the default): ``data`` holds every recorded row, ``res["u_m"]``
+    a column. Streamed (``simulate(..., history=StreamHistory(...))``, what
+    ``fpd run`` does): the rows are in the CSV the history wrote; ``stats``
+    (reductions for the summary), ``plot_view()`` (a bounded copy for the
+    plots) and ``rows_at()`` (rows read back, when the history spilled them)
+    stand in for ``data``, which is None."""
 
     def __init__(self, columns, data, status="ok", message="", runtime_s=0.0, iterations=0,
-                 max_iterations=0, plates=(None, None), info=None):
+                 max_iterations=0, plates=(None, None), info=None, history=None):
         self.columns = list(columns)
         self.data = data
         self.status = status
@@ -49,8 +57,17 @@ class Result:
         self.max_iterations = max_iterations
         self.plates = plates
         self.info = info or {}
+        self.history = history
+        self._stats = None
+
+    @property
+    def streamed(self) -> bool:
+        return self.data is None and self.history is not None
 
     def __getitem__(self, name) -> np.ndarray:
+        if self.streamed:
+            raise KeyError(f"{name}: this run's history was streamed to {self.history.csv_path}, not kept "
+                           "in memory (read that file, or run simulate() without a stream history)")
         return self.data[:, self.columns.index(name)]
 
     def __contains__(self, name) -> bool:
@@ -58,7 +75,28 @@ class Result:
 
     @property
     def n_rows(self) -> int:
-        return self.data.shape[0]
+        return self.history.rows if self.streamed else self.data.shape[0]
+
+    @property
+    def stats(self):
+        """Max, min, first and last row per column (history.Stats)."""
+        if self.streamed:
+            return self.history.stats
+        if self._stats is None:
+            from .history import Stats
+            self._stats = Stats(self.columns)
+            self._stats.add(self.data)
+        return self._stats
+
+    def plot_view(self) -> "Result":
+        """What the plots draw: this result, or the streamed history's bounded copy."""
+        if not self.streamed:
+            return self
+        return Result(self.columns, self.history.plot_data(), self.status, self.message, self.runtime_s)
+
+    def rows_at(self, index) -> np.ndarray:
+        """Whole rows (canonical order) at these row indices."""
+        return self.history.rows_at(index) if self.streamed else self.data[np.asarray(index)]
 
 
 class _Progress:
@@ -96,9 +134,15 @@ def _columns(sim: Simulation):
 
 
 def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_failure_at: int | None = None,
-             on_frame=None, frame_every: int = 0, hottest=None) -> Result:
+             on_frame=None, frame_every: int = 0, hottest=None, history=None, on_loop_end=None) -> Result:
     """Run the scene's loop; never raises for numerical failure or Ctrl-C:
-    the Result carries ``status`` and the history computed so far."""
+    the Result carries ``status`` and the history computed so far.
+
+    ``history``: where the rows go (coupling/history.py): by default all kept
+    in memory; a ``StreamHistory`` writes them to disk block by block.
+    ``on_loop_end()`` is called when the stepping is over, before the last
+    block is handed to the history (the command line starts holding Ctrl-C
+    there, so the last block of the CSV is always written)."""
     mech = sim.mechanics
     p1, p2 = sim.plates
     law1, law2 = sim.laws
@@ -112,7 +156,12 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     area = sim.geometry.contact_area
     cols, order = _columns(sim)
     n_rows = N // every + 1 + (1 if N % every else 0)
-    buf = np.full((n_rows, len(cols)), np.nan)
+    # rows are recorded into buf (loop column order) and handed to the history
+    # whenever it is full (flush): memory O(buffer), not O(steps), when streamed
+    hist = history if history is not None else MemoryHistory()
+    cap = hist.start(cols, order, n_rows)
+    buf = np.full((cap, len(cols)), np.nan)
+    store_s = 0.0
     heat = p1 is not None or p2 is not None
     T1 = p1.surface_temperature() if p1 else Tair1
     T2 = p2.surface_temperature() if p2 else Tair2
@@ -135,8 +184,22 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     if mech:
         mu1 = law1(T1, mech.N1 / area, 0.0)
         mu2 = law2(T2, mech.N2 / area, 0.0)
+
+    def flush():
+        """Hand buf[:k] to the history; the slow part (formatting) may be
+        interrupted and is then redone, the commit and emptying are atomic."""
+        nonlocal k, store_s
+        t0 = time.perf_counter()
+        ready = hist.prepare(buf[:k])
+        with signals_held():
+            hist.commit(ready)
+            k = 0
+        store_s += time.perf_counter() - t0
+
     buf[0] = row(0)
     k = 1
+    if k == cap:
+        flush()
     status, message = "ok", ""
     total_iter, worst_iter = 0, 0
     bar = _Progress(N, dt, progress)
@@ -150,8 +213,10 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     t_start = time.perf_counter()
     n = last_row = n0 = 0
     try:
-        if jit is not None:
-            out = jit.run(buf, k, T1, T2, mu1, mu2, bar, hottest, hot_every, on_frame, frame_every)
+        full = False
+        while jit is not None:
+            out = jit.run(buf, k, last_row, T1, T2, mu1, mu2, bar, hottest, hot_every, on_frame, frame_every,
+                          start=n0, pending=full)
             n, k, last_row = out.n, out.k, out.last_row
             T1, T2, mu1, mu2 = out.T1, out.T2, out.mu1, out.mu2
             total_iter, worst_iter = out.steps, (1 if out.steps else 0)
@@ -159,7 +224,10 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 raise KeyboardInterrupt
             if out.failure:
                 raise NumericalFailure(out.failure[0], out.failure[0] * dt, out.failure[1])
-            n0 = out.steps
+            n0, full = out.steps, out.full
+            if not full:
+                break
+            flush()                     # the buffer is full: as the loop below does
         for n in range(n0 + 1, N + 1):
             if fast:                    # staggered, one thermal step per step: the loop below, unrolled
                 mu1 = law1(T1, mech.N1 / area, mech.slip_v1)
@@ -229,10 +297,11 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 if not math.isfinite(sum(r)):
                     bad = [c for c, x in zip(cols, r) if not math.isfinite(x)]
                     raise NumericalFailure(n, n * dt, "non-finite " + ", ".join(bad))
-                if k < n_rows:
-                    buf[k] = r
-                    k += 1
-                    last_row = n
+                buf[k] = r
+                k += 1
+                last_row = n
+                if k == cap:
+                    flush()
                 if on_frame is not None and frame_every and n % frame_every == 0:
                     sim.frame_values = dict(zip(cols, r))   # the CSV row, for the VTK frame
                     on_frame(n, sim)
@@ -248,11 +317,15 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
         status, message = "failed", str(NumericalFailure(n, n * dt, f"{type(exc).__name__}: {exc}"))
     except KeyboardInterrupt:
         status, message = "interrupted", f"interrupted at step {n} (t = {n * dt:.6g} s)"
+    runtime = time.perf_counter() - t_start - store_s      # stepping only, not storing
+    if on_loop_end is not None:
+        on_loop_end()
     bar.close()
-    runtime = time.perf_counter() - t_start
-    idx = [cols.index(c) for c in order]
-    data = buf[:k][:, idx]
-    res = Result(order, data, status, message, runtime, total_iter, worst_iter, (p1, p2), dict(sim.info))
+    flush()
+    with signals_held():
+        hist.finish()
+    res = Result(order, None if hist.streamed else hist.data, status, message, runtime, total_iter, worst_iter,
+                 (p1, p2), dict(sim.info), history=hist)
     # a failed or interrupted step n is not counted, unless its row was already kept
     res.steps = n if status == "ok" or last_row == n else n - 1
     return res

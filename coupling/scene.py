@@ -390,7 +390,9 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
     for table, schema in TABLES.items():
         given = raw.get(table)
         if heat_only and table in ("device", "superstructure") and given is None:
-            given = {"R1": 2.2, "pad_height": 0.1, "pad_diameter": 0.25} if table == "device" else {"mass": 1.0}
+            # the thermal-only loading ignores the device; a nominal DFP fills the tables
+            given = ({"R1": 2.2, "R2": 2.2, "pad_height": 0.1, "pad_diameter": 0.25} if table == "device"
+                     else {"mass": 1.0})
         data[table] = _table(ctx, table, given, schema)
     dev = data["device"]
     if dev["kind"] == "DFP":

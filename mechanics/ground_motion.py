@@ -314,6 +314,11 @@ class DisplacementProgramme:
     u: np.ndarray
     ud: np.ndarray
     udd: np.ndarray
+    # the programme's smooth branch at the grid points: u' and u'' as if the
+    # motion went on (equal to ud, udd while it runs); where they differ the
+    # machine stopped the bearing between two grid points by an impulse
+    ud_smooth: np.ndarray | None = None
+    udd_smooth: np.ndarray | None = None
 
     @property
     def n_steps(self) -> int:
@@ -327,7 +332,9 @@ def sine_programme(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> Disp
         name=f"sine {amplitude_m:g} m {frequency_Hz:g} Hz x {cycles:g}", dt=dt, t=t,
         u=amplitude_m * np.sin(w * tt),
         ud=np.where(on, amplitude_m * w * np.cos(w * tt), 0.0),
-        udd=np.where(on, -amplitude_m * w * w * np.sin(w * tt), 0.0))
+        udd=np.where(on, -amplitude_m * w * w * np.sin(w * tt), 0.0),
+        ud_smooth=amplitude_m * w * np.cos(w * tt),
+        udd_smooth=-amplitude_m * w * w * np.sin(w * tt))
 
 
 def pulse_ground_motion(shape, velocity_mps, period_s, t0_s, duration, dt) -> GroundMotion:

@@ -182,6 +182,12 @@ class SeatedTestMachine(_SeatedBase):
         self._u = programme.u.tolist()
         self._ud = programme.ud.tolist()
         self._udd = programme.udd.tolist()
+        # grid points where the machine has stopped the bearing: the step that
+        # reaches the first of them ends with the stopping impulse (below)
+        uds = programme.ud if programme.ud_smooth is None else programme.ud_smooth
+        udds = programme.udd if programme.udd_smooth is None else programme.udd_smooth
+        self._smooth = {i: (float(a), float(b)) for i, (a, b) in
+                        enumerate(zip(uds, udds)) if a != programme.ud[i] or b != programme.udd[i]}
         self.theta = math.asin(self._u[0] / self._L)
         self.thetad = self._ud[0] / (self._L * math.cos(self.theta))
         # the machine launches the programme with u'(0) != 0: that energy is input
@@ -190,10 +196,13 @@ class SeatedTestMachine(_SeatedBase):
     def xg(self) -> float:
         return -self._u[self.n]
 
-    def _state_at(self, i: int, mu1: float, mu2: float, sgn: float):
-        """theta, theta', F, N1, N2 at grid point i (u'' known)."""
+    def _state_at(self, i: int, mu1: float, mu2: float, sgn: float, smooth=None):
+        """theta, theta', F, N1, N2 at grid point i (u'' known); ``smooth`` =
+        (u', u'') of the programme's smooth branch instead of the grid values."""
         L, I, S, g, M, m, rho = self._L, self._I, self._S, self._g, self._M, self._m, self._rho
         u, ud, udd = self._u[i], self._ud[i], self._udd[i]
+        if smooth is not None:
+            ud, udd = smooth
         th = math.asin(u / L)
         c, s = math.cos(th), math.sin(th)
         thd = ud / (L * c)
@@ -221,8 +230,17 @@ class SeatedTestMachine(_SeatedBase):
         # ground-frame input: the restraint's generalised force plus the
         # d'Alembert force of the moving lower plate (trapezoidal in theta)
         Q0 = (Fa * self._L + self._S * self._udd[i0]) * ca
-        Q1 = (F * self._L + self._S * self._udd[i1]) * c
-        self.E_in += 0.5 * (Q0 + Q1) * dth
+        stop = self._smooth.get(i1) if i0 not in self._smooth else None
+        if stop is None:
+            Q1 = (F * self._L + self._S * self._udd[i1]) * c
+            self.E_in += 0.5 * (Q0 + Q1) * dth
+        else:
+            # the machine stops the bearing inside this step: the smooth
+            # branch's input up to the stop, then the stopping impulse, whose
+            # work is the kinetic energy it removes (at fixed position)
+            _, thd_s, _, F_s, _, _, _ = self._state_at(i1, mu1, mu2, sgn, stop)
+            Q1 = (F_s * self._L + self._S * stop[1]) * c
+            self.E_in += 0.5 * (Q0 + Q1) * dth + 0.5 * self._I * (thd * thd - thd_s * thd_s)
         self.theta, self.thetad, self.F, self.N1, self.N2 = th, thd, F, N1, N2
         self.W1 += dW1
         self.W2 += dW2

@@ -163,10 +163,17 @@ def test_ring_load_integrates_exactly(c):
 
 def test_surface_temperature_is_footprint_mean():
     p = PlateParams(model="axisym", nr=20, nz=6)
-    m = AxisymPlate(p, 0.1)
+    m = AxisymPlate(p, 0.1, fast_solver=False)   # nodal state: set it directly
     m.integ.u[:] = 5.0                       # uniform: the mean is that value
     m._set_footprint(0.17)
     assert abs(m.surface_temperature() - (p.T_air_C + 5.0)) < 1e-12
+    # the modal state of a tensor mesh (and the nodal one): a uniform initial rise
+    for fast in (True, False):
+        m = AxisymPlate(PlateParams(model="axisym", nr=20, nz=6, T0_C=p.T_air_C + 5.0), 0.1, fast_solver=fast)
+        m._set_footprint(0.17)
+        assert (m.modes is not None) == fast
+        assert abs(m.surface_temperature() - (p.T_air_C + 5.0)) < 1e-12
+        assert np.max(np.abs(m.temperature() - (p.T_air_C + 5.0))) < 1e-12
 
 
 def test_save_restore_is_bit_identical():
@@ -262,3 +269,103 @@ def test_footprint_off_the_plate_delivers_nothing():
     assert m.heat_in() == hin
     assert abs(T_off - T_on) < 0.5 * (T_on - p.T0_C)   # still the last footprint's mean, cooling
     assert abs(m.heat_in() - m.stored_heat() - m.heat_lost()) < 1e-9 * hin
+
+
+def test_modal_stepping_only_on_tensor_quad_meshes():
+    """The eigenbasis stepping needs the Kronecker structure; any other mesh
+    (triangles, a distorted quad mesh) keeps the nodal stepping with a sparse LU."""
+    p = PlateParams(model="axisym", nr=12, nz=6, back="fixed")
+    assert AxisymPlate(p, 0.1).modes is not None
+    assert AxisymPlate(p, 0.1, fast_solver=False).modes is None
+    tri = rz_mesh(p.plate_radius, p.plate_thickness, 12, 6, 1.05, triangles=True)
+    assert AxisymPlate(p, 0.1, mesh=tri).modes is None
+    quad = rz_mesh(p.plate_radius, p.plate_thickness, 12, 6, 1.05)
+    inner = (quad.p[0] > 0) & (quad.p[0] < p.plate_radius) & (quad.p[1] < 0) & (quad.p[1] > -p.plate_thickness)
+    pts = quad.p.copy()
+    pts[0, inner] += 1e-3 * np.sin(np.arange(inner.sum()))      # not a tensor product any more
+    bent = type(quad)(pts, quad.t, _boundaries=quad.boundaries)
+    m = AxisymPlate(p, 0.1, mesh=bent)
+    assert m.modes is None and m.step(1e4, 0.05) > p.T0_C
+
+
+@pytest.mark.parametrize("scheme", ["bdf2", "cn", "be"])
+@pytest.mark.parametrize("back", ["convection", "fixed", "adiabatic"])
+def test_modal_stepping_equals_nodal_stepping(scheme, back):
+    """Tensor mesh: stepping in the eigenbasis gives the nodal (sparse LU)
+    results to round-off: surface temperatures, fields, ledgers, through
+    jumps (Rannacher restarts), a moving footprint and one off the plate."""
+    p = PlateParams(model="axisym", plate_radius=0.2, plate_thickness=0.03, a_contact_m=0.05,
+                    nr=40, nz=16, h_conv=500.0, back=back, T_back_C=30.0, T0_C=25.0, scheme=scheme)
+    fast, ref = AxisymPlate(p, 0.02), AxisymPlate(p, 0.02, fast_solver=False)
+    assert fast.modes is not None and ref.modes is None
+    rise = 1.0
+    for i in range(300):
+        centre = 0.26 * math.sin(0.03 * i)                 # over the axis and off the edge
+        power = 2.0e4 * (1.2 + math.cos(0.2 * i)) * (i % 53 < 40)
+        Tf, Tr = fast.step(power, centre), ref.step(power, centre)
+        rise = max(rise, abs(Tr - p.T0_C))
+        assert abs(Tf - Tr) < 1e-12 * rise
+    assert fast.integ.half_steps == ref.integ.half_steps
+    assert np.max(np.abs(fast.temperature() - ref.temperature())) < 1e-12 * rise
+    hin = ref.heat_in()
+    assert abs(fast.heat_in() - hin) < 1e-14 * hin
+    for q in ("stored_heat", "heat_lost"):
+        assert abs(getattr(fast, q)() - getattr(ref, q)()) < 1e-12 * hin
+    assert abs(fast.heat_in() - fast.stored_heat() - fast.heat_lost()) < 1e-12 * hin
+    # the nodal capacities (coupling/studies.py reads integ.mass) do not depend on the basis
+    n = len(ref.integ.u)
+    assert np.array_equal(fast.integ.mass(np.ones(n)), ref.integ.mass(np.ones(n)))
+
+
+def _jit_or_skip():
+    from thermal.axisym import jit_kernels
+    if jit_kernels() is None:
+        pytest.skip("numba not installed (or FPD_NO_JIT)")
+
+
+def test_jit_pattern_matches_pure_bit_for_bit():
+    """thermal/_axisym_jit.pattern is TopLoad.pattern's numpy path as one
+    loop: bit-for-bit on graded top meshes, centred, c < a, c = a, c > a,
+    breakpoints on nodes, footprints hanging over the edge or off the plate."""
+    _jit_or_skip()
+    from thermal.axisym import jit_kernels
+    rng = np.random.default_rng(7)
+    for _ in range(60):
+        n = int(rng.integers(3, 250))
+        h = rng.uniform(1.0, 1.08) ** np.arange(n)
+        R = rng.uniform(0.05, 0.6)
+        r = np.concatenate(([0.0], np.cumsum(h))) * R / h.sum()
+        fn = np.column_stack((np.arange(n), np.arange(1, n + 1)))
+        pure, fast = TopLoad(r, fn), TopLoad(r, fn, jit_kernels())
+        assert fast._kern is not None and pure._kern is None
+        a = rng.uniform(0.005, 0.2)
+        node = r[rng.integers(0, n + 1, 3)]
+        for c in np.r_[rng.uniform(0, 1.5 * R, 12), 0.0, 1e-13 * a, a, a * (1 - 1e-12), a * (1 + 1e-12),
+                       node, np.abs(node - a), node + a, R + a]:
+            np.testing.assert_array_equal(fast.pattern(c, a), pure.pattern(c, a))
+
+
+@pytest.mark.parametrize("scheme", ["bdf2", "cn", "be"])
+@pytest.mark.parametrize("back", ["convection", "fixed"])
+def test_jit_plate_matches_pure_bit_for_bit(scheme, back):
+    """The modal update kernels and the pattern kernel: the plate's numbers
+    bit for bit, through jumps, a moving footprint and save/restore."""
+    _jit_or_skip()
+    p = PlateParams(model="axisym", plate_radius=0.2, plate_thickness=0.03, a_contact_m=0.05,
+                    nr=30, nz=12, h_conv=500.0, back=back, T_back_C=30.0, scheme=scheme)
+    pure, fast = AxisymPlate(p, 0.02, jit=False), AxisymPlate(p, 0.02, jit=True)
+    assert pure.modes is not None and fast.integ._kern is not None and pure.integ._kern is None
+    snaps = None
+    for i in range(250):
+        if i == 150:
+            snaps = (pure.save(), fast.save())
+        centre = 0.26 * math.sin(0.03 * i)
+        power = 2.0e4 * (1.2 + math.cos(0.2 * i)) * (i % 53 < 40)
+        assert pure.step(power, centre) == fast.step(power, centre), i
+        assert (pure.stored_heat(), pure.heat_lost()) == (fast.stored_heat(), fast.heat_lost()), i
+    pure.restore(snaps[0])
+    fast.restore(snaps[1])
+    for i in range(60):
+        assert pure.step(3e4, 0.01 * i) == fast.step(3e4, 0.01 * i)
+    np.testing.assert_array_equal(pure.temperature(), fast.temperature())
+    assert pure.heat_in() == fast.heat_in()

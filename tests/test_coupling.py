@@ -114,6 +114,8 @@ def test_lab_scene_friction_falls_as_the_plates_heat_and_converges():
     # the effective friction of each cycle falls as the plates heat; peak temperature rises
     assert np.all(np.diff(finest[:, 1]) < -1e-3)
     assert np.all(np.diff(finest[:, 0]) > 5.0)
+    # ... while the heating each cycle adds (its peak over the last one's) drops with mu
+    assert np.all(np.diff(np.diff(np.r_[20.0, finest[:, 0]])) < -1.0)
     # dt refinement: errors against the finest shrink, below absolute bounds at 1 ms
     err = np.array([np.max(np.abs(p - finest), axis=0) for p in per[:-1]])
     assert np.all(np.diff(err[:, 0]) < 0) and np.all(np.diff(err[:, 1]) < 0)

@@ -265,27 +265,68 @@ def test_default_scene_loop_is_compiled_and_fast():
     assert math.isfinite(res.data.sum())
 
 
-def test_rows_into_a_small_buffer_with_flush():
-    """CompiledLoop.run hands a full buffer to flush(k) and goes on (a
-    streamed history records in blocks): the rows are those of one buffer."""
+def test_rows_into_a_small_buffer():
+    """CompiledLoop.run stops when the row buffer is full and goes on from
+    there when called again (simulate() empties the buffer in between, as a
+    streamed history does): the rows and the events are those of one run."""
     over = ["solver.duration=3"]
-    ref = simulate(_sim("default", over), every=3)
+    ref_log = []
+    ref = simulate(_sim("default", over), every=3, on_frame=lambda n, sim: ref_log.append(n), frame_every=30)
     sim = _sim("default", over)
     cols = _cols(sim)
-    n_rows = ref.n_rows
-    loop = fast_loop.compiled_loop(sim, 3, n_rows, cols)
-    buf, got = np.full((64, len(cols)), np.nan), []
-
-    def flush(k):
+    loop = fast_loop.compiled_loop(sim, 3, ref.n_rows, cols)
+    buf, got, log = np.full((64, len(cols)), np.nan), [], []
+    k = last_row = start = 0
+    T1, T2, mu1, mu2 = ref["T1_C"][0], ref["T2_C"][0], ref["mu1"][0], ref["mu2"][0]
+    full = False
+    while True:
+        out = loop.run(buf, k, last_row, T1, T2, mu1, mu2, on_frame=lambda n, sim: log.append(n), frame_every=30,
+                       start=start, pending=full)
+        assert not out.failure and not out.interrupted
+        k, last_row, start, full = out.k, out.last_row, out.steps, out.full
+        T1, T2, mu1, mu2 = out.T1, out.T2, out.mu1, out.mu2
+        if not full:
+            break
         got.append(buf[:k].copy())
-        return 0
-
-    out = loop.run(buf, 0, ref["T1_C"][0], ref["T2_C"][0], ref["mu1"][0], ref["mu2"][0], flush=flush)
-    assert out.steps == sim.n_steps and not out.failure and not out.interrupted
-    got.append(buf[:out.k].copy())
+        k = 0
+    assert out.steps == sim.n_steps
+    got.append(buf[:k].copy())
     rows = np.vstack(got)
     from coupling.run import _columns
     order = _columns(sim)[1]
     want = ref.data[1:][:, [order.index(c) for c in cols]]
     assert len(got) > 5
     np.testing.assert_array_equal(rows, want)
+    assert log == ref_log and len(log) == 100
+
+
+def test_streamed_history_and_ctrl_c_while_a_block_is_taken(monkeypatch, tmp_path):
+    """fpd run's StreamHistory with small blocks: the compiled loop stops at
+    every full buffer for simulate() to hand it over; a Ctrl-C while a block
+    is formatted ends the run there, as with the Python loop."""
+    from coupling.history import StreamHistory
+
+    over = ["solver.duration=2"]
+    for interrupt in (False, True):
+        results = []
+        for compiled in (True, False):
+            sim = _sim("default", over)
+            path = tmp_path / f"{compiled}-{interrupt}.csv"
+            hist = StreamHistory(path, chunk_rows=64)
+            real, calls = hist.prepare, []
+
+            def prepare(block, real=real, calls=calls):
+                calls.append(len(block))
+                if interrupt and len(calls) == 3:
+                    raise KeyboardInterrupt
+                return real(block)
+            hist.prepare = prepare
+            res = simulate(sim, history=hist) if compiled else _python_loop(monkeypatch, sim, history=hist)
+            results.append((res, path.read_bytes(), calls))
+        (a, csv_a, calls_a), (b, csv_b, calls_b) = results
+        assert (a.status, a.message, a.steps, a.n_rows) == (b.status, b.message, b.steps, b.n_rows)
+        assert csv_a == csv_b and calls_a == calls_b
+        if interrupt:
+            assert a.status == "interrupted" and a.n_rows == 3 * 64 == a.steps + 1
+        else:
+            assert a.status == "ok" and len(calls_a) > 20

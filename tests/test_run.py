@@ -83,3 +83,20 @@ def test_packaged_closed_form_scenes(tmp_path, name, bound_K):
     else:   # disk source: within 0.5 % of the closed form
         assert abs(ref["error_end_K"]) < 0.005 * (ref["T_exact_end_C"] - 20.0)
     assert s["heat_residual_rel"] < 1e-9
+
+
+def test_heat_only_scene_needs_no_device(tmp_path):
+    """A thermal-only scene has no bearing: [device] and [superstructure] may be left out."""
+    text = (ROOT / "scenes" / "heat-halfspace.toml").read_text()
+    kept, skip = [], False
+    for line in text.splitlines():
+        if line.startswith("["):
+            skip = line.strip() in ("[device]", "[superstructure]")
+        if not skip:
+            kept.append(line)
+    (tmp_path / "bare.toml").write_text("\n".join(kept).replace('name = "heat-halfspace"', 'name = "bare"'))
+    r = fpd("run", "bare.toml", "--quiet", "--set", "output.plots=false", "--set", "output.vtk_every=0",
+            "--set", "solver.duration=1", "--set", "loading.duration_s=1", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    s = json.loads((tmp_path / "results" / "bare" / "summary.json").read_text())
+    assert s["status"] == "ok" and abs(s["reference"]["error_end_K"]) < 0.1

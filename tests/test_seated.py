@@ -39,6 +39,19 @@ def test_test_machine_ledger_closes():
     assert abs(tm.ledger_residual()) < 1e-6 * tm.E_in
 
 
+@pytest.mark.parametrize("cycles", [3.0, 2.9, 2.9013])
+def test_test_machine_ledger_closes_when_the_machine_stops(cycles):
+    """The run lasts past the programme: the machine stops the bearing (on the
+    grid or between two grid points) and the stopping impulse takes the kinetic
+    energy out; the ledger counts it as (negative) input work."""
+    geom = dfp()
+    prog = sine_programme(0.2, 0.4, cycles, 1e-3, duration=8.0)
+    tm = SeatedTestMachine(geom, prog)
+    h = run(tm, MU, MU, record=("E_in", "E_kin"))
+    assert tm.thetad == 0.0 and h["E_kin"].max() > 0.05 * tm.E_in      # it moved, then stopped
+    assert abs(tm.ledger_residual()) < 1e-6 * tm.E_in
+
+
 def test_frictionless_free_vibration_period():
     geom = dfp(pad_mass=1e-6)
     st = SeatedStepper(geom, at_rest(1e-3, 30.0))
