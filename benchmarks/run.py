@@ -158,10 +158,11 @@ def main():
             durations = (40, 80, 160) if args.quick else (40, 80, 160, 320, 640, 1000)
             for d in durations:
                 n, t = loop_time("default", base + [f"mechanics.model={mech}", f"thermal.model={th}",
-                                                    f"solver.duration={d}"])
-                ratio = f"{t / prev:5.2f}x" if prev else ""
-                print(f"  {mech:9s} {th:6s} {n:8d} steps {t:8.3f} s {ratio}")
-                prev = t
+                                                    f"solver.duration={d}"], repeat=3)
+                # the time ratio scaled to a doubling of the steps (1000 s is 1.5625x 640 s)
+                ratio = f"{2.0 * (t / prev[1]) / (n / prev[0]):5.2f}x per 2x steps" if prev else ""
+                print(f"  {mech:9s} {th:6s} {n:8d} steps {t:8.3f} s {1e6 * t / n:6.2f} us/step {ratio}")
+                prev = (n, t)
             return
 
 

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 
 from .geometry import DeviceGeometry
+from .ground_motion import float_array
 
 PHASES = ("stick", "slip", "tilt")
 
@@ -112,7 +113,7 @@ class SeatedStepper(_SeatedBase):
     def __init__(self, geom: DeviceGeometry, ground, iterations: int = 3):
         super().__init__(geom, ground.dt, ground.n_steps)
         self.ground = ground
-        self._a_step = ground.a_step.tolist()  # list indexing beats numpy scalars
+        self._a_step = float_array(ground.a_step)  # plain floats, 8 bytes each
         self._xg = ground.d
         self._iters = iterations
 
@@ -179,9 +180,9 @@ class SeatedTestMachine(_SeatedBase):
     def __init__(self, geom: DeviceGeometry, programme):
         super().__init__(geom, programme.dt, programme.n_steps)
         self.prog = programme
-        self._u = programme.u.tolist()
-        self._ud = programme.ud.tolist()
-        self._udd = programme.udd.tolist()
+        self._u = float_array(programme.u)
+        self._ud = float_array(programme.ud)
+        self._udd = float_array(programme.udd)
         # grid points where the machine has stopped the bearing: the step that
         # reaches the first of them ends with the stopping impulse (below)
         uds = programme.ud if programme.ud_smooth is None else programme.ud_smooth

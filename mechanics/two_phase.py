@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 
 from .geometry import DeviceGeometry
-from .ground_motion import GroundMotion
+from .ground_motion import GroundMotion, float_array
 from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, TILT, MechanicsFailure
 
 COLUMNS = (
@@ -209,9 +209,9 @@ class TwoPhaseStepper:
         self.ground = ground
         self.dt = float(ground.dt)
         self.n_steps = int(ground.n_steps)
-        self._t = [float(x) for x in ground.t]
-        self._d = [float(x) for x in ground.d]
-        self._a_step = [float(x) for x in ground.a_step]
+        self._t = float_array(ground.t)
+        self._d = float_array(ground.d)
+        self._a_step = float_array(ground.a_step)
         # constants of the per-step path, as plain floats
         self._L, self._rho = geom.L, geom.rho
         self._I, self._S = geom.I, geom.S
