@@ -25,25 +25,13 @@ import sys
 
 import numpy as np
 
+from thermal.jit import OptionalKernels
+
 CHUNK = 2048                 # steps per call at most (progress bar, Ctrl-C latency)
 
-_KERNELS = None              # (coupling._loop_jit, mechanics._two_phase_jit, thermal._plate_jit), False if unavailable
-
-
-def kernels():
-    """The numba modules, or None (numba missing or FPD_NO_JIT set)."""
-    global _KERNELS
-    if _KERNELS is None:
-        _KERNELS = False
-        if not os.environ.get("FPD_NO_JIT"):
-            try:
-                from coupling import _loop_jit
-                from mechanics import _two_phase_jit
-                from thermal import _plate_jit
-                _KERNELS = (_loop_jit, _two_phase_jit, _plate_jit)
-            except ImportError:
-                pass
-    return _KERNELS or None
+# (coupling._loop_jit, mechanics._two_phase_jit, thermal._plate_jit), or None
+# (numba missing or FPD_NO_JIT set)
+kernels = OptionalKernels("coupling._loop_jit", "mechanics._two_phase_jit", "thermal._plate_jit")
 
 
 def _numba_loaded() -> bool:

@@ -51,7 +51,7 @@ def test_kernel_used_on_the_default_column():
 def test_pure_path_reproduces_the_fingerprints(monkeypatch):
     from tests.test_speed_equivalence import DATA, assert_same
     from tests.speed_cases import fingerprint, run_case
-    monkeypatch.setattr(fe1d, "_JIT", False)
+    monkeypatch.setattr(fe1d._KERNELS, "loaded", False)
     ref = np.load(DATA)
     data, _, _ = fingerprint(run_case("default"))
     assert_same(data, ref["default/data"])

@@ -117,7 +117,7 @@ def _sim(scene, over, friction=None, tmp=None):
 
 def _python_loop(monkeypatch, sim, **kw):
     with monkeypatch.context() as m:
-        m.setattr(fast_loop, "_KERNELS", False)
+        m.setattr(fast_loop.kernels, "loaded", False)
         return simulate(sim, **kw)
 
 

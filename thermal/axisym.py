@@ -26,7 +26,6 @@ footprint mean with the same weights, int f T r dr / int f r dr.
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 import scipy.sparse as sp
@@ -35,25 +34,17 @@ from scipy.sparse.linalg import splu
 
 from meshes.line import graded_nodes
 from meshes.rz import read_rz_mesh, rz_mesh
+from thermal.jit import OptionalKernels
 from thermal.params import PlateParams
 from thermal.stepping import Integrator
 
-_JIT = None     # thermal._axisym_jit once loaded, False when unavailable
+_KERNELS = OptionalKernels("thermal._axisym_jit", warm=True)
 
 
 def jit_kernels():
     """thermal._axisym_jit if numba is installed and FPD_NO_JIT is unset, else None."""
-    global _JIT
-    if _JIT is None:
-        _JIT = False
-        if not os.environ.get("FPD_NO_JIT"):
-            try:
-                from thermal import _axisym_jit
-                _axisym_jit.warm_up()
-                _JIT = _axisym_jit
-            except ImportError:
-                pass
-    return _JIT or None
+    k = _KERNELS()
+    return k[0] if k else None
 
 
 NG_FACET = 8          # Gauss points per top facet in the fixed operator

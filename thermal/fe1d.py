@@ -18,34 +18,24 @@ Source placement (params.source):
 """
 from __future__ import annotations
 
-import os
-
 import numpy as np
 from scipy.linalg import blas, lapack
 
 from meshes.line import line_mesh
+from thermal.jit import OptionalKernels
 from thermal.params import PlateParams
 from thermal.stepping import START_STEPS, Integrator
 
 BACKS = ("convection", "adiabatic", "fixed")
 SOURCES = ("follow-pad", "fixed-point")
 
-_JIT = None     # the numba kernel module once loaded, False when unavailable
+_KERNELS = OptionalKernels("thermal._column_jit", warm=True)
 
 
 def jit_kernels():
     """thermal._column_jit if numba is installed and FPD_NO_JIT is unset, else None."""
-    global _JIT
-    if _JIT is None:
-        _JIT = False
-        if not os.environ.get("FPD_NO_JIT"):
-            try:
-                from thermal import _column_jit
-                _column_jit.warm_up()
-                _JIT = _column_jit
-            except ImportError:
-                pass
-    return _JIT or None
+    k = _KERNELS()
+    return k[0] if k else None
 
 
 def assemble_column(z: np.ndarray, rho_c: float, k: float, area: float):
