@@ -293,8 +293,8 @@ class ModalIntegrator(Integrator):
     right-hand side a few elementwise operations on preallocated arrays.
 
     The same schemes, start-up and ledger as Integrator (step, _starting,
-    _substeps, stored are inherited; _be, _cn, _bdf2 are the same formulas
-    with M, A diagonal). State: u = (modal free dofs, nodal Dirichlet dofs),
+    _substeps, stored, _be, _cn and their ledgers are inherited; _increment
+    and _bdf2 are the same formulas with M, A diagonal). State: u = (modal free dofs, nodal Dirichlet dofs),
     likewise du and b. ``mass``/``stiff`` stay the nodal products (for
     callers that ask for nodal capacities). Jumps are judged on the nodal
     top-face load (``top``, set before each step), as in Integrator.
@@ -339,45 +339,19 @@ class ModalIntegrator(Integrator):
         super().step(b, power)
         self.top_prev[:] = self.top
 
-    def _be(self, h, b, power):
+    def _increment(self, h, b, gamma):
         nf = self.nf
         if self._kern is not None:
             du = self.du[:nf]
-            self._kern.modal_be(self.lam, self._fD_k, b[:nf], self.solver(h), self.u[:nf], du, h)
+            self._kern.modal_be(self.lam, self._fD_k, b[:nf], self.solver(gamma), self.u[:nf], du, h)
         else:
             du = self._au(self._t)
             np.subtract(b[:nf], du, out=du)
             du *= h
-            du *= self.solver(h)
+            du *= self.solver(gamma)
             self.u[:nf] += du
             self.du[:nf] = du
-        s = h * (self.conv @ self.u)
-        if self.has_dirichlet:
-            s -= self._dirichlet_reaction(self.mD[:nf] @ du, self.aD @ self.u, h, b[nf:].sum())
-        self.heat_in += h * power
-        self.heat_lost += s
-        return s
-
-    def _cn(self, h, b, power):
-        nf = self.nf
-        cu = self.conv @ self.u
-        aDu = self.aD @ self.u if self.has_dirichlet else 0.0
-        if self._kern is not None:
-            du = self.du[:nf]
-            self._kern.modal_be(self.lam, self._fD_k, b[:nf], self.solver(0.5 * h), self.u[:nf], du, h)
-        else:
-            du = self._au(self._t)
-            np.subtract(b[:nf], du, out=du)
-            du *= h
-            du *= self.solver(0.5 * h)
-            self.u[:nf] += du
-            self.du[:nf] = du
-        s = 0.5 * h * (cu + self.conv @ self.u)
-        if self.has_dirichlet:
-            aDu = 0.5 * (aDu + self.aD @ self.u)
-            s -= self._dirichlet_reaction(self.mD[:nf] @ du, aDu, h, b[nf:].sum())
-        self.heat_in += h * power
-        self.heat_lost += s
+        return du
 
     def _bdf2(self, h, b, power):
         nf = self.nf

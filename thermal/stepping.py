@@ -113,12 +113,19 @@ class Integrator:
         by the fixed-temperature boundary over the step, J)."""
         return Mdu + h * Au - h * load_D
 
-    def _be(self, h: float, b: np.ndarray, power: float) -> float:
+    def _increment(self, h: float, b: np.ndarray, gamma: float) -> np.ndarray:
+        """du = (M + gamma A)^-1 h (b - A u) on the free dofs, added to u and
+        kept in self.du (backward Euler: gamma = h, CN: h / 2)."""
         nf = self.nf
         rhs = h * (b - self.stiff(self.u))
-        du = self.solver(h)(rhs[:nf])
+        du = self.solver(gamma)(rhs[:nf])
         self.u[:nf] += du
         self.du[:nf] = du
+        return du
+
+    def _be(self, h: float, b: np.ndarray, power: float) -> float:
+        nf = self.nf
+        du = self._increment(h, b, h)
         s = h * (self.conv @ self.u)
         if self.has_dirichlet:
             s -= self._dirichlet_reaction(self.mD[:nf] @ du, self.aD @ self.u, h, b[nf:].sum())
@@ -128,12 +135,9 @@ class Integrator:
 
     def _cn(self, h: float, b: np.ndarray, power: float) -> None:
         nf = self.nf
-        rhs = h * (b - self.stiff(self.u))
         cu = self.conv @ self.u
         aDu = self.aD @ self.u if self.has_dirichlet else 0.0
-        du = self.solver(0.5 * h)(rhs[:nf])
-        self.u[:nf] += du
-        self.du[:nf] = du
+        du = self._increment(h, b, 0.5 * h)
         s = 0.5 * h * (cu + self.conv @ self.u)
         if self.has_dirichlet:
             aDu = 0.5 * (aDu + self.aD @ self.u)
