@@ -37,9 +37,9 @@ CASES = [
 
 
 def loop_time(scene_name, overrides, repeat=1):
-    from coupling import scene as scn
-    from coupling.build import build
-    from coupling.run import simulate
+    from fpd.coupling import scene as scn
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate
 
     best = None
     for _ in range(repeat):
@@ -59,7 +59,7 @@ _CHILD = ("import atexit, sys\n"
           "    sys.stderr.write(f'\\nMAXRSS_KIB {kib}\\n')\n"
           "atexit.register(_hwm)\n"
           "sys.argv = ['fpd'] + sys.argv[1:]\n"
-          "from coupling.cli import entry\n"
+          "from fpd.coupling.cli import entry\n"
           "entry()\n")
 
 
@@ -85,9 +85,9 @@ def process_time(scene_name, overrides, plots=False):
 def thermal_error():
     """fe1d default mesh and scheme against the half-space solution, 1 MW/m2 for 10 s."""
     try:
-        from thermal import exact
-        from thermal.fe1d import FE1DPlate
-        from thermal.params import PlateParams
+        from fpd.thermal import exact
+        from fpd.thermal.fe1d import FE1DPlate
+        from fpd.thermal.params import PlateParams
     except ImportError:
         return None
     p = PlateParams(model="fe1d", plate_thickness=0.2, back="adiabatic", h_conv=0.0)
@@ -107,7 +107,7 @@ def main():
     args = ap.parse_args()
     import numpy
     try:
-        from thermal.fe1d import jit_kernels
+        from fpd.thermal.fe1d import jit_kernels
         jit = "numba kernel" if jit_kernels() is not None else "pure numpy/LAPACK"
     except ImportError:
         jit = "?"

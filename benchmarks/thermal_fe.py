@@ -15,8 +15,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from thermal import exact  # noqa: E402
-from thermal.params import PlateParams  # noqa: E402
+from fpd.thermal import exact  # noqa: E402
+from fpd.thermal.params import PlateParams  # noqa: E402
 
 Q = 1.0e6
 
@@ -26,7 +26,7 @@ WARM = 3   # the start-up substeps and BDF2's own factorisation happen in the fi
 
 def bench_fe1d(n: int, steps: int = 10000, dt: float = 1e-3, scheme: str = "bdf2"):
     """(set-up s incl. the first WARM steps, s per later step, surface error K)."""
-    from thermal.fe1d import FE1DPlate
+    from fpd.thermal.fe1d import FE1DPlate
 
     grading = 1.05 ** (100 / n)          # the default mesh family, nested
     p = PlateParams(model="fe1d", n_elements=n, grading=grading, scheme=scheme)
@@ -49,8 +49,8 @@ def bench_axisym(nr: int, nz: int, steps: int = 500, dt: float = 1e-2, scheme: s
     s per later step, relative centre and footprint-mean errors)."""
     import numpy as np
 
-    from meshes.rz import rz_mesh
-    from thermal.axisym import AxisymPlate
+    from fpd.meshes.rz import rz_mesh
+    from fpd.thermal.axisym import AxisymPlate
 
     a, R, H = 0.005, 0.03, 0.03
     p = PlateParams(model="axisym", plate_radius=R, plate_thickness=H, a_contact_m=a,

@@ -14,8 +14,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from mechanics.geometry import DeviceGeometry  # noqa: E402
-from mechanics.two_phase import TwoPhaseStepper  # noqa: E402
+from fpd.mechanics.geometry import DeviceGeometry  # noqa: E402
+from fpd.mechanics.two_phase import TwoPhaseStepper  # noqa: E402
 from tests.records_helper import elcentro  # noqa: E402
 
 DEVICE = DeviceGeometry("DFP", R1=2.2, R2=2.2, pad_height=0.10, pad_diameter=0.25,
@@ -43,7 +43,7 @@ def numba_kernel_us(make, repeats: int = 3):
     """The same steps through mechanics/_two_phase_jit.run_steps (None without numba)."""
     try:
         import numpy as np
-        from mechanics import _two_phase_jit as K
+        from fpd.mechanics import _two_phase_jit as K
     except ImportError:
         return None
     best = float("inf")
@@ -76,7 +76,7 @@ def main() -> None:
     if kernel_us is not None:
         print(f"numba kernel step + values:  {kernel_us:6.2f} us/step (mechanics/_two_phase_jit.py)")
     try:
-        from mechanics.seated import SeatedStepper
+        from fpd.mechanics.seated import SeatedStepper
     except ImportError:
         return
     seated = lambda: SeatedStepper(DEVICE, ground)  # noqa: E731

@@ -68,9 +68,9 @@ def main() -> None:
               f"W {(st.W1+st.W2)/Ws-1:+.3e}  max|du| {np.abs(uu-us).max():.3e} m")
 
     print("\n## Northridge 1994 (CDMG 24278, 090) x1.0, against the seated model")
-    from mechanics.geometry import G_ACC
-    from mechanics.ground_motion import ground_motion_from_samples, read_record
-    from mechanics.seated import SeatedStepper
+    from fpd.mechanics.geometry import G_ACC
+    from fpd.mechanics.ground_motion import ground_motion_from_samples, read_record
+    from fpd.mechanics.seated import SeatedStepper
     rec = read_record(Path(__file__).resolve().parents[1] / "scenes" / "records"
                       / "Northridge_CDMG24278_090.dat")
     for dt in (1e-3, 2.5e-4):

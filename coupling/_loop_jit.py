@@ -18,8 +18,8 @@ import math
 
 from numba import njit
 
-from mechanics import _two_phase_jit as tp
-from thermal import _plate_jit as pj
+from fpd.mechanics import _two_phase_jit as tp
+from fpd.thermal import _plate_jit as pj
 
 # ctl (int64)
 C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT = range(9)
@@ -139,7 +139,7 @@ def _refresh_stale_caches() -> None:
     import hashlib
     import os
 
-    from thermal import _column_jit
+    from fpd.thermal import _column_jit
 
     files = [m.__file__ for m in (_column_jit, pj, tp)] + [__file__]
     h = hashlib.sha256()

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from mechanics.friction import make_law
-from mechanics.geometry import DeviceGeometry, G_ACC
-from thermal.params import PlateParams
+from fpd.mechanics.friction import make_law
+from fpd.mechanics.geometry import DeviceGeometry, G_ACC
+from fpd.thermal.params import PlateParams
 
 from .scene import Scene, SceneError
 
@@ -40,7 +40,7 @@ def geometry_of(scene: Scene) -> DeviceGeometry:
 
 def loading_of(scene: Scene, dt: float):
     """GroundMotion (record, harmonic) or DisplacementProgramme (test machine)."""
-    from mechanics import ground_motion as gmod
+    from fpd.mechanics import ground_motion as gmod
 
     ld = scene["loading"]
     duration = scene["solver"].get("duration")
@@ -81,16 +81,16 @@ def make_plate(params: PlateParams, dt: float):
     if params.model == "none":
         return None
     if params.model == "lumped":
-        from thermal.lumped import LumpedPlate
+        from fpd.thermal.lumped import LumpedPlate
         return LumpedPlate(params, dt)
     if params.model == "fe1d":
-        from thermal.fe1d import FE1DPlate
+        from fpd.thermal.fe1d import FE1DPlate
         try:
             return FE1DPlate(params, dt)
         except ValueError as exc:          # e.g. a grading that makes the first element vanish
             raise SceneError(f"{exc} (thermal.n_elements / thermal.grading)") from None
     if params.model == "axisym":
-        from thermal.axisym import AxisymPlate
+        from fpd.thermal.axisym import AxisymPlate
         try:
             return AxisymPlate(params, dt)
         except ValueError as exc:          # a user mesh without the named boundaries, a degenerate grading
@@ -117,13 +117,13 @@ def build(scene: Scene) -> Simulation:
     loading = loading_of(scene, dt)
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
-        from mechanics.seated import SeatedTestMachine
+        from fpd.mechanics.seated import SeatedTestMachine
         mech = SeatedTestMachine(geom, loading)
     elif model == "seated":
-        from mechanics.seated import SeatedStepper
+        from fpd.mechanics.seated import SeatedStepper
         mech = SeatedStepper(geom, loading)
     else:
-        from mechanics.two_phase import TwoPhaseStepper
+        from fpd.mechanics.two_phase import TwoPhaseStepper
         mech = TwoPhaseStepper(geom, loading)
     if hasattr(loading, "record"):
         info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,

@@ -186,7 +186,7 @@ def main(argv=None) -> int:
         _parser().print_help()
         return EXIT_INPUT
     signal.signal(signal.SIGTERM, _sigterm)
-    from mechanics.ground_motion import RecordError
+    from fpd.mechanics.ground_motion import RecordError
 
     from .scene import SceneError
     try:

@@ -25,13 +25,13 @@ import sys
 
 import numpy as np
 
-from thermal.jit import OptionalKernels
+from fpd.thermal.jit import OptionalKernels
 
 CHUNK = 2048                 # steps per call at most (progress bar, Ctrl-C latency)
 
 # (coupling._loop_jit, mechanics._two_phase_jit, thermal._plate_jit), or None
 # (numba missing or FPD_NO_JIT set)
-kernels = OptionalKernels("coupling._loop_jit", "mechanics._two_phase_jit", "thermal._plate_jit")
+kernels = OptionalKernels("fpd.coupling._loop_jit", "fpd.mechanics._two_phase_jit", "fpd.thermal._plate_jit")
 
 
 def _numba_loaded() -> bool:
@@ -59,7 +59,7 @@ def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
     mech = sim.mechanics
     if mech is None or sim.substeps != 1 or sim.scene["coupling"]["scheme"] != "staggered":
         return None
-    if type(mech).__name__ != "TwoPhaseStepper" or type(mech).__module__ != "mechanics.two_phase":
+    if type(mech).__name__ != "TwoPhaseStepper" or type(mech).__module__ != "fpd.mechanics.two_phase":
         return None
     if any(k in vars(mech) for k in ("step", "values", "save", "restore")):
         return None                  # patched (tests): the Python loop calls the patch
@@ -117,7 +117,7 @@ class CompiledLoop:
             P = self.PP[i]
             P[pj.P_KIND] = {"none": pj.KIND_NONE, "lumped": pj.KIND_LUMPED, "fe1d": pj.KIND_FE1D}[kind]
             if kind == "fe1d":
-                from thermal.stepping import START_STEPS
+                from fpd.thermal.stepping import START_STEPS
                 integ = plate.integ
                 n = len(integ.u)
                 h = integ.dt

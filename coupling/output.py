@@ -13,11 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
-from mechanics.seated import PHASES
+from fpd.mechanics.seated import PHASES
 
 from .scene import Scene, SceneError, to_toml
 
-VERSION = "0.1.0"
+from fpd import __version__ as VERSION
 
 
 def check_out_dir(out: Path, force: bool) -> None:
@@ -163,7 +163,7 @@ def summary(scene: Scene, result, sim) -> dict:
 def closed_form_check(result, sim) -> dict:
     """Thermal-only scenes: the surface temperature of the heated plate
     against the closed form the scene names (model.md section 7)."""
-    from thermal import exact
+    from fpd.thermal import exact
 
     ld = sim.scene["loading"]
     side = 0 if ld["plate"] in ("lower", "both") else 1

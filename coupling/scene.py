@@ -76,7 +76,7 @@ FRICTION_KEYS = {
 
 def _plate_default(name):
     """Defaults of the [thermal] keys are PlateParams' (one source of truth)."""
-    from thermal.params import PlateParams
+    from fpd.thermal.params import PlateParams
     return PlateParams.__dataclass_fields__[name].default
 
 
@@ -413,7 +413,7 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
 
 
 def _cross_checks(ctx: _Ctx, data: dict):
-    from mechanics.geometry import DeviceGeometry, geometry_errors
+    from fpd.mechanics.geometry import DeviceGeometry, geometry_errors
 
     dev = data["device"]
     geom = DeviceGeometry(dev["kind"], dev["R1"], dev["R2"], dev["pad_height"], dev["pad_diameter"],

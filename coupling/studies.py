@@ -440,7 +440,7 @@ def compare_report(name, cases, rows, missing, ref, val, fast, plots) -> str:
              f"t_H = {val['t_H_s']:.0f} s (slow cycling): then the column under the pad has time to even out "
              f"between passages.")
     try:
-        from thermal import exact
+        from fpd.thermal import exact
         t = cases[0].scene.thermal("lower")
         ratios = []
         for tt in (dur, val["t_H_s"], val["t_10pct_s"]):
@@ -479,7 +479,7 @@ def closed_form(scene):
     if scene["loading"]["kind"] != "heat" or scene["loading"]["plate"] not in ("lower", "both"):
         return None
     try:
-        from thermal import exact
+        from fpd.thermal import exact
     except ImportError:
         return None
     t = scene.thermal("lower")
@@ -504,7 +504,7 @@ def closed_form(scene):
     elif t["model"] == "axisym" and deep > 1.75 and t["plate_radius"] - a > 3.5 * math.sqrt(kappa * dur):
         rise, what = float(exact.disk_mean(dur, q, a, t["k"], kappa)), "disk source on a half-space"
     elif t["model"] == "lumped":
-        from thermal.params import PlateParams
+        from fpd.thermal.params import PlateParams
         pp = PlateParams(**t, a_contact_m=a)
         area = t["exchange_area_m2"] or math.pi * t["plate_radius"] ** 2
         P = q * pp.contact_area
@@ -591,7 +591,7 @@ def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
         levels = []
         for k in range(3):
             n, g = n0 * 2 ** k // 2, g0 ** (1.0 / 2 ** (k - 1))
-            from meshes.line import graded_nodes
+            from fpd.meshes.line import graded_nodes
             h1 = float(graded_nodes(t["plate_thickness"], n, g)[1])
             levels.append((f"n_elements={n}, grading={g:.5g}", fine_dt + thermal_set(n_elements=n, grading=g), h1))
         sweeps.append(Sweep("mesh", "thermal.n_elements", levels, exact=has_exact))

@@ -135,7 +135,7 @@ class VTKSeries:
     """
 
     def __init__(self, folder, sim):
-        from meshes.vtk import PVDWriter
+        from fpd.meshes.vtk import PVDWriter
 
         self.folder = Path(folder)
         self.sim = sim

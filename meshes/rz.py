@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from meshes.line import graded_nodes
+from fpd.meshes.line import graded_nodes
 
 BOUNDARIES = ("top", "bottom", "outer", "axis")
 REQUIRED = ("top", "bottom", "outer")     # the axis carries no condition (r = 0)

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mechanics.geometry import G_ACC
-from mechanics.ground_motion import GroundMotion, ground_motion_from_samples, read_record
+from fpd.mechanics.geometry import G_ACC
+from fpd.mechanics.ground_motion import GroundMotion, ground_motion_from_samples, read_record
 
 RECORDS = Path(__file__).resolve().parents[1] / "scenes" / "records"
 

@@ -35,9 +35,9 @@ EVERY = 25     # rows kept: every 25th plus the last
 
 
 def run_case(name):
-    from coupling import scene as scn
-    from coupling.build import build
-    from coupling.run import simulate
+    from fpd.coupling import scene as scn
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate
 
     scene, over = CASES[name]
     res = simulate(build(scn.load(scene, over)))

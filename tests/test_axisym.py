@@ -4,11 +4,11 @@ import math
 import numpy as np
 import pytest
 
-from meshes.rz import rz_mesh
-from thermal import exact
-from thermal.axisym import AxisymPlate, TopLoad, covered_fraction
-from thermal.fe1d import FE1DPlate
-from thermal.params import PlateParams
+from fpd.meshes.rz import rz_mesh
+from fpd.thermal import exact
+from fpd.thermal.axisym import AxisymPlate, TopLoad, covered_fraction
+from fpd.thermal.fe1d import FE1DPlate
+from fpd.thermal.params import PlateParams
 
 Q = 1.0e6
 
@@ -318,7 +318,7 @@ def test_modal_stepping_equals_nodal_stepping(scheme, back):
 
 
 def _jit_or_skip():
-    from thermal.axisym import jit_kernels
+    from fpd.thermal.axisym import jit_kernels
     if jit_kernels() is None:
         pytest.skip("numba not installed (or FPD_NO_JIT)")
 
@@ -328,7 +328,7 @@ def test_jit_pattern_matches_pure_bit_for_bit():
     loop: bit-for-bit on graded top meshes, centred, c < a, c = a, c > a,
     breakpoints on nodes, footprints hanging over the edge or off the plate."""
     _jit_or_skip()
-    from thermal.axisym import jit_kernels
+    from fpd.thermal.axisym import jit_kernels
     rng = np.random.default_rng(7)
     for _ in range(60):
         n = int(rng.integers(3, 250))

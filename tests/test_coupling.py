@@ -2,9 +2,9 @@
 import numpy as np
 import pytest
 
-from coupling import scene as scn
-from coupling.build import build
-from coupling.run import simulate
+from fpd.coupling import scene as scn
+from fpd.coupling.build import build
+from fpd.coupling.run import simulate
 
 
 def run(name, *over):
@@ -132,8 +132,8 @@ def test_lab_scene_friction_falls_as_the_plates_heat_and_converges():
 
 
 def test_an_overturned_pad_is_a_failed_run_with_its_history():
-    from mechanics.geometry import G_ACC
-    from mechanics.two_phase import TwoPhaseStepper
+    from fpd.mechanics.geometry import G_ACC
+    from fpd.mechanics.two_phase import TwoPhaseStepper
     from records_helper import pulse
 
     path = scn.resolve_path("default")

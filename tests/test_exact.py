@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy import integrate, special
 
-from thermal import exact
+from fpd.thermal import exact
 
 K, KAPPA, RHO, C = 16.0, 16.0 / (7850 * 500), 7850.0, 500.0
 Q = 1.0e6

@@ -18,9 +18,9 @@ from pathlib import Path
 
 import pytest
 
-from coupling import cli
-from coupling import output as out_mod
-from coupling.scene import SceneError, load, parse_override
+from fpd.coupling import cli
+from fpd.coupling import output as out_mod
+from fpd.coupling.scene import SceneError, load, parse_override
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = """
@@ -61,7 +61,7 @@ def _env(extra=None):
 
 
 def fpd(args, cwd, env_extra=None, timeout=120):
-    return subprocess.run([sys.executable, "-m", "coupling.cli", *args], cwd=cwd, env=_env(env_extra),
+    return subprocess.run([sys.executable, "-m", "fpd", *args], cwd=cwd, env=_env(env_extra),
                           capture_output=True, text=True, timeout=timeout)
 
 
@@ -129,8 +129,8 @@ def test_injected_nan_with_csv_every(tmp_path, scene_file):
 def test_step_raising_arithmetic_error_keeps_history(tmp_path, scene_file, monkeypatch):
     """Any arithmetic error inside a step is a numerical failure at that step,
     not a traceback that throws the history away."""
-    from coupling.build import build
-    from coupling.run import simulate
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate
 
     sim = build(load(str(scene_file)))
     real = sim.mechanics.step
@@ -152,7 +152,7 @@ def test_step_raising_arithmetic_error_keeps_history(tmp_path, scene_file, monke
 def _start_long_run(tmp_path, extra=()):
     out = tmp_path / "runs" / "long"
     out.parent.mkdir()
-    proc = subprocess.Popen([sys.executable, "-m", "coupling.cli", "run", "--out", str(out),
+    proc = subprocess.Popen([sys.executable, "-m", "fpd", "run", "--out", str(out),
                              "--set", "solver.dt=1e-4", "--set", "output.plots=false", *extra],
                             cwd=tmp_path, env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     partial = out.parent / f".long.partial-{proc.pid}"

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 import scipy.linalg as sl
 
-from thermal import exact
-from thermal.fe1d import FE1DPlate
-from thermal.params import PlateParams
+from fpd.thermal import exact
+from fpd.thermal.fe1d import FE1DPlate
+from fpd.thermal.params import PlateParams
 
 Q = 1.0e6
 
@@ -194,7 +194,7 @@ def test_rannacher_restarts_at_every_switch():
         restarts += (i == 0) or (on != was_on)    # the start, then every on/off switch
         was_on = on
         m.step(5e3, centre)
-    from thermal.stepping import START_SUBSTEPS
+    from fpd.thermal.stepping import START_SUBSTEPS
     assert restarts >= 5 and m.integ.half_steps == START_SUBSTEPS * restarts
 
 

@@ -6,8 +6,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from thermal import fe1d
-from thermal.params import PlateParams
+from fpd.thermal import fe1d
+from fpd.thermal.params import PlateParams
 
 pytestmark = pytest.mark.skipif(fe1d.jit_kernels() is None, reason="numba not installed (or FPD_NO_JIT)")
 

@@ -9,17 +9,17 @@ import math
 import numpy as np
 import pytest
 
-from coupling import fast_loop
-from coupling import scene as scn
-from coupling.build import build
-from coupling.run import simulate
+from fpd.coupling import fast_loop
+from fpd.coupling import scene as scn
+from fpd.coupling.build import build
+from fpd.coupling.run import simulate
 
 pytestmark = pytest.mark.skipif(fast_loop.kernels() is None, reason="numba not installed (or FPD_NO_JIT)")
 
-from mechanics import _two_phase_jit as K  # noqa: E402
-from mechanics.friction import Constant, Kumar2015, Linear, Table  # noqa: E402
-from mechanics.geometry import DeviceGeometry, G_ACC  # noqa: E402
-from mechanics.two_phase import PadOverturned, TwoPhaseStepper  # noqa: E402
+from fpd.mechanics import _two_phase_jit as K  # noqa: E402
+from fpd.mechanics.friction import Constant, Kumar2015, Linear, Table  # noqa: E402
+from fpd.mechanics.geometry import DeviceGeometry, G_ACC  # noqa: E402
+from fpd.mechanics.two_phase import PadOverturned, TwoPhaseStepper  # noqa: E402
 from tests.records_helper import elcentro, pulse  # noqa: E402
 
 DEVICE = DeviceGeometry("DFP", R1=2.2, R2=2.2, pad_height=0.10, pad_diameter=0.25, pad_mass=30.0, mass=1.0e5)
@@ -170,7 +170,7 @@ def test_compiled_loop_matches_python_loop(monkeypatch, tmp_path, name):
 
 
 def _cols(sim):
-    from coupling.run import _columns
+    from fpd.coupling.run import _columns
     return _columns(sim)[0]
 
 
@@ -202,7 +202,7 @@ def test_a_step_python_would_fail_is_replayed_by_python(monkeypatch):
 
 
 def test_frames_and_hottest_fields_as_the_python_loop(monkeypatch):
-    from coupling.hottest import HottestFields
+    from fpd.coupling.hottest import HottestFields
 
     def recorder(log):
         def on_frame(n, sim):
@@ -292,7 +292,7 @@ def test_rows_into_a_small_buffer():
     assert out.steps == sim.n_steps
     got.append(buf[:k].copy())
     rows = np.vstack(got)
-    from coupling.run import _columns
+    from fpd.coupling.run import _columns
     order = _columns(sim)[1]
     want = ref.data[1:][:, [order.index(c) for c in cols]]
     assert len(got) > 5
@@ -304,7 +304,7 @@ def test_streamed_history_and_ctrl_c_while_a_block_is_taken(monkeypatch, tmp_pat
     """fpd run's StreamHistory with small blocks: the compiled loop stops at
     every full buffer for simulate() to hand it over; a Ctrl-C while a block
     is formatted ends the run there, as with the Python loop."""
-    from coupling.history import StreamHistory
+    from fpd.coupling.history import StreamHistory
 
     over = ["solver.duration=2"]
     for interrupt in (False, True):

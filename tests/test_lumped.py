@@ -4,8 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from thermal.lumped import LumpedPlate
-from thermal.params import PlateParams
+from fpd.thermal.lumped import LumpedPlate
+from fpd.thermal.params import PlateParams
 
 
 def test_constant_power_matches_the_exponential():

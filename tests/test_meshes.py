@@ -5,9 +5,9 @@ import meshio
 import numpy as np
 import pytest
 
-from meshes.line import graded_nodes, line_mesh
-from meshes.rz import radial_nodes, read_rz_mesh, rz_mesh
-from meshes.vtk import VTKSeries
+from fpd.meshes.line import graded_nodes, line_mesh
+from fpd.meshes.rz import radial_nodes, read_rz_mesh, rz_mesh
+from fpd.meshes.vtk import VTKSeries
 
 
 def test_line_grading():
@@ -79,8 +79,8 @@ def test_read_vtu_cell_sets(tmp_path):
 
 
 def test_read_clockwise_cells_are_reoriented(tmp_path):
-    from thermal.axisym import AxisymPlate
-    from thermal.params import PlateParams
+    from fpd.thermal.axisym import AxisymPlate
+    from fpd.thermal.params import PlateParams
 
     m, pts, cells, names, tags = _section(tmp_path, "quad")
     cells = [("quad", cells[0][1][:, ::-1]), cells[1]]
@@ -108,8 +108,8 @@ def test_read_mesh_missing_boundary_is_a_clear_error(tmp_path):
 
 
 def test_axisym_on_a_user_mesh_matches_generated(tmp_path):
-    from thermal.axisym import AxisymPlate
-    from thermal.params import PlateParams
+    from fpd.thermal.axisym import AxisymPlate
+    from fpd.thermal.params import PlateParams
 
     m, pts, cells, names, tags = _section(tmp_path, "quad")
     sets = {n: [np.array([], dtype=int), np.flatnonzero(tags == i)] for i, n in enumerate(names)}
@@ -125,9 +125,9 @@ def test_axisym_on_a_user_mesh_matches_generated(tmp_path):
 
 def test_vtk_series_readable_by_pyvista(tmp_path):
     import pyvista as pv
-    from thermal.axisym import AxisymPlate
-    from thermal.fe1d import FE1DPlate
-    from thermal.params import PlateParams
+    from fpd.thermal.axisym import AxisymPlate
+    from fpd.thermal.fe1d import FE1DPlate
+    from fpd.thermal.params import PlateParams
 
     for model, name in ((FE1DPlate(PlateParams(n_elements=8), 0.1), "col"),
                         (AxisymPlate(PlateParams(nr=6, nz=3), 0.1), "plate")):

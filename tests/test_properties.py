@@ -20,9 +20,9 @@ from hypothesis import event as _event
 from hypothesis.control import currently_in_test_context
 from hypothesis import strategies as st
 
-from coupling.build import build
-from coupling.scene import SceneError, apply_overrides, load, loading_length, to_toml, validate
-from mechanics.ground_motion import RecordError, parse_at2, parse_two_column, read_record
+from fpd.coupling.build import build
+from fpd.coupling.scene import SceneError, apply_overrides, load, loading_length, to_toml, validate
+from fpd.mechanics.ground_motion import RecordError, parse_at2, parse_two_column, read_record
 
 SETTINGS = settings(max_examples=200, deadline=None,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
@@ -193,14 +193,14 @@ RECORD_FILES = [str(Path(__file__).resolve().parent.parent / "scenes" / "records
 
 
 def _table_of(schema: dict, fixed=None):
-    from coupling.scene import REQUIRED
+    from fpd.coupling.scene import REQUIRED
     need = {k: _value_of(v) for k, v in schema.items() if v[1] is REQUIRED or k == "R2"}
     return st.fixed_dictionaries((fixed or {}) | need,
                                  optional={k: _value_of(v) for k, v in schema.items() if k not in need})
 
 
 def _plausible():
-    from coupling.scene import FRICTION_KEYS, LOADING_KEYS, TABLES as SCHEMA, THERMAL_KEYS
+    from fpd.coupling.scene import FRICTION_KEYS, LOADING_KEYS, TABLES as SCHEMA, THERMAL_KEYS
     loading = st.one_of(*[_table_of(keys, {"kind": st.just(kind)}) for kind, keys in LOADING_KEYS.items()
                           if kind != "record"],
                         _table_of({k: v for k, v in LOADING_KEYS["record"].items() if k not in ("record", "file")},

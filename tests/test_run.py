@@ -19,7 +19,7 @@ SUMMARY = ("status", "scene", "models", "steps", "runtime_s", "peak_u_m", "resid
 
 def fpd(*args, cwd):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([sys.executable, "-m", "coupling.cli", *args], cwd=cwd, env=env,
+    return subprocess.run([sys.executable, "-m", "fpd", *args], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=300)
 
 
@@ -65,7 +65,7 @@ def test_resolved_scene_reruns_identically(tmp_path):
 
 
 def test_every_packaged_scene_checks(tmp_path):
-    from coupling import scene
+    from fpd.coupling import scene
     for name in scene.packaged_scenes():
         r = fpd("check", name, cwd=tmp_path)
         assert r.returncode == 0, (name, r.stderr)

@@ -4,8 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from mechanics.ground_motion import harmonic_ground_motion, sine_programme
-from mechanics.seated import SeatedStepper, SeatedTestMachine
+from fpd.mechanics.ground_motion import harmonic_ground_motion, sine_programme
+from fpd.mechanics.seated import SeatedStepper, SeatedTestMachine
 
 from helpers import at_rest, dfp, elcentro, run
 

@@ -35,8 +35,8 @@ def test_history_matches_pre_optimisation(ref, name):
 
 
 def test_chunked_csv_writes_the_bytes_savetxt_wrote(tmp_path):
-    from coupling.output import write_csv
-    from mechanics.seated import PHASES
+    from fpd.coupling.output import write_csv
+    from fpd.mechanics.seated import PHASES
 
     class R:
         columns = ["t_s", "u_m", "phase", "T1_C"]

@@ -15,10 +15,10 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from coupling import output, scene as scn
-from coupling.build import build
-from coupling.history import PlotSampler, Stats, StreamHistory
-from coupling.run import simulate
+from fpd.coupling import output, scene as scn
+from fpd.coupling.build import build
+from fpd.coupling.history import PlotSampler, Stats, StreamHistory
+from fpd.coupling.run import simulate
 
 
 def _summary(sc, res, sim):
@@ -75,7 +75,7 @@ def test_streamed_csv_and_summary_identical_to_in_memory(tmp_path, case):
 
 def test_fpd_run_writes_the_in_memory_bytes(tmp_path, monkeypatch, restore_sigterm):
     """The command line streams; its folder holds what the in-memory path writes."""
-    from coupling import cli, history
+    from fpd.coupling import cli, history
 
     monkeypatch.setattr(history, "CHUNK_ROWS", 500)
     over = ["solver.duration=2", "output.plots=false", "output.vtk_every=0"]

@@ -11,8 +11,8 @@ import math
 
 import pytest
 
-from coupling.cli import main
-from coupling.studies import model_available, richardson
+from fpd.coupling.cli import main
+from fpd.coupling.studies import model_available, richardson
 
 
 def _rows(path):
@@ -176,8 +176,8 @@ def test_stability_fast(tmp_path):
 
 
 def test_stability_catalogue_scenes_are_valid_and_described():
-    from coupling import scene as scn
-    from coupling.stability import catalogue
+    from fpd.coupling import scene as scn
+    from fpd.coupling.stability import catalogue
     paths = catalogue()
     assert len(paths) >= 12
     for p in paths:
@@ -188,8 +188,8 @@ def test_stability_catalogue_scenes_are_valid_and_described():
 
 def test_pulse_loading_step_is_an_impulse():
     """The ground velocity step gives the same impulse at any dt."""
-    from coupling.build import build
-    from coupling.scene import load
+    from fpd.coupling.build import build
+    from fpd.coupling.scene import load
     for dt in (2e-3, 5e-4):
         sc = load("scenes/stability/velocity-step.toml", [f"solver.dt={dt}"])
         gm = build(sc).mechanics.ground
@@ -221,7 +221,7 @@ def test_stability_full(tmp_path):
 def test_stability_failure_exits_1_and_is_reported(tmp_path, monkeypatch):
     """A case that breaks a criterion fails the command (exit 1) and the
     report names it and says why; the folder is still written."""
-    from coupling import stability
+    from fpd.coupling import stability
     one = [p for p in stability.catalogue() if p.stem == "velocity-step"]
     monkeypatch.setattr(stability, "catalogue", lambda: one)
     monkeypatch.setattr(stability, "MECH_TOL", 1e-15)

@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st_
 
-from mechanics.geometry import G_ACC, DeviceGeometry, geometry_errors
-from mechanics.ground_motion import GroundMotion
-from mechanics.phases import DIAGONAL_AC, DIAGONAL_BD, PHASES, SLIP, STICK, TILT
-from mechanics.seated import SeatedStepper
-from mechanics.two_phase import (
+from fpd.mechanics.geometry import G_ACC, DeviceGeometry, geometry_errors
+from fpd.mechanics.ground_motion import GroundMotion
+from fpd.mechanics.phases import DIAGONAL_AC, DIAGONAL_BD, PHASES, SLIP, STICK, TILT
+from fpd.mechanics.seated import SeatedStepper
+from fpd.mechanics.two_phase import (
     COLUMNS, PadOverturned, TwoPhaseStepper, corner_pivot_rotation, leading_corner_tipping_ratio,
     pivot_chain, rocking_acceleration, rocking_threshold, seated_normal_forces,
     sliding_threshold, two_phase_validity_errors,

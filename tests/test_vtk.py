@@ -18,7 +18,7 @@ EVERY = 100
 
 def _fpd(*args, cwd=ROOT):
     env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT))
-    return subprocess.run([sys.executable, "-m", "coupling.cli", *map(str, args)], cwd=cwd, env=env,
+    return subprocess.run([sys.executable, "-m", "fpd", *map(str, args)], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=120)
 
 
@@ -77,9 +77,9 @@ def test_device_series_matches_timeseries(run_dir):
 
 
 def test_seated_dfp_polygons_touch_both_surfaces():
-    from coupling.vtk_output import device_polygons, pad_pose
-    from mechanics.geometry import DeviceGeometry
-    from thermal.params import PlateParams
+    from fpd.coupling.vtk_output import device_polygons, pad_pose
+    from fpd.mechanics.geometry import DeviceGeometry
+    from fpd.thermal.params import PlateParams
 
     g = DeviceGeometry("DFP", 2.2, 3.0, 0.10, 0.25, 30.0, 1e5)
     pp = (PlateParams(), PlateParams())
@@ -97,8 +97,8 @@ def test_seated_dfp_polygons_touch_both_surfaces():
 
 
 def test_tilting_pad_rotates_about_its_pivot_corner():
-    from coupling.vtk_output import pad_pose
-    from mechanics.geometry import DeviceGeometry
+    from fpd.coupling.vtk_output import pad_pose
+    from fpd.mechanics.geometry import DeviceGeometry
 
     g = DeviceGeometry("DFP", 2.2, 2.2, 0.10, 0.25, 30.0, 1e5)
 
@@ -159,10 +159,10 @@ class LinePlate:
 def test_plate_field_series_and_hottest_picture(tmp_path):
     import pyvista
 
-    from coupling import scene as scn
-    from coupling.build import build
-    from coupling.run import simulate
-    from coupling.vtk_output import VTKSeries
+    from fpd.coupling import scene as scn
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate
+    from fpd.coupling.vtk_output import VTKSeries
 
     sc = scn.load("sfp-harmonic", ["loading.cycles=1", f"output.vtk_every={EVERY}"])
     sim = build(sc)
@@ -225,7 +225,7 @@ def test_fe_plate_run_writes_plate_series_and_hottest_pictures(tmp_path):
 
 
 def test_pvd_is_valid_after_every_frame(tmp_path):
-    from meshes.vtk import PVDWriter
+    from fpd.meshes.vtk import PVDWriter
 
     w = PVDWriter(tmp_path, "s")
     assert _pvd_frames(tmp_path / "s.pvd") == []
@@ -263,7 +263,7 @@ def test_render_frames_and_gif(run_dir):
 
 
 def test_render_caps_frames():
-    from coupling.render import frame_indices
+    from fpd.coupling.render import frame_indices
 
     idx = frame_indices(1001, 200)
     assert len(idx) == 200 and idx[0] == 0 and idx[-1] == 1000 and np.all(np.diff(idx) > 0)
@@ -282,10 +282,10 @@ def test_render_bad_dirs(tmp_path):
 # -- import hygiene ---------------------------------------------------------------------
 _IMPORT_PROBE = """
 import sys
-from coupling import cli
-from coupling import scene as scn
-from coupling.build import build
-from coupling.run import simulate
+from fpd.coupling import cli
+from fpd.coupling import scene as scn
+from fpd.coupling.build import build
+from fpd.coupling.run import simulate
 over = ["solver.duration=0.5", "output.plots=false", "thermal.model={model}"]
 sc = scn.load(None, over)
 assert sc["output"]["vtk_every"] == 0

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from thermal._column_jit import N_SCALARS, _dpttrs, _dsbmv, _ddot, bdf2_column
+from fpd.thermal._column_jit import N_SCALARS, _dpttrs, _dsbmv, _ddot, bdf2_column
 
 KIND_NONE, KIND_LUMPED, KIND_FE1D = 0, 1, 2
 

@@ -32,13 +32,13 @@ import scipy.sparse as sp
 from scipy.linalg import eigh, lapack
 from scipy.sparse.linalg import splu
 
-from meshes.line import graded_nodes
-from meshes.rz import read_rz_mesh, rz_mesh
-from thermal.jit import OptionalKernels
-from thermal.params import PlateParams
-from thermal.stepping import Integrator
+from fpd.meshes.line import graded_nodes
+from fpd.meshes.rz import read_rz_mesh, rz_mesh
+from fpd.thermal.jit import OptionalKernels
+from fpd.thermal.params import PlateParams
+from fpd.thermal.stepping import Integrator
 
-_KERNELS = OptionalKernels("thermal._axisym_jit", warm=True)
+_KERNELS = OptionalKernels("fpd.thermal._axisym_jit", warm=True)
 
 
 def jit_kernels():
@@ -559,7 +559,7 @@ class AxisymPlate:
         (TensorModes; False: always the nodal stepping with a sparse LU).
         jit: None uses the numba kernels when available (FPD_NO_JIT unset),
         False never, True requires them (same numbers either way)."""
-        from thermal.fe1d import check_params
+        from fpd.thermal.fe1d import check_params
 
         check_params(params)
         self.params = p = params

@@ -21,15 +21,15 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import blas, lapack
 
-from meshes.line import line_mesh
-from thermal.jit import OptionalKernels
-from thermal.params import PlateParams
-from thermal.stepping import START_STEPS, Integrator
+from fpd.meshes.line import line_mesh
+from fpd.thermal.jit import OptionalKernels
+from fpd.thermal.params import PlateParams
+from fpd.thermal.stepping import START_STEPS, Integrator
 
 BACKS = ("convection", "adiabatic", "fixed")
 SOURCES = ("follow-pad", "fixed-point")
 
-_KERNELS = OptionalKernels("thermal._column_jit", warm=True)
+_KERNELS = OptionalKernels("fpd.thermal._column_jit", warm=True)
 
 
 def jit_kernels():

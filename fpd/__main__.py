@@ -1,0 +1,4 @@
+"""``python -m fpd``: the ``fpd`` command."""
+from fpd.coupling.cli import entry
+
+entry()

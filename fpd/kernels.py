@@ -1,0 +1,84 @@
+"""One source, two backends: the per-step physics is written once.
+
+A *kernel module* is an ordinary Python module that sets ``__kernel__ = True``
+and defines its physics as plain functions over floats and float64 arrays (or
+Python lists, on the pure path), in the subset of Python that numba compiles:
+no classes, dicts, exceptions or keyword-only arguments inside the functions;
+errors are returned as flags. It never imports numba.
+
+- The pure path imports the module as usual and calls its functions.
+- The compiled path calls ``compiled("fpd.mechanics.two_phase_kernel")``: the
+  same source file is loaded a second time as a separate module, and every
+  function it defines is replaced by ``numba.njit`` of itself; functions and
+  modules it imported from other kernel modules are replaced by their compiled
+  counterparts, so calls between kernels stay compiled. Nothing is translated
+  by hand, so a change made in the source reaches both paths.
+
+``available()`` says whether the compiled path may be used (numba installed,
+``FPD_NO_JIT`` unset) without importing numba.
+"""
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import os
+import sys
+import types
+
+JIT_OPTIONS = {"cache": True, "nogil": True, "error_model": "numpy"}
+_SUFFIX = "__njit"
+_compiled: dict[str, types.ModuleType] = {}
+
+
+def available() -> bool:
+    """True when numba is installed and ``FPD_NO_JIT`` is unset (numba is not imported)."""
+    if os.environ.get("FPD_NO_JIT"):
+        return False
+    return "numba" in sys.modules or importlib.util.find_spec("numba") is not None
+
+
+def is_kernel_module(mod) -> bool:
+    return isinstance(mod, types.ModuleType) and getattr(mod, "__kernel__", False) is True
+
+
+def compiled(name: str) -> types.ModuleType:
+    """The kernel module ``name`` with each of its functions compiled by numba.
+
+    Module-level constants are taken from the pure module as it is now, so a
+    value changed there before the first ``compiled()`` call reaches the
+    compiled functions too (numba freezes globals at compile time; a cached
+    kernel keeps the globals it was compiled with, see ``fresh``)."""
+    if name in _compiled:
+        return _compiled[name]
+    import numba
+
+    pure = importlib.import_module(name)
+    if not is_kernel_module(pure):
+        raise TypeError(f"{name} is not a kernel module (it must set __kernel__ = True)")
+    spec = importlib.util.spec_from_file_location(name + _SUFFIX, pure.__file__)
+    mod = importlib.util.module_from_spec(spec)
+    mod.__package__ = pure.__package__      # relative imports resolve as in the pure module
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    _compiled[name] = mod                   # before rewiring: kernel modules may import each other
+    options = dict(JIT_OPTIONS, cache=JIT_OPTIONS["cache"] and not os.environ.get("FPD_JIT_NO_CACHE"))
+    for key, val in list(vars(mod).items()):
+        if key.startswith("__"):
+            continue
+        if isinstance(val, types.FunctionType):
+            if val.__module__ == spec.name:
+                mod.__dict__[key] = numba.njit(**options)(val)
+            elif is_kernel_module(sys.modules.get(val.__module__)):
+                mod.__dict__[key] = getattr(compiled(val.__module__), val.__name__)
+        elif is_kernel_module(val):
+            mod.__dict__[key] = compiled(val.__name__)
+        elif key in pure.__dict__ and not isinstance(val, (types.ModuleType, type)):
+            mod.__dict__[key] = pure.__dict__[key]
+    return mod
+
+
+def fresh() -> None:
+    """Forget the compiled modules (the next ``compiled()`` builds them again)."""
+    for name in list(_compiled):
+        sys.modules.pop(name + _SUFFIX, None)
+    _compiled.clear()
