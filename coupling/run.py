@@ -20,7 +20,7 @@ from .build import Simulation
 from .fast_loop import compiled_loop
 from .history import MemoryHistory, signals_held
 
-# canonical column order (interface.md); extra diagnostic columns follow
+# canonical column order (docs/reference.md); extra diagnostic columns follow
 CANONICAL = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad", "s1_m", "s2_m",
              "N1_N", "N2_N", "mu1", "mu2", "T1_C", "T2_C", "W1_J", "W2_J", "phase", "E_input_J",
              "E_kin_J", "E_pot_J", "E_reseat_J", "E_stored_J", "E_air_J")
