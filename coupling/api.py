@@ -227,6 +227,9 @@ def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **
     from .run import simulate
 
     sc = load_scene(scene, **overrides)
+    if progress:
+        from fpd import jitcache
+        jitcache.enable()           # the one-line notice before a first compile goes with the bar
     if out is not None:
         out = Path(out)
         check_out_dir(out, force)

@@ -275,6 +275,9 @@ def main(argv=None) -> int:
         _parser().print_help()
         return EXIT_INPUT
     signal.signal(signal.SIGTERM, _sigterm)
+    if not getattr(args, "quiet", False):
+        from fpd import jitcache
+        jitcache.enable()           # one line on stderr before the first compile of the kernels
     from fpd.mechanics.ground_motion import RecordError
 
     from .scene import SceneError
