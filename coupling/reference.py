@@ -80,16 +80,24 @@ def stale_descriptions() -> list[str]:
     return stale
 
 
-def declared_columns() -> list[str]:
-    """Every column a run can write: the steppers' own and the coupling loop's."""
-    from fpd.mechanics.seated import SEATED_COLUMNS
-    from fpd.mechanics.two_phase import COLUMNS as TWO_PHASE
+# where the columns a run can write are declared ("module:attribute", a sequence of
+# names): a new stepper or loop with its own columns adds a line here
+COLUMN_SOURCES = (
+    "fpd.coupling.run:CANONICAL",
+    "fpd.mechanics.seated:SEATED_COLUMNS",
+    "fpd.mechanics.two_phase:COLUMNS",
+)
 
-    from .run import CANONICAL
-    cols = list(CANONICAL)
-    for c in (*SEATED_COLUMNS, *TWO_PHASE):
-        if c not in cols:
-            cols.append(c)
+
+def declared_columns() -> list[str]:
+    """Every column a run can write, canonical order first (COLUMN_SOURCES)."""
+    import importlib
+    cols = []
+    for source in COLUMN_SOURCES:
+        mod, attr = source.split(":")
+        for c in getattr(importlib.import_module(mod), attr):
+            if c not in cols:
+                cols.append(c)
     return cols
 
 
