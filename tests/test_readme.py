@@ -65,7 +65,7 @@ def test_readme_lists_the_commands_it_should():
 def test_readme_commands_run(tmp_path):
     for args in fpd_commands(README):
         if args and args[0] == "run":
-            args = args + ["--set", "solver.duration=1.0", "--set", "output.plots=false", "--quiet", "--force"]
+            args = args + ["--set", "solver.duration=0.5", "--set", "output.plots=false", "--quiet", "--force"]
         r = subprocess.run([sys.executable, "-m", "fpd", *args], cwd=tmp_path, env=ENV, capture_output=True,
                            text=True, timeout=600)
         assert r.returncode == 0, (args, r.stderr[-2000:])
