@@ -52,9 +52,19 @@ def test_metadata_and_licence():
     assert proj["version"] == fpd.__version__
 
 
+def source_copy(dest: Path) -> Path:
+    """The repository without git, caches and build output (setuptools builds in
+    the source folder: its build/ and *.egg-info must not land in the checkout)."""
+    import shutil
+    shutil.copytree(ROOT, dest, ignore=shutil.ignore_patterns(
+        ".git", "__pycache__", "build", "*.egg-info", "results", ".pytest_cache"))
+    return dest
+
+
 @pytest.mark.slow
 def test_wheel_holds_only_fpd(tmp_path):
-    r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path), str(ROOT)],
+    src = source_copy(tmp_path / "src")
+    r = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path), str(src)],
                        capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
     wheel, = tmp_path.glob("*.whl")
