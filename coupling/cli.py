@@ -33,6 +33,7 @@ def _wrap(text: str) -> str:
     import textwrap
     return textwrap.fill(text, 88)
 
+
 _MAIN_EPILOG = """\
 examples:
   fpd run                                 run the packaged default scene into results/default/
