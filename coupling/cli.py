@@ -1,4 +1,4 @@
-"""``fpd``: the command line (interface.md).
+"""``fpd``: the command line (docs/reference.md).
 
 Exit status: 0 success; 2 bad input (one line on stderr, no results folder);
 1 numerical failure (history kept); 130 interrupted (history kept).
@@ -25,34 +25,124 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(EXIT_INPUT)
 
 
+_FMT = argparse.RawDescriptionHelpFormatter     # the examples keep their layout
+
+
+def _wrap(text: str) -> str:
+    """A description wrapped as argparse would (the raw formatter leaves it as given)."""
+    import textwrap
+    return textwrap.fill(text, 88)
+
+
+_MAIN_EPILOG = """\
+examples:
+  fpd run                                 run the packaged default scene into results/default/
+  fpd run lab-sine --set solver.dt=5e-4   a packaged scene with one key changed
+  fpd check my-scene.toml                 validate a scene file and print it resolved
+  fpd scenes                              list the packaged scenes
+  fpd run --help                          the options of one command
+
+Scene keys, output columns, summary.json fields, exit status: docs/reference.md
+(or `fpd reference`). Exit status: 0 ok, 1 numerical failure, 2 bad input, 130 interrupted.
+"""
+
+_SCENE_HELP = "a scene file (TOML) or a packaged scene name (see `fpd scenes`)"
+_SET_HELP = ("override one dotted scene key, typed as TOML (e.g. --set solver.dt=5e-4, "
+             "--set thermal.model=lumped); repeat for more keys")
+
+
+def _common(q, out_default: str) -> None:
+    """--out, --force, --quiet: the options every command that writes a folder has."""
+    q.add_argument("--out", metavar="DIR", help=f"results folder (default: {out_default})")
+    q.add_argument("--force", action="store_true", help="replace DIR if it exists and is not empty")
+    q.add_argument("--quiet", action="store_true", help="print nothing but errors (no progress, no report)")
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="fpd", description="Thermo-mechanical simulator of multiple friction pendulum isolators")
-    sub = p.add_subparsers(dest="cmd", parser_class=_Parser)
-    r = sub.add_parser("run", help="run a scene (default: the packaged default scene)")
-    r.add_argument("scene", nargs="?")
-    r.add_argument("--out")
-    r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    r.add_argument("--force", action="store_true")
-    r.add_argument("--quiet", action="store_true")
-    c = sub.add_parser("check", help="validate a scene and print it resolved")
-    c.add_argument("scene")
-    c.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    sub.add_parser("scenes", help="list the packaged scenes")
-    for name, helptext in (("compare", "the scene under lumped / fe1d / axisym plates"),
-                           ("converge", "dt and mesh refinement, error against run time")):
-        q = sub.add_parser(name, help=helptext)
-        q.add_argument("scene")
-        q.add_argument("--out")
-        q.add_argument("--force", action="store_true")
-        q.add_argument("--quiet", action="store_true")
+    from fpd import __version__
+
+    p = _Parser(prog="fpd", formatter_class=_FMT, epilog=_MAIN_EPILOG,
+                description=_wrap("Thermo-mechanical simulator of multiple friction pendulum isolators: a double or "
+                            "single friction pendulum sliding, tilting and heating up under an earthquake "
+                            "record or a bearing-test machine, with friction falling as the plates heat."))
+    p.add_argument("--version", action="version", version=f"fpd {__version__}",
+                   help="print the version and exit")
+    sub = p.add_subparsers(dest="cmd", parser_class=_Parser, metavar="COMMAND", title="commands")
+
+    r = sub.add_parser(
+        "run", formatter_class=_FMT, help="run a scene (default: the packaged default scene)",
+        description=_wrap("Run a scene and write DIR: timeseries.csv (one row per step, units in the column names), "
+                    "summary.json, scene.toml (the resolved scene), plots/ and, with output.vtk_every > 0, vtk/. "
+                    "Bad input stops before anything is written (exit 2)."),
+        epilog="""examples:
+  fpd run                                       the default scene into results/default/
+  fpd run lab-sine --out lab --force            a packaged scene into ./lab, replacing it
+  fpd run stability/tall-pad --quiet            a scene of the stability catalogue
+  fpd run my.toml --set solver.duration=5 --set output.vtk_every=100
+  fpd run results/default/scene.toml --out again   repeat a run exactly
+""")
+    r.add_argument("scene", nargs="?", metavar="SCENE", help=_SCENE_HELP + "; default: default")
+    _common(r, "results/<scene name>/")
+    r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help=_SET_HELP)
+
+    c = sub.add_parser(
+        "check", formatter_class=_FMT, help="validate a scene and print it resolved",
+        description=_wrap("Validate a scene (and read its record) without running it; print it as TOML with every "
+                    "default filled in. Exit 2 with one line naming the key when it is not valid."),
+        epilog="""examples:
+  fpd check default                             every key of the default scene
+  fpd check sfp-harmonic --set friction.mu=0.08   does the override validate?
+""")
+    c.add_argument("scene", metavar="SCENE", help=_SCENE_HELP)
+    c.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help=_SET_HELP)
+
+    sub.add_parser("scenes", formatter_class=_FMT, help="list the packaged scenes",
+                   description=_wrap("List the packaged scenes with their one-line descriptions; any of them "
+                               "runs by name (`fpd run NAME`)."),
+                   epilog="examples:\n  fpd scenes\n  fpd scenes | grep stability\n")
+
+    studies = {
+        "compare": ("the scene under lumped / fe1d / axisym plates",
+                    "Run the scene with the paper's lumped plate, fe1d (follow-pad and fixed-point) and axisym "
+                    "plates side by side; write compare.csv, compare.md (when lumped would be right), plots/.",
+                    "results/compare-<scene name>/",
+                    "  fpd compare default\n  fpd compare lab-sine --fast --out cmp\n"),
+        "converge": ("dt and mesh refinement, error against run time",
+                     "Refine dt and each mesh direction separately; measure the error against the closed form "
+                     "where the scene has one, Richardson's limit otherwise; write converge.csv, orders.csv "
+                     "(observed orders), converge.md and work-precision plots.",
+                     "results/converge-<scene name>/",
+                     "  fpd converge heat-disk\n  fpd converge default --fast\n"),
+    }
+    for name, (helptext, desc, out_default, ex) in studies.items():
+        q = sub.add_parser(name, formatter_class=_FMT, help=helptext, description=_wrap(desc),
+                           epilog="examples:\n" + ex)
+        q.add_argument("scene", metavar="SCENE", help=_SCENE_HELP)
+        _common(q, out_default)
         q.add_argument("--fast", action="store_true", help="a short version (what the tests run)")
-    s = sub.add_parser("stability", help="the stiff and extreme catalogue")
-    s.add_argument("--out")
-    s.add_argument("--force", action="store_true")
-    s.add_argument("--quiet", action="store_true")
-    s.add_argument("--fast", action="store_true")
-    d = sub.add_parser("render", help="PNG frames and a GIF from a run's VTK series")
-    d.add_argument("dir")
+
+    s = sub.add_parser(
+        "stability", formatter_class=_FMT, help="the stiff and extreme catalogue",
+        description=_wrap("Run the stability catalogue (the packaged stability/* scenes) at a coarse and a fine dt; "
+                    "check finiteness, ledgers, temperature bounds and that both dt tell the same story; "
+                    "write stability.csv, stability.md and plots/."),
+        epilog="examples:\n  fpd stability --fast\n  fpd stability --out stab --force\n")
+    _common(s, "results/stability/")
+    s.add_argument("--fast", action="store_true", help="a short version (what the tests run)")
+
+    d = sub.add_parser(
+        "render", formatter_class=_FMT, help="PNG frames and a GIF from a run's VTK series",
+        description=_wrap("Render a results folder's vtk/ series (written with output.vtk_every > 0) into "
+                    "DIR/render/frames/ (at most 200 PNG frames) and DIR/render/device.gif."),
+        epilog="examples:\n  fpd run default --set output.vtk_every=100 --out r\n  fpd render r\n")
+    d.add_argument("dir", metavar="DIR", help="a results folder of `fpd run` with a vtk/ folder")
+
+    sub.add_parser(
+        "reference", formatter_class=_FMT, help="print the reference (docs/reference.md)",
+        description=_wrap("Print the reference generated from the code: every command and option, exit status, "
+                    "scene key (type, unit, default, allowed values, meaning), output column and summary.json "
+                    "field. docs/reference.md is this output."),
+        epilog="examples:\n  fpd reference > docs/reference.md\n  fpd reference | grep flux\n")
     return p
 
 
@@ -186,6 +276,9 @@ def main(argv=None) -> int:
         _parser().print_help()
         return EXIT_INPUT
     signal.signal(signal.SIGTERM, _sigterm)
+    if not getattr(args, "quiet", False):
+        from fpd import jitcache
+        jitcache.enable()           # one line on stderr before the first compile of the kernels
     from fpd.mechanics.ground_motion import RecordError
 
     from .scene import SceneError
@@ -195,7 +288,8 @@ def main(argv=None) -> int:
             # coupling/studies.py: cmd_compare, cmd_converge, cmd_stability;
             # coupling/render.py: cmd_render (imported only when asked for)
             import importlib
-            module = importlib.import_module(".render" if args.cmd == "render" else ".studies", __package__)
+            module = importlib.import_module({"render": ".render", "reference": ".reference"}.get(
+                args.cmd, ".studies"), __package__)
             handler = getattr(module, f"cmd_{args.cmd}")
         return handler(args)
     except (SceneError, RecordError) as exc:

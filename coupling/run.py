@@ -20,7 +20,7 @@ from .build import Simulation
 from .fast_loop import compiled_loop
 from .history import MemoryHistory, signals_held
 
-# canonical column order (interface.md); extra diagnostic columns follow
+# canonical column order (docs/reference.md); extra diagnostic columns follow
 CANONICAL = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad", "s1_m", "s2_m",
              "N1_N", "N2_N", "mu1", "mu2", "T1_C", "T2_C", "W1_J", "W2_J", "phase", "E_input_J",
              "E_kin_J", "E_pot_J", "E_reseat_J", "E_stored_J", "E_air_J")
@@ -202,7 +202,6 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
         flush()
     status, message = "ok", ""
     total_iter, worst_iter = 0, 0
-    bar = _Progress(N, dt, progress)
     hot_every = max(1, N // 2000)          # ~2000 looks at the plate fields per run
     c1_old = c2_old = 0.0
     fast = mech is not None and not iterated and sub == 1
@@ -210,6 +209,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     p1_step, p2_step = (p1.step if p1 else None), (p2.step if p2 else None)
     # the common case compiled (coupling/fast_loop.py); the loop below takes over where it stops
     jit = compiled_loop(sim, every, n_rows, cols, inject_failure_at) if fast else None
+    # the bar's clock starts after the kernels are loaded (or compiled): its ETA is the stepping's
+    bar = _Progress(N, dt, progress)
     t_start = time.perf_counter()
     n = last_row = n0 = 0
     try:

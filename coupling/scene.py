@@ -2,7 +2,7 @@
 
 Every problem is reported once, at load, as a ``SceneError`` whose text is one
 line naming the file, the dotted key, the value and what is allowed
-(interface.md). Nothing downstream re-validates input.
+(docs/reference.md lists every key). Nothing downstream re-validates input.
 """
 from __future__ import annotations
 
@@ -479,17 +479,18 @@ def resolve_path(scene: str | None) -> Path:
     p = Path(scene)
     if p.is_file():
         return p
-    cand = SCENES_DIR / (scene if scene.endswith(".toml") else scene + ".toml")
-    if cand.is_file() and os.sep not in scene:
-        return cand
     names = packaged_scenes()
+    stem = scene[:-5] if scene.endswith(".toml") else scene
+    if stem in names:                  # "default", "stability/tall-pad"
+        return SCENES_DIR / (stem + ".toml")
     near = difflib.get_close_matches(scene, names, n=1)
     hint = f"; did you mean {near[0]}?" if near else f"; packaged scenes: {', '.join(names)}"
     raise SceneError(f"{scene}: no such scene file or packaged scene{hint}")
 
 
 def packaged_scenes() -> list[str]:
-    return sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
+    """Names of the packaged scenes: ``default``, ..., ``stability/tall-pad`` (sub-folders with '/')."""
+    return sorted(p.relative_to(SCENES_DIR).with_suffix("").as_posix() for p in SCENES_DIR.rglob("*.toml"))
 
 
 def parse_override(text: str) -> tuple[list[str], object]:

@@ -48,7 +48,7 @@ class Case:
 
 
 def model_available(model: str) -> bool:
-    mod = {"fe1d": "thermal.fe1d", "axisym": "thermal.axisym", "two-phase": "mechanics.two_phase"}.get(model)
+    mod = {"fe1d": "fpd.thermal.fe1d", "axisym": "fpd.thermal.axisym", "two-phase": "fpd.mechanics.two_phase"}.get(model)
     return mod is None or importlib.util.find_spec(mod) is not None
 
 

@@ -1,4 +1,4 @@
-"""The run's VTK series (interface.md, outputs: ``vtk/``).
+"""The run's VTK series (docs/reference.md, outputs: ``vtk/``).
 
 - ``device.pvd``: the device as moving polygons in the x-z plane (y = 0):
   the lower plate (a band of the plate's thickness under its concave arc,

@@ -1,10 +1,25 @@
 """fpd: thermo-mechanical simulator of multiple friction pendulum isolators.
 
-The subpackages live at the top of the source repository (``mechanics/``,
-``thermal/``, ``meshes/``, ``coupling/``, ``scenes/``) and are installed as
-``fpd.mechanics``, ``fpd.thermal``, ... (pyproject's ``package-dir``). Run
-from a source checkout without an install, the repository root is added to
-this package's search path so that the same names resolve there.
+The Python API (what the ``fpd`` command does, for scripts and notebooks)::
+
+    import fpd
+    r = fpd.run("default", solver={"duration": 5.0})   # a packaged name, a path or a dict
+    print(r.summary["peak_u_m"])                       # summary.json's fields
+    r.history["u_m"], r.history.to_pandas()            # timeseries.csv's columns
+    s = fpd.load_scene("lab-sine", friction={"mu": 0.08})
+    fpd.compare("default", fast=True).rows             # lumped / fe1d / axisym side by side
+    fpd.converge("heat-disk", fast=True).rows          # observed orders
+
+Every scene key, output column, summary.json field and exit status:
+docs/reference.md (``fpd reference`` prints it).
+
+The names above are imported on first use, so ``import fpd`` itself stays
+cheap (no numpy, scipy or numba). The subpackages live at the top of the
+source repository (``mechanics/``, ``thermal/``, ``meshes/``, ``coupling/``,
+``scenes/``) and are installed as ``fpd.mechanics``, ``fpd.thermal``, ...
+(pyproject's ``package-dir``). Run from a source checkout without an install,
+the repository root is added to this package's search path so that the same
+names resolve there.
 """
 from __future__ import annotations
 
@@ -16,3 +31,20 @@ _here = _os.path.dirname(_os.path.abspath(__file__))
 _root = _os.path.dirname(_here)
 if not _os.path.isdir(_os.path.join(_here, "coupling")) and _os.path.isdir(_os.path.join(_root, "coupling")):
     __path__.append(_root)  # noqa: F821 (the package's own __path__)
+
+# the API lives in fpd.coupling.api; its names are imported on first access
+_API = ("run", "load_scene", "compare", "converge", "Result", "History", "StudyResult", "SceneError")
+__all__ = ["__version__", *_API]
+
+
+def __getattr__(name):
+    if name in _API:
+        from fpd.coupling import api
+        value = getattr(api, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'fpd' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_API))

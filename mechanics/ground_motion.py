@@ -194,7 +194,7 @@ def guess_format(text: str) -> str:
 
 
 def read_record(path, units: str | None = None) -> Record:
-    """Read a record file, format guessed from its content (interface.md)."""
+    """Read a record file, format guessed from its content (docs/reference.md, loading.file)."""
     text = _read_text(path)
     if guess_format(text) == "at2":
         return parse_at2(text, path)

@@ -28,6 +28,8 @@ class OptionalKernels:
         if self.loaded is None:
             self.loaded = False
             if not os.environ.get("FPD_NO_JIT"):
+                from fpd import jitcache
+                jitcache.announce(self.names)       # "compiling kernels once", before it happens
                 try:
                     mods = tuple(importlib.import_module(n) for n in self.names)
                 except ImportError:
