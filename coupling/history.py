@@ -179,7 +179,7 @@ class _Sink:
             self.f = open(self.path, "wb", buffering=0)
         except OSError as exc:
             from .output import WriteError
-            raise WriteError(exc, t_s=0.0) from None
+            raise WriteError(exc, path=exc.filename or str(self.csv_path), t_s=0.0) from None
         self.size = 0
 
     def write(self, data) -> None:
@@ -273,7 +273,7 @@ class StreamHistory:
                     self.plot.add(rows[:m])
                 self.rows += m
             from .output import WriteError
-            raise WriteError(exc, t_s=float(rows[-1, self.columns.index("t_s")]) if "t_s" in self.columns
+            raise WriteError(exc, path=exc.filename or str(self.csv_path), t_s=float(rows[-1, self.columns.index("t_s")]) if "t_s" in self.columns
                              else None) from None
         self.stats.add(rows)
         if self.keep_plot:
