@@ -433,3 +433,36 @@ def test_records_bom_and_encodings(tmp_path):
     (tmp_path / "s.toml").write_bytes(BOM + scene.encode())
     proc = fpd(["check", str(tmp_path / "s.toml")], cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
+
+
+STRESS = r"""
+import os, sys, time
+from fpd.coupling.claim import FolderBusy, claim
+out, mark, until = sys.argv[1], sys.argv[2], time.monotonic() + float(sys.argv[3])
+got = busy = 0
+while time.monotonic() < until:
+    try:
+        with claim(out, check=False):
+            fd = os.open(mark, os.O_CREAT | os.O_EXCL | os.O_WRONLY)   # fails if another holder is inside
+            time.sleep(0.0005)
+            os.close(fd)
+            os.unlink(mark)
+            got += 1
+    except FolderBusy:
+        busy += 1
+print(got, busy)
+"""
+
+
+def test_claim_exclusive_under_contention(tmp_path):
+    """Six processes claiming one DIR as fast as they can for 2 s (the lock
+    file created, locked, removed thousands of times): never two holders."""
+    out, mark = tmp_path / "res", tmp_path / "inside"
+    procs = [subprocess.Popen([sys.executable, "-c", STRESS, str(out), str(mark), "2"], cwd=tmp_path, env=_env(),
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for _ in range(6)]
+    results = [p.communicate(timeout=60) for p in procs]
+    for p, (so, se) in zip(procs, results):
+        assert p.returncode == 0, se                 # a FileExistsError would mean two holders at once
+    got = [int(so.split()[0]) for so, _ in results]
+    assert sum(got) > 50 and sum(int(so.split()[1]) for so, _ in results) > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == []    # no lock file, no DIR, no marker left
