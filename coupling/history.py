@@ -273,8 +273,8 @@ class StreamHistory:
                     self.plot.add(rows[:m])
                 self.rows += m
             from .output import WriteError
-            raise WriteError(exc, path=exc.filename or str(self.csv_path), t_s=float(rows[-1, self.columns.index("t_s")]) if "t_s" in self.columns
-                             else None) from None
+            t_s = float(rows[-1, self.columns.index("t_s")]) if "t_s" in self.columns else None
+            raise WriteError(exc, path=exc.filename or str(self.csv_path), t_s=t_s) from None
         self.stats.add(rows)
         if self.keep_plot:
             self.plot.add(rows)

@@ -5,7 +5,6 @@ at the end; with --force the old DIR is kept until the new one is complete.
 """
 from __future__ import annotations
 
-import contextlib
 import errno
 import json
 import math

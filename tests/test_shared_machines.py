@@ -25,7 +25,7 @@ import pytest
 
 from fpd.coupling import cli
 from fpd.coupling.claim import FolderBusy, claim, lock_path
-from fpd.coupling.scene import SCENES_DIR, SceneError, load, to_toml
+from fpd.coupling.scene import SCENES_DIR, SceneError, load
 from fpd.mechanics.ground_motion import RecordError, read_record
 
 from test_failures import _env, fpd, keep_sigterm, no_leftovers, read_rows  # noqa: F401 (a fixture)
@@ -210,7 +210,8 @@ def test_folder_removed_underneath(tmp_path):
 SHORT = {"sfp-harmonic": ("--set", "solver.duration=3"), "northridge-dfp": ("--set", "solver.duration=3")}
 
 
-@pytest.mark.parametrize("attempt", [0, pytest.param(1, marks=pytest.mark.slow), pytest.param(2, marks=pytest.mark.slow)])
+@pytest.mark.parametrize("attempt", [0, pytest.param(1, marks=pytest.mark.slow),
+                                     pytest.param(2, marks=pytest.mark.slow)])
 def test_two_runs_one_folder(tmp_path, attempt):
     """Started together (the same second): exactly one writes DIR, the other
     refuses with exit 2 and one line; DIR holds the winner's complete results."""
@@ -421,7 +422,8 @@ def test_records_bom_and_encodings(tmp_path):
         rec = read_record(tmp_path / name)
         assert (rec.t == ref.t).all() and (rec.a_g == ref.a_g).all(), name
     (tmp_path / "u16.AT2").write_bytes(orig.read_text().encode("utf-16"))
-    with pytest.raises(RecordError, match=r"u16.AT2: UTF-16 \(little-endian\) text \(byte-order mark FF FE at byte 0\)"):
+    with pytest.raises(RecordError,
+                       match=r"u16.AT2: UTF-16 \(little-endian\) text \(byte-order mark FF FE at byte 0\)"):
         read_record(tmp_path / "u16.AT2")
     (tmp_path / "u16n.AT2").write_bytes(orig.read_text().encode("utf-16-le"))
     with pytest.raises(RecordError, match=r"u16n.AT2, line 1: binary file \(NUL byte at byte offset 1; UTF-16"):
