@@ -121,11 +121,18 @@ class Claim:
                              f"{exc.strerror}") from None
         self.created = missing
 
+    def _open(self) -> int:
+        flags = os.O_CREAT | getattr(os, "O_CLOEXEC", 0)
+        try:
+            return os.open(self.lock, os.O_RDWR | flags, 0o644)
+        except PermissionError:        # another user's lock file: flock needs only a read descriptor
+            return os.open(self.lock, os.O_RDONLY | flags)
+
     def acquire(self) -> "Claim":
         self._parent()
         for _ in range(50):            # retried only when the lock file vanished under us
             try:
-                fd = os.open(self.lock, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o644)
+                fd = self._open()
             except FileNotFoundError:          # the parent removed meanwhile (an empty one, by a claimant)
                 with contextlib.suppress(OSError):
                     self.abs.parent.mkdir(parents=True, exist_ok=True)

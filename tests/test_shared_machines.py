@@ -468,3 +468,52 @@ def test_claim_exclusive_under_contention(tmp_path):
     got = [int(so.split()[0]) for so, _ in results]
     assert sum(got) > 50 and sum(int(so.split()[1]) for so, _ in results) > 0
     assert sorted(p.name for p in tmp_path.iterdir()) == []    # no lock file, no DIR, no marker left
+
+
+# -- the studies and render: a failed write leaves DIR as it was ------------------------------
+def test_study_write_failure_one_line_dir_unchanged(tmp_path, monkeypatch, capsys, keep_sigterm):
+    from fpd.coupling import stability
+
+    def full(path, *a, **k):
+        raise OSError(28, "No space left on device", str(path))
+
+    monkeypatch.setattr(stability, "run_catalogue", lambda *a, **k: [])      # nothing to compute: the write is the test
+    monkeypatch.setattr(stability, "write_rows", full)
+    out = tmp_path / "runs" / "stab"
+    capsys.readouterr()
+    assert cli.main(["stability", "--out", str(out), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "No space left on device (ENOSPC)" in err
+    assert f"stability wrote nothing, {out} unchanged" in err
+    assert not (tmp_path / "runs").exists()
+    out.mkdir(parents=True)
+    (out / "summary.json").write_text("{}")
+    assert cli.main(["stability", "--out", str(out), "--quiet", "--force"]) == 1
+    assert [p.name for p in out.iterdir()] == ["summary.json"] and (out / "summary.json").read_text() == "{}"
+    no_leftovers(out.parent, {"stab"})
+
+
+def test_render_write_failure_keeps_old_render(tmp_path, monkeypatch, capsys, keep_sigterm):
+    from fpd.coupling import render
+
+    run = tmp_path / "run"
+    (run / "vtk").mkdir(parents=True)
+    (run / "vtk" / "device.pvd").write_text("")
+    (run / "render").mkdir()
+    (run / "render" / "device.gif").write_bytes(b"GIF89a old")
+
+    def quota(pngs, path, *a, **k):
+        Path(path).write_bytes(b"GIF89a half")                               # a part went in
+        raise OSError(122, "Disk quota exceeded", str(path))
+
+    monkeypatch.setattr(render, "read_device_series", lambda *a, **k: [])
+    monkeypatch.setattr(render, "draw_frames", lambda frames, d, title: [])
+    monkeypatch.setattr(render, "write_gif", quota)
+    capsys.readouterr()
+    assert cli.main(["render", str(run)]) == 1
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "Disk quota exceeded" in err and "render wrote nothing" in err
+    assert sorted(p.name for p in run.iterdir()) == ["render", "vtk"]          # no partial render left
+    assert [p.name for p in (run / "render").iterdir()] == ["device.gif"]
+    assert (run / "render" / "device.gif").read_bytes() == b"GIF89a old"
+    no_leftovers(tmp_path, {"run"})
