@@ -117,9 +117,15 @@ class Claim:
         try:
             self.abs.parent.mkdir(parents=True, exist_ok=True)
         except OSError as exc:       # --out under a file, or where we may not write: a bad option
-            raise SceneError(f"{self.out}: cannot create the results folder there (--out): "
-                             f"{exc.strerror}") from None
+            raise self._cannot(exc) from None
         self.created = missing
+
+    def _cannot(self, exc: OSError) -> Exception:
+        """--out under a file, forbidden, read-only: a bad option (exit 2); a
+        full disk or quota is not the option's fault: the OSError (exit 1)."""
+        if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+            return exc
+        return SceneError(f"{self.out}: cannot create the results folder there (--out): {exc.strerror}")
 
     def _open(self) -> int:
         flags = os.O_CREAT | getattr(os, "O_CLOEXEC", 0)
@@ -140,8 +146,7 @@ class Claim:
             except OSError as exc:
                 if exc.errno == errno.EEXIST:
                     continue
-                raise SceneError(f"{self.out}: cannot create the results folder there (--out): "
-                                 f"{exc.strerror}") from None
+                raise self._cannot(exc) from None
             if fcntl is not None:
                 try:
                     fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)

@@ -13,6 +13,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
 import contextlib  # noqa: E402
+import errno  # noqa: E402
 import signal  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -101,6 +102,8 @@ def cmd_run(args) -> int:
     try:
         folder = ResultsFolder(out)
     except OSError as exc:       # --out under a file, or where we may not write: a bad option
+        if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+            raise                   # not the option's fault: main() says so, exit 1
         raise scn.SceneError(f"{out}: cannot create the results folder there (--out): {exc.strerror}") from None
     held = _HoldSignals()
     history = result = None

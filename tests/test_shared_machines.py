@@ -100,6 +100,20 @@ def test_disk_full_force_keeps_earlier_results(small_fs, tmp_path):
     no_leftovers(small_fs, {"res"})
 
 
+def test_disk_already_full(small_fs, tmp_path):
+    """Not even the header fits: nothing kept, nothing left behind."""
+    filler = small_fs / "filler"
+    with open(filler, "wb", buffering=0) as fh:
+        with pytest.raises(OSError):
+            while True:
+                fh.write(b"x" * 4096)
+    out = small_fs / "res"
+    proc = fpd(["run", "sfp-harmonic", "--out", str(out), "--quiet"], cwd=tmp_path)
+    err = one_line(proc, 1)
+    assert "No space left on device" in err and "nothing kept" in err
+    no_leftovers(small_fs, {"filler"})
+
+
 # errors injected where the system would raise them: CSV writes beyond LIMIT bytes
 # fail (a quota reached mid-run), or a file of the final write cannot be created
 INJECT = r"""
