@@ -19,8 +19,8 @@ the path still names the file it locked (else it locked a removed file and
 tries again), so removal never lets two holders in.
 
 File systems without flock (some FUSE or old NFS mounts, ENOLCK/EOPNOTSUPP):
-an atomic ``O_CREAT | O_EXCL`` create of the same lock file instead, holding
-pid and host; a lock file of a process that is gone (same host, pid not
+an atomic ``O_CREAT | O_EXCL`` create of ``.<name>.lock-excl`` instead,
+holding pid and host; a lock file of a process that is gone (same host, pid not
 alive) is stale and replaced.
 
 Under the claim, leftovers of earlier writers of DIR that died (SIGKILL,
@@ -147,6 +147,9 @@ class Claim:
                 if exc.errno == errno.EEXIST:
                     continue
                 raise self._cannot(exc) from None
+            if fcntl is None:
+                os.close(fd)
+                return self._acquire_excl()
             if fcntl is not None:
                 try:
                     fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -173,8 +176,13 @@ class Claim:
         raise SceneError(f"{self.out}: could not take the lock {self.lock} (it keeps disappearing)")
 
     def _acquire_excl(self) -> "Claim":
-        """No flock on this file system: an atomic create, stale if its pid is gone."""
+        """No flock on this file system: an atomic create, stale if its pid is gone.
+        Every claimant of a DIR there takes this path, on its own file name (the
+        plain lock file, just created to try flock on, means nothing here)."""
         self.flock = False
+        with contextlib.suppress(OSError):
+            os.unlink(self.lock)
+        self.lock = self.lock.with_name(self.lock.name + "-excl")
         for _ in range(3):
             try:
                 fd = os.open(self.lock, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o644)

@@ -531,3 +531,31 @@ def test_render_write_failure_keeps_old_render(tmp_path, monkeypatch, capsys, ke
     assert [p.name for p in (run / "render").iterdir()] == ["device.gif"]
     assert (run / "render" / "device.gif").read_bytes() == b"GIF89a old"
     no_leftovers(tmp_path, {"run"})
+
+
+def test_claim_without_flock(tmp_path, monkeypatch):
+    """A file system without flock (ENOLCK): an O_EXCL lock file instead,
+    exclusive, and taken over when its process is gone."""
+    import errno
+    import types
+
+    from fpd.coupling import claim as claim_mod
+
+    def no_flock(fd, op):
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(claim_mod, "fcntl", types.SimpleNamespace(flock=no_flock, LOCK_EX=2, LOCK_NB=4))
+    out = tmp_path / "res"
+    excl = tmp_path / ".res.lock-excl"
+    with claim(out) as c:
+        assert not c.flock and excl.is_file() and not lock_path(out).exists()
+        with pytest.raises(FolderBusy, match=f"in use by pid {os.getpid()} "):
+            with claim(out):
+                pass
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    import socket
+    excl.write_text(f"pid {int(dead.stdout)} on {socket.gethostname()}, `fpd run`, since then\n")
+    with claim(out):                                   # a stale lock: its process is gone
+        assert str(os.getpid()) in excl.read_text()
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
