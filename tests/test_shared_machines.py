@@ -389,12 +389,15 @@ def test_bom_copy_of_every_packaged_scene_checks_identically(tmp_path, capsys, m
         assert outs[0] == outs[1] and outs[0].startswith("name = "), orig
 
 
-def test_bom_scene_runs_identically(tmp_path):
-    copy = tmp_path / "in" / "sfp-harmonic.toml"
+@pytest.mark.parametrize("name", ["sfp-harmonic", "northridge-dfp"])
+def test_bom_scene_runs_identically(tmp_path, name):
+    """A short run of a BOM (and CRLF, as Windows writes) copy: the same
+    bytes in timeseries.csv and scene.toml, the same summary."""
+    copy = tmp_path / "in" / f"{name}.toml"
     copy.parent.mkdir()
-    copy.write_bytes(BOM + (SCENES_DIR / "sfp-harmonic.toml").read_bytes().replace(b"\n", b"\r\n"))  # Windows
+    copy.write_bytes(BOM + (SCENES_DIR / f"{name}.toml").read_bytes().replace(b"\n", b"\r\n"))
     res = {}
-    for tag, scene in (("orig", "sfp-harmonic"), ("bom", str(copy))):
+    for tag, scene in (("orig", name), ("bom", str(copy))):
         proc = fpd(["run", scene, "--out", str(tmp_path / tag), "--quiet", "--set", "solver.duration=2",
                     "--set", "output.plots=false"], cwd=tmp_path)
         assert proc.returncode == 0, proc.stderr
