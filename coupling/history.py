@@ -179,7 +179,7 @@ class _Sink:
             self.f = open(self.path, "wb", buffering=0)
         except OSError as exc:
             from .output import WriteError
-            raise WriteError(exc, path=exc.filename or str(self.csv_path), t_s=0.0) from None
+            raise WriteError(exc, path=exc.filename or str(self.path), t_s=0.0) from None
         self.size = 0
 
     def write(self, data) -> None:

@@ -395,7 +395,7 @@ def after_write_error(folder: ResultsFolder, scene: Scene, sim, exc: OSError, hi
                 keep, t_last = _last_row_t(csv_path)
                 free *= 2
         folder.commit()
-    except OSError:
+    except (OSError, ValueError, IndexError):        # ValueError, IndexError: a last row not as written
         folder.discard()
         left = f", partial files left in {folder.tmp}" if folder.tmp.exists() else ""
         return line + f"; nothing kept ({out} not created{left})"
