@@ -12,6 +12,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import argparse  # noqa: E402
+import contextlib  # noqa: E402
+import errno  # noqa: E402
 import signal  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
@@ -178,19 +180,23 @@ class _HoldSignals:
 def cmd_run(args) -> int:
     from . import scene as scn
     from .build import build
-    from .output import ResultsFolder, check_out_dir, stream_history, write_all
+    from .claim import hold
+    from .output import ResultsFolder, after_write_error, guard_frames, stream_history, write_all
     from .run import simulate
 
     scene = scn.load(args.scene, args.set)
     out = Path(args.out) if args.out else Path("results") / scene.name
-    check_out_dir(out, args.force)
+    hold(args, out)             # DIR ours until the command returns; exit 2 if another process has it
     sim = build(scene)
     inject = os.environ.get("FPD_INJECT_NAN_AT_STEP")
     try:
         folder = ResultsFolder(out)
     except OSError as exc:       # --out under a file, or where we may not write: a bad option
+        if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+            raise                   # not the option's fault: main() says so, exit 1
         raise scn.SceneError(f"{out}: cannot create the results folder there (--out): {exc.strerror}") from None
     held = _HoldSignals()
+    history = result = None
     try:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
@@ -203,11 +209,12 @@ def cmd_run(args) -> int:
             hottest = vtk.hottest if vtk else HottestFields()
         # timeseries.csv is written as the run goes (memory bounded whatever the
         # steps); signals are held from the end of the stepping until the folder is complete
+        history = stream_history(folder, scene)
         result = simulate(sim, progress=progress, every=scene["output"]["csv_every"],
                           inject_failure_at=int(inject) if inject else None,
-                          on_frame=vtk.frame if vtk else None,
+                          on_frame=guard_frames(vtk.frame, sim.dt) if vtk else None,
                           frame_every=scene["output"]["vtk_every"], hottest=hottest,
-                          history=stream_history(folder, scene), on_loop_end=held.start)
+                          history=history, on_loop_end=held.start)
         held.start()
         if vtk:
             vtk.close()
@@ -217,6 +224,10 @@ def cmd_run(args) -> int:
         if hottest is not None:
             hottest.pictures(folder.subdir("plots"))
         folder.commit()
+    except OSError as exc:      # disk full, quota, permission, folder removed: one line (output.after_write_error)
+        held.start()
+        sys.stderr.write(f"fpd: {after_write_error(folder, scene, sim, exc, history, result)}\n")
+        return EXIT_FAILED
     except BaseException:
         folder.discard()
         raise
@@ -282,6 +293,7 @@ def main(argv=None) -> int:
     from fpd.mechanics.ground_motion import RecordError
 
     from .scene import SceneError
+    args.claims = contextlib.ExitStack()     # results folders claimed (coupling/claim.py), released on return
     try:
         handler = {"run": cmd_run, "check": cmd_check, "scenes": cmd_scenes}.get(args.cmd)
         if handler is None:
@@ -291,12 +303,20 @@ def main(argv=None) -> int:
             module = importlib.import_module({"render": ".render", "reference": ".reference"}.get(
                 args.cmd, ".studies"), __package__)
             handler = getattr(module, f"cmd_{args.cmd}")
-        return handler(args)
+        with args.claims:
+            return handler(args)
     except (SceneError, RecordError) as exc:
         return _input_error(str(exc))
     except KeyboardInterrupt:
         sys.stderr.write("fpd: interrupted\n")
         return EXIT_INTERRUPTED
+    except OSError as exc:      # a study's results could not be written: none were (ResultsFolder)
+        claimed = getattr(args, "claimed", None)
+        if exc.errno is None or isinstance(exc, BrokenPipeError) or not claimed:
+            raise
+        from .output import describe_os_error
+        sys.stderr.write(f"fpd: {describe_os_error(exc)}; {args.cmd} wrote nothing, {claimed[0]} unchanged\n")
+        return EXIT_FAILED
 
 
 def entry() -> None:

@@ -25,6 +25,7 @@ so a Ctrl-C never leaves half a block in the CSV nor a block taken twice.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import signal
 import threading
@@ -167,6 +168,46 @@ class MemoryHistory:
         self.data = self.data[:self.rows]
 
 
+class _Sink:
+    """A file written unbuffered: ``size`` is what the system has taken, so
+    a failed write (disk full) leaves a known prefix that ``cut`` restores.
+    Text is written as UTF-8 (the CSV is ASCII)."""
+
+    def __init__(self, path):
+        self.path = Path(path)
+        try:
+            self.f = open(self.path, "wb", buffering=0)
+        except OSError as exc:
+            from .output import WriteError
+            raise WriteError(exc, path=exc.filename or str(self.path), t_s=0.0) from None
+        self.size = 0
+
+    def write(self, data) -> None:
+        view = memoryview(data.encode() if isinstance(data, str) else data)
+        while len(view):
+            try:
+                n = self.f.write(view)
+            except OSError as exc:
+                if exc.filename is None:
+                    exc.filename = str(self.path)
+                raise
+            self.size += n
+            view = view[n:]
+
+    def alive(self) -> None:
+        """The file is still in the folder (not removed underneath the run)."""
+        if os.fstat(self.f.fileno()).st_nlink == 0:
+            raise FileNotFoundError(errno.ENOENT, "removed while the run was writing it", str(self.path))
+
+    def cut(self, size: int) -> None:
+        with contextlib.suppress(OSError):
+            os.ftruncate(self.f.fileno(), size)
+            self.size = size
+
+    def close(self) -> None:
+        self.f.close()
+
+
 class StreamHistory:
     """Blocks appended to ``csv_path`` as they come; summary reductions and a
     decimated plot copy kept (module docstring). ``spill_path``: also the raw
@@ -191,10 +232,10 @@ class StreamHistory:
         self.idx = [list(loop_columns).index(c) for c in columns]
         self.stats = Stats(columns)
         self.plot = PlotSampler(columns, n_rows_max, *self._plot_args)
-        self._fh = open(self.csv_path, "w", newline="")
+        self._fh = _Sink(self.csv_path)
         self._csv = CsvWriter(self._fh, columns)
         if self.spill_path is not None:
-            self._spill = open(self.spill_path, "wb")
+            self._spill = _Sink(self.spill_path)
         self.rows = 0
         b = self.plot.bin_rows            # blocks before the last hold whole plot bins
         return max(1, min(n_rows_max, max(b, (self.chunk_rows or CHUNK_ROWS) // b * b)))
@@ -207,19 +248,51 @@ class StreamHistory:
         rows, texts = prepared
         if not len(rows):
             return
-        for text in texts:
-            self._fh.write(text)
-        if self._spill is not None:
-            self._spill.write(rows.tobytes())
+        sinks = [f for f in (self._fh, self._spill) if f is not None]
+        good = [f.size for f in sinks]
+        try:
+            self._fh.alive()
+            for text in texts:
+                self._fh.write(text)
+            if self._spill is not None:
+                self._spill.write(rows.tobytes())
+        except OSError as exc:
+            # the CSV cut back to its last complete line (the rows of this block
+            # that fit are kept and counted); the spill, read only by a complete
+            # run's summary, back to the rows before the block
+            done = self._fh.size - good[0]
+            data = "".join(texts).encode()[:done]
+            keep = data.rfind(b"\n") + 1
+            m = data.count(b"\n", 0, keep)
+            self._fh.cut(good[0] + keep)
+            if self._spill is not None:
+                self._spill.cut(good[1])
+            if m:
+                self.stats.add(rows[:m])
+                if self.keep_plot:
+                    self.plot.add(rows[:m])
+                self.rows += m
+            from .output import WriteError
+            t_s = float(rows[-1, self.columns.index("t_s")]) if "t_s" in self.columns else None
+            raise WriteError(exc, path=exc.filename or str(self.csv_path), t_s=t_s) from None
         self.stats.add(rows)
         if self.keep_plot:
             self.plot.add(rows)
         self.rows += len(rows)
 
     def finish(self) -> None:
+        if self._fh is not None:
+            self._fh.alive()
         for f in (self._fh, self._spill):
             if f is not None:
                 f.close()
+
+    def abandon(self) -> None:
+        """After a write failure: close the files, keeping what is in them."""
+        for f in (self._fh, self._spill):
+            if f is not None:
+                with contextlib.suppress(OSError):
+                    f.close()
 
     def plot_data(self) -> np.ndarray:
         """The bounded copy of the rows for the plots (PlotSampler)."""

@@ -5,6 +5,7 @@ at the end; with --force the old DIR is kept until the new one is complete.
 """
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
@@ -27,6 +28,38 @@ def check_out_dir(out: Path, force: bool) -> None:
         raise SceneError(f"{out}: results folder exists and is not empty; use --force to replace it")
 
 
+class WriteError(OSError):
+    """Writing the results failed (disk full, quota, permission, the folder
+    removed underneath): the system's error, its file, and the time of the
+    last step computed when it happened (``t_s``, None if unknown)."""
+
+    def __init__(self, cause: OSError, path=None, t_s=None):
+        super().__init__(cause.errno, cause.strerror or str(cause), path or cause.filename)
+        self.t_s = t_s
+
+
+def guard_frames(on_frame, dt: float):
+    """``on_frame`` whose write errors say at which step they happened."""
+    def frame(n, sim):
+        try:
+            on_frame(n, sim)
+        except WriteError:
+            raise
+        except OSError as exc:
+            raise WriteError(exc, t_s=n * dt) from None
+    return frame
+
+
+def describe_os_error(exc: OSError) -> str:
+    """``PATH: cause (ENOSPC)`` for one line."""
+    code = errno.errorcode.get(exc.errno, "") if exc.errno else ""
+    cause = exc.strerror or str(exc)
+    if exc.errno == errno.ENOENT and "removed" not in cause:
+        cause += " (the folder being written was removed?)"
+    where = f"cannot write {exc.filename}" if exc.filename else "cannot write the results"
+    return f"{where}: {cause}" + (f" ({code})" if code else "")
+
+
 class ResultsFolder:
     """A temporary folder beside ``out``; ``commit()`` moves it into place."""
 
@@ -41,13 +74,25 @@ class ResultsFolder:
     def path(self, *parts) -> Path:
         """A file path inside the folder (its parent created)."""
         p = self.tmp.joinpath(*parts)
-        p.parent.mkdir(parents=True, exist_ok=True)
+        self._mkdir(p.parent)
         return p
 
     def subdir(self, name: str) -> Path:
         p = self.tmp / name
-        p.mkdir(parents=True, exist_ok=True)
+        self._mkdir(p)
         return p
+
+    def _mkdir(self, p: Path) -> None:
+        """Create p below the temporary folder, never the folder itself: if
+        it was removed underneath the run, writing fails (ENOENT) instead of
+        quietly starting an incomplete folder again."""
+        if not self.tmp.is_dir():
+            raise FileNotFoundError(errno.ENOENT, "the folder being written was removed", str(self.tmp))
+        rel = p.relative_to(self.tmp)
+        q = self.tmp
+        for part in rel.parts:
+            q = q / part
+            q.mkdir(exist_ok=True)
 
     def commit(self) -> Path:
         old = None
@@ -245,3 +290,114 @@ def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = Tr
         s["plots"] = make_plots(folder.subdir("plots"), result.plot_view(), scene)
     folder.path("summary.json").write_text(json.dumps(s, indent=2) + "\n")
     return s
+
+
+# -- a write that fails (issue 19) ---------------------------------------------------------
+def _last_row_t(csv_path: Path) -> tuple[int, float | None]:
+    """(size of the whole-line prefix, t_s of its last row or None: header only)."""
+    with open(csv_path, "rb") as fh:
+        header = fh.readline()
+        size = fh.seek(0, os.SEEK_END)
+        back = min(size, 1 << 16)
+        fh.seek(size - back)
+        tail = fh.read(back)
+    keep = size - back + tail.rfind(b"\n") + 1
+    if keep <= len(header):
+        return len(header), None
+    lines = tail[:keep - (size - back)].splitlines()
+    j = header.decode().strip().split(",").index("t_s")
+    return keep, float(lines[-1].decode().split(",")[j])
+
+
+def _drop_rows(csv_path: Path, keep: int, nbytes: int) -> int:
+    """Cut at least ``nbytes`` of whole rows off the end (never the header); new size."""
+    with open(csv_path, "r+b") as fh:
+        header = len(fh.readline())
+        start = max(header, keep - nbytes - (1 << 16))
+        fh.seek(start)
+        chunk = fh.read(max(0, keep - nbytes - start))
+        cut = start + chunk.rfind(b"\n") + 1 if b"\n" in chunk else header
+        fh.truncate(max(cut, header))
+        return max(cut, header)
+
+
+def after_write_error(folder: ResultsFolder, scene: Scene, sim, exc: OSError, history=None,
+                      result=None) -> str:
+    """What ``fpd run`` leaves when writing its results fails (disk full,
+    quota, permission, the folder removed underneath), and the one line that
+    says so. The state of DIR afterwards (docs/studies.md, "Running on
+    shared machines"):
+
+    - DIR existed (``--force``): it is left as it was, the earlier complete
+      results; the new partial ones are deleted (their space given back).
+    - else, when at least one row and a summary fit: DIR holds the history as
+      far as it was written: ``timeseries.csv`` cut at its last complete row
+      (rows dropped from its end until ``scene.toml`` and ``summary.json``
+      fit), ``scene.toml`` and ``summary.json`` with ``status = "failed"``,
+      the message and ``write_error``; no ``vtk/``, no ``plots/`` (possibly
+      cut short, and their space is needed).
+    - else nothing: the temporary folder is removed, DIR is not created.
+
+    So DIR never holds a truncated file or a summary that claims more than
+    the folder holds."""
+    dt = sim.dt
+    if result is not None:
+        computed = int(result.steps)
+    elif getattr(exc, "t_s", None) is not None:
+        computed = int(round(exc.t_s / dt))
+    elif history is not None and getattr(history, "rows", 0):
+        computed = int(round(history.stats.final("t_s") / dt))
+    else:
+        computed = 0
+    if exc.filename and str(exc.filename).startswith(str(folder.tmp)):
+        # name the file as the user knows it: DIR/..., not the temporary folder beside it
+        exc.filename = str(folder.out) + str(exc.filename)[len(str(folder.tmp)):]
+    what = describe_os_error(exc)
+    line = f"{what}; {computed} steps computed (t = {computed * dt:.6g} s)"
+    if history is not None and hasattr(history, "abandon"):
+        history.abandon()
+    out = folder.out
+    if out.exists():
+        folder.discard()
+        return line + f"; nothing kept, {out} still holds the earlier results"
+    csv_path = folder.tmp / "timeseries.csv"
+    try:
+        for p in list(folder.tmp.iterdir()):        # all but the history: rewritten or dropped
+            if p.name != "timeseries.csv":
+                if p.is_dir() and not p.is_symlink():
+                    shutil.rmtree(p)
+                else:
+                    p.unlink()
+        keep, t_last = _last_row_t(csv_path)
+        os.truncate(csv_path, keep)
+        free = 1 << 15
+        while True:
+            if t_last is None:
+                raise OSError(exc.errno, "no complete row of the history could be kept")
+            kept = int(round(t_last / dt))
+            s = {"status": "failed",
+                 "message": f"writing the results failed at step {computed} (t = {computed * dt:.6g} s): {what}; "
+                            f"timeseries.csv holds the rows up to step {kept} (t = {t_last:.6g} s)",
+                 "scene": scene.name, "steps": kept, "steps_computed": computed, "dt_s": dt,
+                 "write_error": {"path": exc.filename, "errno": errno.errorcode.get(exc.errno or 0),
+                                 "cause": exc.strerror},
+                 "kept": ["timeseries.csv", "scene.toml", "summary.json"], "version": VERSION}
+            if result is not None:
+                s["run_status"], s["run_message"] = result.status, result.message
+            try:
+                folder.path("scene.toml").write_text(to_toml(scene))
+                folder.path("summary.json").write_text(json.dumps(s, indent=2) + "\n")
+                break
+            except OSError as again:
+                if again.errno not in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG):
+                    raise
+                keep = _drop_rows(csv_path, keep, free)      # make room for the summary
+                keep, t_last = _last_row_t(csv_path)
+                free *= 2
+        folder.commit()
+    except (OSError, ValueError, IndexError):        # ValueError, IndexError: a last row not as written
+        folder.discard()
+        left = f", partial files left in {folder.tmp}" if folder.tmp.exists() else ""
+        return line + f"; nothing kept ({out} not created{left})"
+    return line + (f"; the history up to step {kept} (t = {t_last:.6g} s) kept in {out} "
+                   "(summary.json status \"failed\")")

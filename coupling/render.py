@@ -177,13 +177,27 @@ def render(run_dir, cap: int = MAX_FRAMES) -> tuple[list[Path], Path]:
     except (OSError, ValueError, KeyError):
         pass
     frames = read_device_series(pvd, cap)
+    # written beside, moved into place complete (a full disk or a kill leaves
+    # the old render/ or none, never half a set of frames)
+    from .output import ResultsFolder
     out = d / "render"
-    pngs = draw_frames(frames, out / "frames", title)
-    gif = write_gif(pngs, out / "device.gif")
-    return pngs, gif
+    folder = ResultsFolder(out)
+    try:
+        pngs = draw_frames(frames, folder.subdir("frames"), title)
+        write_gif(pngs, folder.path("device.gif"))
+        folder.commit()
+    except BaseException:
+        folder.discard()
+        raise
+    return [out / "frames" / p.name for p in pngs], out / "device.gif"
 
 
 def cmd_render(args) -> int:
+    from .claim import hold
+    hold(args, args.dir, check=False)   # one writer of DIR at a time (coupling/claim.py)
+    import shutil
+    for stale in Path(args.dir).glob(".render.partial-*"):   # of a render that was killed: ours to tidy now
+        shutil.rmtree(stale, ignore_errors=True)
     pngs, gif = render(args.dir)
     if not getattr(args, "quiet", False):
         print(f"{len(pngs)} frames in {pngs[0].parent}/, animation {gif}")

@@ -527,15 +527,49 @@ def apply_overrides(raw: dict, overrides: list[str]) -> dict:
     return raw
 
 
+_BOMS = ((b"\x00\x00\xfe\xff", "UTF-32 (big-endian)"), (b"\xff\xfe\x00\x00", "UTF-32 (little-endian)"),
+         (b"\xfe\xff", "UTF-16 (big-endian)"), (b"\xff\xfe", "UTF-16 (little-endian)"))
+
+
+def decode_text(data: bytes, path, expected: str, error=None) -> str:
+    """UTF-8 text of a scene or record file, a UTF-8 byte-order mark (what
+    some Windows editors write first) dropped; anything else (UTF-16/32,
+    Latin-1 or Windows-1252 bytes, NUL bytes) is ``error`` with one line
+    naming the file, the byte offset and line, and what is expected."""
+    error = error or SceneError
+    if data.startswith(b"\xef\xbb\xbf"):
+        data = data[3:]
+    for bom, name in _BOMS:
+        if data.startswith(bom):
+            raise error(f"{path}: {name} text (byte-order mark {bom.hex(' ').upper()} at byte 0); "
+                        f"{expected}: save it as UTF-8")
+    nul = data.find(b"\x00")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        at = exc.start if nul < 0 else min(exc.start, nul)
+        raise error(_bad_byte(data, at, path, expected)) from None
+    if nul >= 0:
+        raise error(_bad_byte(data, nul, path, expected))
+    return text
+
+
+def _bad_byte(data: bytes, at: int, path, expected: str) -> str:
+    line = data.count(b"\n", 0, at) + 1
+    b = data[at]
+    if b == 0:
+        what = "a NUL byte (UTF-16 text without a byte-order mark, or a binary file?)"
+    else:
+        what = f"byte 0x{b:02X}, not UTF-8 (Latin-1 or Windows-1252 text?)"
+    return f"{path}: {what} at byte offset {at} (line {line}); {expected}: save it as UTF-8"
+
+
 def read_toml(path: Path) -> dict:
     try:
         data = path.read_bytes()
     except OSError as exc:
         raise SceneError(f"{path}: cannot be read ({exc.strerror})") from None
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise SceneError(f"{path}: not a UTF-8 text file (a scene is TOML)") from None
+    text = decode_text(data, path, "a scene file is TOML, which is UTF-8", SceneError)
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

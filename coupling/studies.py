@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from . import scene as scn
-from .output import ResultsFolder, check_out_dir
+from .claim import hold
+from .output import ResultsFolder
 from .scene import SceneError
 
 EXIT_OK, EXIT_FAILED = 0, 1
@@ -155,7 +156,7 @@ def measure(case: Case) -> dict:
 # -- small helpers ------------------------------------------------------------------------
 def out_dir(args, default: str) -> Path:
     out = Path(args.out) if args.out else Path("results") / default
-    check_out_dir(out, args.force)
+    hold(args, out)             # DIR ours until the command returns (coupling/claim.py); checked under the claim
     return out
 
 

@@ -88,13 +88,26 @@ def _read_text(path) -> str:
         raise RecordError(path, "is a directory, not a record file") from None
     except OSError as exc:
         raise RecordError(path, f"cannot be read ({exc.strerror})") from None
+    if raw.startswith(b"\xef\xbb\xbf"):       # a UTF-8 byte-order mark (Windows editors): not part of the text
+        raw = raw[3:]
+    for bom, name in ((b"\x00\x00\xfe\xff", "UTF-32 (big-endian)"), (b"\xff\xfe\x00\x00", "UTF-32 (little-endian)"),
+                      (b"\xfe\xff", "UTF-16 (big-endian)"), (b"\xff\xfe", "UTF-16 (little-endian)")):
+        if raw.startswith(bom):
+            raise RecordError(path, f"{name} text (byte-order mark {bom.hex(' ').upper()} at byte 0); expected "
+                              "an ASCII or UTF-8 text record (PEER .AT2 or two columns): save it as UTF-8")
     if not raw.strip():
         raise RecordError(path, "file is empty")
     if b"\x00" in raw:
-        raise RecordError(path, "binary file (NUL bytes); expected a PEER .AT2 or two-column text record")
+        at = raw.find(b"\x00")
+        raise RecordError(path, f"binary file (NUL byte at byte offset {at}; UTF-16 without a byte-order mark?); "
+                          "expected a PEER .AT2 or two-column text record", raw.count(b"\n", 0, at) + 1)
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError:
+        # values are ASCII numbers; a non-UTF-8 byte can only be header text
+        # (a station name, a degree sign in Latin-1): read as Latin-1, where
+        # every byte is a character (a stray byte among the values is then
+        # "not a number" at its line)
         return raw.decode("latin-1")
 
 

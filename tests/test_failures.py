@@ -265,8 +265,22 @@ def test_force_crash_while_writing_keeps_old_results(tmp_path, scene_file, monke
     def broken(*a, **k):
         raise OSError(28, "No space left on device")
 
+    # a write failure (issue 19): one line, exit 1, the earlier results kept as they were
     monkeypatch.setattr(out_mod, "summary", broken)
-    with pytest.raises(OSError):
+    capsys.readouterr()
+    assert cli.main(["run", str(scene_file), "--out", str(out), "--quiet", "--force"]) == 1
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and "No space left on device" in err and "1000 steps computed" in err
+    assert "still holds the earlier results" in err
+    assert snapshot(out) == before
+    no_leftovers(out.parent, {"res"})
+
+    # any other crash: raised as it was, the old folder untouched too
+    def bug(*a, **k):
+        raise RuntimeError("a bug")
+
+    monkeypatch.setattr(out_mod, "summary", bug)
+    with pytest.raises(RuntimeError):
         cli.main(["run", str(scene_file), "--out", str(out), "--quiet", "--force"])
     assert snapshot(out) == before
     no_leftovers(out.parent, {"res"})
