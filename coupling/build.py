@@ -99,6 +99,9 @@ def make_plate(params: PlateParams, dt: float):
 
 
 def build(scene: Scene) -> Simulation:
+    if scene["device"]["kind"] == "TFP":          # four surfaces, five parts: coupling/tfp_loop.py
+        from .tfp_loop import build_tfp
+        return build_tfp(scene)
     dt = scene["solver"]["dt"]
     geom = geometry_of(scene)
     ld = scene["loading"]
