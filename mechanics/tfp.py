@@ -224,6 +224,7 @@ class TFPStepper:
         self.out = np.zeros(K.N_OUT)
         self.N = np.zeros(4)
         self._M, self._w, self._tmp = np.zeros(3), np.zeros(2), np.zeros(2)
+        self._sc = np.zeros(4 + 2 * K.N_OUT)
         self.n = 0
         self.t = 0.0
         self.F = 0.0
@@ -319,8 +320,12 @@ class TFPStepper:
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
         k, g, dt, n = self.k, self.geom, self.dt, self.n
         ag = self._a[n]
-        # normal forces at the start of the step (accelerations of the last step)
-        k.normal_forces(self.par, self.st[0], self.st[1], self.st[2], self.st[3], self.acc[0], self.acc[1],
+        # normal forces at the start of the step: weights, the ground's d'Alembert
+        # force, the centripetal terms and the machine's force; the generalised
+        # accelerations are left out (they enter only through sin(alpha) between
+        # the axes, and their impulsive part at an arrest or a rim impact would
+        # put a spike of size v / dt into the next step's friction cap)
+        k.normal_forces(self.par, self.st[0], self.st[1], self.st[2], self.st[3], 0.0, 0.0,
                         ag, self.F, self.N)
         N = self.N
         a1, a4 = mu1 * N[0] * g.R1, mu4 * N[3] * g.R4
@@ -329,9 +334,10 @@ class TFPStepper:
         v0 = (float(self.st[2]), float(self.st[3]))
         if self.machine:
             k.step(self.par, self.st, dt, ag, c_o, c_i, 1, self._u[n + 1], self._ud[n + 1], self.out,
-                   self._M, self._w, self._tmp)
+                   self._M, self._w, self._tmp, self._sc)
         else:
-            k.step(self.par, self.st, dt, ag, c_o, c_i, 0, 0.0, 0.0, self.out, self._M, self._w, self._tmp)
+            k.step(self.par, self.st, dt, ag, c_o, c_i, 0, 0.0, 0.0, self.out, self._M, self._w, self._tmp,
+                   self._sc)
         o = self.out
         fail = int(o[K.O_FAIL])
         if fail == K.FAIL_CAPACITY:
@@ -495,3 +501,25 @@ def small_angle_backbone(geom: TFPGeometry, mus) -> dict:
                    "F0_I": W * (mu2 * Re2 + mu3 * Re3) / (Re2 + Re3),
                    "F_I_III": W * mu1},
     }
+
+
+def transition_force(geom: TFPGeometry, mus, phi_held: float = 0.0, s: float = 1.0) -> tuple:
+    """Force and displacement where the outer surfaces start (regime I -> III)
+    on the inner branch with the stack held at ``phi_held``: the root in psi of
+    the outer demand minus its cap on F = branch_force(alpha), by bisection."""
+    def h(psi):
+        F = branch_force(geom, mus, phi_held, psi, "alpha", s)
+        d, cap = demand(geom, mus, phi_held, psi, F, "phi")
+        return s * d - cap
+    lo, hi = phi_held, phi_held + s * (geom.qmax[1])
+    if h(lo) * h(hi) > 0:
+        return None
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if h(lo) * h(mid) <= 0:
+            hi = mid
+        else:
+            lo = mid
+    psi = 0.5 * (lo + hi)
+    F = branch_force(geom, mus, phi_held, psi, "alpha", s)
+    return F, geom.A * math.sin(phi_held) + geom.Li * math.sin(psi)

@@ -50,8 +50,8 @@ N_PAR = 24
 
 # -- step output vector ----------------------------------------------------------
 O_DPHI, O_DALPHA, O_F, O_EIN, O_WO, O_WI, O_RIM, O_ITER, O_FAIL = 0, 1, 2, 3, 4, 5, 6, 7, 8
-O_ARREST_O, O_ARREST_I, O_MACH_K, O_NU_PHI, O_NU_ALPHA = 9, 10, 11, 12, 13
-N_OUT = 14
+O_ARREST_O, O_ARREST_I, O_MACH_K, O_NU_PHI, O_NU_ALPHA, O_ARRIVE = 9, 10, 11, 12, 13, 14
+N_OUT = 15
 
 FAIL_NONE, FAIL_CAPACITY, FAIL_FIXED_POINT = 0, 1, 2
 
@@ -301,7 +301,67 @@ def normal_forces(par, phi, alpha, v1, v2, a1, a2, ag, F, N):
             N[i] = 0.0
 
 
-def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp):
+def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
+    """One step of the rigid TFP (see ``substep``), split at a rim impact.
+
+    A coordinate that reaches its rim inside the step would otherwise be
+    stopped by a position clamp whose reaction (and so the momentum it hands
+    to the other coordinate, and the loss) depends on where in the step the
+    rim was met. Instead the step is split: the first part ends at the rim
+    (fraction tau of the step, from the unclamped increment), where the
+    impact is inelastic at velocity level (the kinetic energy of the stopped
+    coordinate, exactly, is the rim loss); the rest starts on the rim.
+    sc: scratch of length >= 4 + 2 N_OUT."""
+    for i in range(4):
+        sc[i] = st[i]
+    substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+    if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0:
+        return
+    # the unclamped increment decides where the rim was met
+    for i in range(4):
+        st[i] = sc[i]
+    u0 = 0.0
+    ud0 = 0.0
+    if machine == 1:
+        u0 = u_rel(par, sc[0], sc[1])
+        A, Li = par[I_A], par[I_LI]
+        ud0 = (A * math.cos(sc[0]) + Li * math.cos(sc[0] + sc[1])) * sc[2] + Li * math.cos(sc[0] + sc[1]) * sc[3]
+    substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 1)
+    tau = 1.0
+    qm1 = par[I_QMAX_PHI]
+    qm2 = par[I_QMAX_ALPHA]
+    d1 = out[O_DPHI]
+    d2 = out[O_DALPHA]
+    if d1 != 0.0 and abs(sc[0] + d1) > qm1:
+        dist = (qm1 if d1 > 0.0 else -qm1) - sc[0]
+        tau = min(tau, dist / d1)
+    if d2 != 0.0 and abs(sc[1] + d2) > qm2:
+        dist = (qm2 if d2 > 0.0 else -qm2) - sc[1]
+        tau = min(tau, dist / d2)
+    if tau < 1e-9:
+        tau = 1e-9
+    if tau > 1.0 - 1e-9:
+        tau = 1.0 - 1e-9
+    for i in range(4):
+        st[i] = sc[i]
+    acc = 4
+    uh = u0 + tau * (u1 - u0)
+    udh = ud0 + tau * (ud1 - ud0)
+    substep(par, st, tau * dt, ag, c_o, c_i, machine, uh, udh, out, M, w, tmp, 0)
+    for i in range(N_OUT):
+        sc[acc + i] = out[i]
+    if out[O_FAIL] != FAIL_NONE:
+        return
+    substep(par, st, (1.0 - tau) * dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+    for i in range(N_OUT):
+        if i != O_F and i != O_FAIL and i != O_NU_PHI and i != O_NU_ALPHA and i != O_ARRIVE:
+            out[i] += sc[acc + i]
+    if sc[acc + O_FAIL] > out[O_FAIL]:
+        out[O_FAIL] = sc[acc + O_FAIL]
+    out[O_ARRIVE] = 1.0
+
+
+def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobounds):
     """One step of the rigid TFP. st = [phi, alpha, v_phi, v_alpha] (updated).
 
     ag: mean ground acceleration over the step; c_o = mu1 N1 R1 + mu4 N4 R4,
@@ -319,6 +379,9 @@ def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp):
     v20 = st[3]
     qm1 = par[I_QMAX_PHI]
     qm2 = par[I_QMAX_ALPHA]
+    if nobounds == 1:
+        qm1 = 1e30
+        qm2 = 1e30
     # momentum p0 = M(q0) v0
     mass_matrix(par, q20, M)
     p1 = M[0] * v10 + M[1] * v20
@@ -536,3 +599,6 @@ def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp):
     out[O_MACH_K] = mk
     out[O_NU_PHI] = nu1
     out[O_NU_ALPHA] = nu2
+    # a coordinate that moved onto its rim in this step (not one that stayed on it)
+    if (at1 and x1 != 0.0) or (at2 and x2 != 0.0):
+        out[O_ARRIVE] = 1.0
