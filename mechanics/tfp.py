@@ -523,3 +523,31 @@ def transition_force(geom: TFPGeometry, mus, phi_held: float = 0.0, s: float = 1
     psi = 0.5 * (lo + hi)
     F = branch_force(geom, mus, phi_held, psi, "alpha", s)
     return F, geom.A * math.sin(phi_held) + geom.Li * math.sin(psi)
+
+
+def hexagon_loop(k1: float, k3: float, F0_I: float, b3: float, U: float) -> tuple:
+    """Small-angle steady loop of amplitude U reached on the outer branch (no
+    rims): outer branches F = k3 u +- b3, inner branches of slope k1 after a
+    rigid drop of 2 F0_I at each reversal. Returns (area, vertices)."""
+    F_top = k3 * U + b3
+    # from (U, F_top - 2 F0_I) along slope k1 down to the lower outer branch F = k3 u - b3
+    F1 = F_top - 2.0 * F0_I
+    u_x = (F1 - k1 * U + b3) / (k3 - k1)
+    V = [(U, F_top), (U, F1), (u_x, k3 * u_x - b3), (-U, -F_top), (-U, -F1), (-u_x, -(k3 * u_x - b3))]
+    area = 0.5 * abs(sum(V[i][0] * V[(i + 1) % 6][1] - V[(i + 1) % 6][0] * V[i][1] for i in range(6)))
+    return area, V
+
+
+def compare_with_series(geom: TFPGeometry, mus, U: float) -> dict:
+    """Rigid model against Fenz-Constantinou (2008) for a symmetric TFP, small
+    angles, amplitude U on the outer branch (docs/model.md 6.4)."""
+    bb = small_angle_backbone(geom, mus)
+    r, s = bb["rigid"], bb["series"]
+    hp = geom.pad_height
+    Re1 = geom.R1 - (geom.slider_height_lower + 0.5 * hp)
+    Re2 = geom.R2 - 0.5 * hp
+    u_star = 2.0 * Re2 * (mus[0] - mus[1])
+    b3_series = geom.weight * mus[0] - geom.weight * u_star / (2.0 * Re1)
+    a_r, _ = hexagon_loop(r["k_I"], r["k_III"], r["F0_I"], r["F0_III"], U)
+    a_s, _ = hexagon_loop(s["k_I"], s["k_III"], s["F0_I"], b3_series, U)
+    return {"rigid": dict(r, loop_area=a_r), "series": dict(s, F0_III=b3_series, loop_area=a_s, u_star=u_star)}

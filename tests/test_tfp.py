@@ -233,3 +233,17 @@ def test_tfp_scene_errors_are_one_line(tmp_path, sets, tokens):
 def test_tfp_key_on_a_dfp_is_refused(tmp_path):
     p = _run_cli(["check", "default", "--set", "device.d1=0.2"], tmp_path)
     assert p.returncode == 2 and "device.d1" in p.stderr and "TFP" in p.stderr
+
+
+def test_small_angle_loop_area_and_the_series_model():
+    """Below the rims the loop is the small-angle hexagon of docs/model.md 6.3
+    (within 2 %); the Fenz-Constantinou series model's loop is 13-17 % smaller."""
+    from fpd.mechanics.tfp import compare_with_series
+    g = tfp()
+    U = 0.25
+    s, d, _ = run(g, sine_programme(U, 0.05, 2, 5e-3))
+    half = len(d["u_m"]) // 2
+    area = abs(np.trapezoid(d["F_N"][half:], d["u_m"][half:]))
+    c = compare_with_series(g, MUS, U)
+    assert abs(area / c["rigid"]["loop_area"] - 1) < 0.02, (area, c["rigid"]["loop_area"])
+    assert 1.13 < c["rigid"]["loop_area"] / c["series"]["loop_area"] < 1.17
