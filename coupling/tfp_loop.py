@@ -180,3 +180,27 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
                  plates, dict(sim.info), history=hist)
     res.steps = n if status == "ok" or last_row == n else n - 1
     return res
+
+
+def build_flat(scene: Scene) -> Simulation:
+    """The flat double bearing (mechanics/flat.py): two interfaces, so
+    coupling/run.py's own loop drives it."""
+    from fpd.mechanics.flat import FlatGeometry, FlatStepper
+    from .build import plate_params
+
+    dt = scene["solver"]["dt"]
+    dev = scene["device"]
+    geom = FlatGeometry(dev["pad_height"], dev["pad_diameter"], dev["pad_mass"], scene["superstructure"]["mass"])
+    loading = loading_of(scene, dt)
+    mech = FlatStepper(geom, loading)
+    sub = scene["coupling"]["substeps"]
+    pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
+    plates = tuple(make_plate(p, dt / sub) for p in pp)
+    laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    info = {"device": "flat", "mu_tip_closed_form": geom.mu_tip()}
+    if hasattr(loading, "record"):
+        ld = scene["loading"]
+        info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
+                          "pga_g": loading.record.pga_g, "scale": ld["scale"],
+                          "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
+    return Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)

@@ -87,8 +87,35 @@ def tfp_cross_checks(ctx, data) -> None:
 
 
 def flat_device(ctx, data, raw) -> None:
-    ctx.fail("device.kind", "flat", 'the flat bearing is not available yet: use "DFP", "SFP" or "TFP"')
+    """The flat double bearing: pad_height, pad_diameter (pad_mass), no radii."""
+    dev = data["device"]
+    for key in ("R1", "R2"):
+        if key in dev:
+            ctx.fail(f"device.{key}", dev[key], 'is not a key of kind = "flat" (flat plates have no radius)')
+    given = (raw.get("mechanics") or {}).get("model") if isinstance(raw.get("mechanics"), dict) else None
+    if given == "two-phase":
+        ctx.fail("mechanics.model", "two-phase", 'the flat bearing has one model: use "seated" (docs/model.md section 7)')
+    data["mechanics"]["model"] = "seated"
+    if data["loading"]["kind"] == "heat":
+        ctx.fail("loading.kind", "heat", 'a thermal-only scene ignores the device: use kind = "DFP" for it')
 
 
 def flat_cross_checks(ctx, data) -> None:
-    pass
+    from .scene import check_steps, loading_length
+
+    ld, sol, dev = data["loading"], data["solver"], data["device"]
+    if data["output"]["vtk_every"] > 0:
+        ctx.fail("output.vtk_every", data["output"]["vtk_every"], "must be 0 for the flat bearing (no VTK yet)")
+    if "duration" in sol and sol["dt"] > sol["duration"]:
+        ctx.fail("solver.dt", sol["dt"], f"must not exceed solver.duration = {sol['duration']:g} s")
+    length = loading_length(ld)
+    if length is not None and "duration" not in sol and sol["dt"] > length:
+        ctx.fail("solver.dt", sol["dt"], f"must not exceed the loading's length {length:g} s")
+    length = sol.get("duration", length)
+    if length is not None:
+        check_steps(ctx.path, sol["dt"], length)
+    for side, t in data["thermal"].items():
+        if t["model"] != "none" and dev["pad_diameter"] / 2 > t["plate_radius"]:
+            ctx.fail("thermal.plate_radius", t["plate_radius"], f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
+        if t["source"] == "fixed-point" and t["radius_m"] > t["plate_radius"]:
+            ctx.fail("thermal.radius_m", t["radius_m"], f"must be <= plate_radius = {t['plate_radius']:g} m")
