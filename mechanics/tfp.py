@@ -199,7 +199,9 @@ class TFPStepper:
     """The rigid TFP under a ground motion (GroundMotion) or in the test
     machine (DisplacementProgramme: the superstructure's relative displacement
     imposed, its weight carried). ``step(mu1, mu2, mu3, mu4)`` advances one
-    step and returns the friction work of S1..S4 in it."""
+    step and returns the friction work of S1..S4 in it. The state is one
+    float64 vector (tfp_kernel.S_*), advanced by tfp_kernel.advance, so the
+    compiled loop (coupling/tfp_fast.py) runs the same source."""
 
     columns = COLUMNS
     n_interfaces = 4
@@ -220,38 +222,50 @@ class TFPStepper:
             self._a = float_array(loading.a_step)
             self._xg = float_array(loading.d)
         self.par = geom.pack()
-        self.st = np.zeros(4)
+        self.S = np.zeros(K.N_S)
+        self.st = self.S[0:4]                   # a view: phi, alpha and their rates
+        self.N = self.S[K.S_N:K.S_N + 4]         # a view: N1..N4
         self.out = np.zeros(K.N_OUT)
-        self.N = np.zeros(4)
+        self._row = np.zeros(K.N_ROW)
         self._M, self._w, self._tmp = np.zeros(3), np.zeros(2), np.zeros(2)
         self._sc = np.zeros(4 + 2 * K.N_OUT)
         self.n = 0
         self.t = 0.0
-        self.F = 0.0
-        self.acc = [0.0, 0.0]
-        self.W = [0.0, 0.0, 0.0, 0.0]
-        self.E_in = 0.0
-        self.E_rim = 0.0
-        self.phase = 0
-        self.regime = 0
-        self.slide = (0, 0, 0, 0)
-        self.slip_v = [0.0, 0.0, 0.0, 0.0]
-        self.dW = (0.0, 0.0, 0.0, 0.0)
-        self.k.normal_forces(self.par, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, self.N)
+        K.normal_forces(self.par, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, self.N)
         if self.machine and self._ud[0] != 0.0:
             # the machine launches the programme with u'(0) != 0 on the inner surfaces
             # (they slide first): that kinetic energy is input
-            self.st[3] = self._ud[0] / geom.Li
-            self.E_in = self.E_kin()
+            self.S[3] = self._ud[0] / geom.Li
+            self.S[K.S_EIN] = self.E_kin()
 
     # -- accessors the loop and outputs use -----------------------------------------
     @property
     def phi(self) -> float:
-        return float(self.st[0])
+        return float(self.S[0])
 
     @property
     def alpha(self) -> float:
-        return float(self.st[1])
+        return float(self.S[1])
+
+    @property
+    def F(self) -> float:
+        return float(self.S[K.S_F])
+
+    @property
+    def W(self) -> list:
+        return [float(x) for x in self.S[K.S_W:K.S_W + 4]]
+
+    @property
+    def E_in(self) -> float:
+        return float(self.S[K.S_EIN])
+
+    @property
+    def E_rim(self) -> float:
+        return float(self.S[K.S_ERIM])
+
+    @property
+    def slip_v(self) -> list:
+        return [float(x) for x in self.S[K.S_SV:K.S_SV + 4]]
 
     def slides(self) -> tuple:
         """Arc slid on S1..S4 (signed, m)."""
@@ -274,7 +288,7 @@ class TFPStepper:
         return self._xg[self.n]
 
     def E_kin(self) -> float:
-        return K.kinetic(self.par, self.alpha, float(self.st[2]), float(self.st[3]))
+        return K.kinetic(self.par, self.alpha, float(self.S[2]), float(self.S[3]))
 
     def E_pot(self) -> float:
         return K.potential(self.par, self.phi, self.alpha)
@@ -282,109 +296,33 @@ class TFPStepper:
     def ledger_residual(self) -> float:
         return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim)
 
-    def rims(self) -> tuple:
-        g = self.geom
-        s = self.slides()
-        tol = 1e-12
-        return tuple(int(abs(si) >= d * (1 - tol)) for si, d in zip(s, (g.d1, g.d2, g.d3, g.d4)))
-
     def values(self) -> tuple:
-        k, par = self.k, self.par
-        phi, al = self.phi, self.alpha
-        v1, v2 = float(self.st[2]), float(self.st[3])
-        A, Li = par[K.I_A], par[K.I_LI]
-        s = self.slides()
-        udot = (A * math.cos(phi) + Li * math.cos(phi + al)) * v1 + Li * math.cos(phi + al) * v2
-        N = self.N
-        return ((self.t, self.xg(), K.u_rel(par, phi, al), udot, self.F, K.uplift(par, phi, al), phi + al)
-                + s + (N[0], N[1], N[2], N[3]) + tuple(self.W)
-                + (self.phase, self.E_in, self.E_kin(), self.E_pot(), self.E_rim, phi, al, self.regime)
-                + self.slide + self.rims())
+        g = self.geom
+        K.row_values(self.par, self.S, self.t, self.xg(), g.d1, g.d2, g.d3, g.d4, self._row)
+        return tuple(self._row.tolist())
 
     def save(self):
-        return (self.n, self.t, self.st.copy(), self.N.copy(), self.F, list(self.acc), list(self.W), self.E_in,
-                self.E_rim, self.phase, self.regime, self.slide, list(self.slip_v))
+        return (self.n, self.t, self.S.copy())
 
     def restore(self, snap) -> None:
-        (self.n, self.t, st, N, self.F, acc, W, self.E_in, self.E_rim, self.phase, self.regime,
-         self.slide, sv) = snap
-        self.st[:] = st
-        self.N[:] = N
-        self.acc, self.W, self.slip_v = list(acc), list(W), list(sv)
+        self.n, self.t, S = snap
+        self.S[:] = S
 
     # -- the step -----------------------------------------------------------------
-    def caps(self, mu1, mu2, mu3, mu4) -> tuple:
-        N, g = self.N, self.geom
-        return (mu1 * N[0] * g.R1 + mu4 * N[3] * g.R4, mu2 * N[1] * g.R2 + mu3 * N[2] * g.R3)
-
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
-        k, g, dt, n = self.k, self.geom, self.dt, self.n
-        ag = self._a[n]
-        # normal forces at the start of the step: weights, the ground's d'Alembert
-        # force, the centripetal terms and the machine's force; the generalised
-        # accelerations are left out (they enter only through sin(alpha) between
-        # the axes, and their impulsive part at an arrest or a rim impact would
-        # put a spike of size v / dt into the next step's friction cap)
-        k.normal_forces(self.par, self.st[0], self.st[1], self.st[2], self.st[3], 0.0, 0.0,
-                        ag, self.F, self.N)
-        N = self.N
-        a1, a4 = mu1 * N[0] * g.R1, mu4 * N[3] * g.R4
-        a2, a3 = mu2 * N[1] * g.R2, mu3 * N[2] * g.R3
-        c_o, c_i = a1 + a4, a2 + a3
-        v0 = (float(self.st[2]), float(self.st[3]))
+        n = self.n
         if self.machine:
-            k.step(self.par, self.st, dt, ag, c_o, c_i, 1, self._u[n + 1], self._ud[n + 1], self.out,
-                   self._M, self._w, self._tmp, self._sc)
+            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], mu1, mu2, mu3, mu4, 1, self._u[n + 1],
+                                  self._ud[n + 1], self.out, self._M, self._w, self._tmp, self._sc)
         else:
-            k.step(self.par, self.st, dt, ag, c_o, c_i, 0, 0.0, 0.0, self.out, self._M, self._w, self._tmp,
-                   self._sc)
-        o = self.out
-        fail = int(o[K.O_FAIL])
+            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], mu1, mu2, mu3, mu4, 0, 0.0, 0.0,
+                                  self.out, self._M, self._w, self._tmp, self._sc)
         if fail == K.FAIL_CAPACITY:
             raise TFPFailure(f"the test machine drives the bearing past its displacement capacity "
-                             f"{g.capacity:.4g} m (all surfaces at their rims)")
-        if self.machine:
-            self.F = float(o[K.O_F])
-        else:
-            # horizontal force of the bearing against u: minus the superstructure's inertia force
-            self.F = 0.0
-        dphi, dal = float(o[K.O_DPHI]), float(o[K.O_DALPHA])
-        wo, wi = float(o[K.O_WO]), float(o[K.O_WI])
-        fo = a1 / c_o if c_o > 0 else 0.5
-        fi = a2 / c_i if c_i > 0 else 0.5
-        dW = (fo * wo, fi * wi, (1.0 - fi) * wi, (1.0 - fo) * wo)
-        for i in range(4):
-            self.W[i] += dW[i]
-        self.E_in += float(o[K.O_EIN])
-        self.E_rim += float(o[K.O_RIM])
-        v1 = (float(self.st[2]), float(self.st[3]))
-        self.acc = [(v1[0] - v0[0]) / dt, (v1[1] - v0[1]) / dt]
-        if not self.machine:
-            par = self.par
-            A, Li = par[K.I_A], par[K.I_LI]
-            # superstructure's relative horizontal velocity before and after
-            ph0, al0 = self.phi - dphi, self.alpha - dal
-            x0 = (A * math.cos(ph0) + Li * math.cos(ph0 + al0)) * v0[0] + Li * math.cos(ph0 + al0) * v0[1]
-            x1 = (A * math.cos(self.phi) + Li * math.cos(self.phi + self.alpha)) * v1[0] \
-                + Li * math.cos(self.phi + self.alpha) * v1[1]
-            self.F = -g.mass * (ag + (x1 - x0) / dt)
-        so, si = int(dphi != 0.0), int(dal != 0.0)
-        self.slide = (so, si, si, so)
-        self.phase = BOTH if so and si else (OUTER if so else (INNER if si else 0))
-        if so and si:
-            self.regime = 6
-        elif so:
-            self.regime = 3
-        elif si:
-            pm = self.geom.qmax[0]
-            self.regime = 5 if abs(self.phi) >= pm * (1 - 1e-12) else 1
-        else:
-            self.regime = 0
-        self.slip_v = [g.R1 * abs(dphi) / dt, g.R2 * abs(dal) / dt, g.R3 * abs(dal) / dt, g.R4 * abs(dphi) / dt]
+                             f"{self.geom.capacity:.4g} m (all surfaces at their rims)")
         self.n = n + 1
-        self.t = self.n * dt
-        self.dW = dW
-        return dW
+        self.t = self.n * self.dt
+        return tuple(float(x) for x in self.S[K.S_DW:K.S_DW + 4])
 
 
 # -- the closed-form backbone (docs/model.md 6.3) ------------------------------------------

@@ -602,3 +602,117 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     # a coordinate that moved onto its rim in this step (not one that stayed on it)
     if (at1 and x1 != 0.0) or (at2 and x2 != 0.0):
         out[O_ARRIVE] = 1.0
+
+
+# -- the whole step of the stepper (mechanics/tfp.py's TFPStepper and the compiled loop) --------
+S_F, S_W, S_EIN, S_ERIM, S_PHASE, S_REG, S_SLIDE, S_SV, S_DW, S_N = 4, 5, 9, 10, 11, 12, 13, 17, 21, 25
+N_S = 29
+PHASE_STICK, PHASE_INNER, PHASE_OUTER, PHASE_BOTH = 0, 3, 4, 5
+N_ROW = 35          # len(mechanics.tfp.COLUMNS)
+
+
+def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc):
+    """One step of the stepper on its state vector S (layout S_*): normal
+    forces at the start of the step (weights, the ground's d'Alembert force,
+    centripetal terms, the machine's force; without the generalised
+    accelerations, see docs/model.md 6.2), caps, ``step``, the friction work of
+    each surface (the arrest loss of a coordinate shared by its two surfaces as
+    their caps), the force F, phase, regime, sliding flags and speeds.
+    Returns the failure flag (FAIL_*)."""
+    N = S[S_N:S_N + 4]
+    normal_forces(par, S[0], S[1], S[2], S[3], 0.0, 0.0, ag, S[S_F], N)
+    R1, R2, R3, R4 = par[I_R1], par[I_R2], par[I_R3], par[I_R4]
+    a1 = mu1 * N[0] * R1
+    a4 = mu4 * N[3] * R4
+    a2 = mu2 * N[1] * R2
+    a3 = mu3 * N[2] * R3
+    c_o = a1 + a4
+    c_i = a2 + a3
+    ph0, al0, v00, v01 = S[0], S[1], S[2], S[3]
+    step(par, S[0:4], dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc)
+    fail = int(out[O_FAIL])
+    if fail == FAIL_CAPACITY:
+        return fail
+    dphi = out[O_DPHI]
+    dal = out[O_DALPHA]
+    wo = out[O_WO]
+    wi = out[O_WI]
+    fo = a1 / c_o if c_o > 0.0 else 0.5
+    fi = a2 / c_i if c_i > 0.0 else 0.5
+    S[S_DW] = fo * wo
+    S[S_DW + 1] = fi * wi
+    S[S_DW + 2] = (1.0 - fi) * wi
+    S[S_DW + 3] = (1.0 - fo) * wo
+    for i in range(4):
+        S[S_W + i] += S[S_DW + i]
+    S[S_EIN] += out[O_EIN]
+    S[S_ERIM] += out[O_RIM]
+    if machine == 1:
+        S[S_F] = out[O_F]
+    else:
+        # the bearing's horizontal force against u: minus the superstructure's inertia force
+        A, Li = par[I_A], par[I_LI]
+        x0 = (A * math.cos(ph0) + Li * math.cos(ph0 + al0)) * v00 + Li * math.cos(ph0 + al0) * v01
+        x1 = (A * math.cos(S[0]) + Li * math.cos(S[0] + S[1])) * S[2] + Li * math.cos(S[0] + S[1]) * S[3]
+        S[S_F] = -par[I_MSUP] * (ag + (x1 - x0) / dt)
+    so = 1.0 if dphi != 0.0 else 0.0
+    si = 1.0 if dal != 0.0 else 0.0
+    S[S_SLIDE] = so
+    S[S_SLIDE + 1] = si
+    S[S_SLIDE + 2] = si
+    S[S_SLIDE + 3] = so
+    if so != 0.0 and si != 0.0:
+        S[S_PHASE] = PHASE_BOTH
+        S[S_REG] = 6.0
+    elif so != 0.0:
+        S[S_PHASE] = PHASE_OUTER
+        S[S_REG] = 3.0
+    elif si != 0.0:
+        S[S_PHASE] = PHASE_INNER
+        S[S_REG] = 5.0 if abs(S[0]) >= par[I_QMAX_PHI] * (1.0 - 1e-12) else 1.0
+    else:
+        S[S_PHASE] = PHASE_STICK
+        S[S_REG] = 0.0
+    S[S_SV] = R1 * abs(dphi) / dt
+    S[S_SV + 1] = R2 * abs(dal) / dt
+    S[S_SV + 2] = R3 * abs(dal) / dt
+    S[S_SV + 3] = R4 * abs(dphi) / dt
+    return fail
+
+
+def row_values(par, S, t, xg, d1, d2, d3, d4, row):
+    """The stepper's output columns (mechanics.tfp.COLUMNS) into row[0:N_ROW]."""
+    phi, al = S[0], S[1]
+    v1, v2 = S[2], S[3]
+    A, Li = par[I_A], par[I_LI]
+    R1, R2, R3, R4 = par[I_R1], par[I_R2], par[I_R3], par[I_R4]
+    c = math.cos(phi + al)
+    row[0] = t
+    row[1] = xg
+    row[2] = u_rel(par, phi, al)
+    row[3] = (A * math.cos(phi) + Li * c) * v1 + Li * c * v2
+    row[4] = S[S_F]
+    row[5] = uplift(par, phi, al)
+    row[6] = phi + al
+    row[7] = R1 * phi
+    row[8] = R2 * al
+    row[9] = R3 * al
+    row[10] = R4 * phi
+    for i in range(4):
+        row[11 + i] = S[S_N + i]
+        row[15 + i] = S[S_W + i]
+    row[19] = S[S_PHASE]
+    row[20] = S[S_EIN]
+    row[21] = kinetic(par, al, v1, v2)
+    row[22] = potential(par, phi, al)
+    row[23] = S[S_ERIM]
+    row[24] = phi
+    row[25] = al
+    row[26] = S[S_REG]
+    for i in range(4):
+        row[27 + i] = S[S_SLIDE + i]
+    tol = 1.0 - 1e-12
+    row[31] = 1.0 if abs(R1 * phi) >= d1 * tol else 0.0
+    row[32] = 1.0 if abs(R2 * al) >= d2 * tol else 0.0
+    row[33] = 1.0 if abs(R3 * al) >= d3 * tol else 0.0
+    row[34] = 1.0 if abs(R4 * phi) >= d4 * tol else 0.0
