@@ -110,10 +110,35 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
     total_iter = worst_iter = 0
     bar = _Progress(N, dt, progress)
     old = mech.footprints()
+    # the common case compiled (coupling/tfp_fast.py); the loop below takes over where it stops
+    from .tfp_fast import CHUNK, FULL, REPLAY, ROW_FAILED, compiled_tfp
+    fast = compiled_tfp(sim, every, len(cols), inject_failure_at)
     t_start = time.perf_counter()
-    n = last_row = 0
+    n = last_row = n0 = 0
     try:
-        for n in range(1, N + 1):
+        if fast is not None:
+            T_arr, mu_arr = np.array(T, dtype=float), np.array(mu, dtype=float)
+            fast.pack()
+            try:
+                while n0 < N:
+                    n_done, k, code = fast._call(buf, k, n0, min(N, n0 + CHUNK), T_arr, mu_arr)
+                    total_iter += n_done - n0
+                    worst_iter = 1
+                    n0 = n = n_done
+                    last_row = n - n % every if n != N else N
+                    if code == FULL:
+                        flush()
+                    elif code == REPLAY:
+                        break
+                    elif code == ROW_FAILED:
+                        bad = [c for c, x in zip(cols, fast.row.tolist()) if not math.isfinite(x)]
+                        raise NumericalFailure(n, n * dt, "non-finite " + ", ".join(bad))
+                    bar.update(n)
+            finally:
+                fast.unpack(n0)
+                T, mu = T_arr.tolist(), mu_arr.tolist()
+                old = mech.footprints()
+        for n in range(n0 + 1, N + 1):
             snaps = (mech.save(), [p.save() if p else None for p in plates]) if iterated else None
             Tg = list(T)
             it = 0

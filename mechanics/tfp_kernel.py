@@ -129,12 +129,23 @@ def dgrad_cos_sin(p1, p2, phi0, a0, phi1, a1, out, use_sin):
 def qp_box(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x):
     """Minimise f = 1/2 x^T H x - r^T x + c1|x1| + c2|x2| on the box; the
     minimiser is one of the candidates (each coordinate at lo, 0, hi, or free
-    on one side of its kink), so the feasible candidate of least f is exact."""
+    on one side of its kink), so the feasible candidate of least f is exact.
+    The minimiser without the box comes first (9 candidates): when it lies in
+    the box it is the answer (convexity), which is the common case."""
+    _qp_cands(h11, h12, h22, r1, r2, c1, c2, -1e300, 1e300, -1e300, 1e300, x, 1)
+    if lo1 <= x[0] <= hi1 and lo2 <= x[1] <= hi2:
+        return 0.0
+    return _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, 0)
+
+
+def _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, free_only):
     best = 1e300
     x[0] = 0.0
     x[1] = 0.0
     for s1 in range(5):
         for s2 in range(5):
+            if free_only == 1 and (s1 == 0 or s1 == 2 or s2 == 0 or s2 == 2):
+                continue
             # states: 0 lo, 1 zero, 2 hi, 3 free negative, 4 free positive
             f1 = s1 < 3
             f2 = s2 < 3

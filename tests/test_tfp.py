@@ -247,3 +247,27 @@ def test_small_angle_loop_area_and_the_series_model():
     c = compare_with_series(g, MUS, U)
     assert abs(area / c["rigid"]["loop_area"] - 1) < 0.02, (area, c["rigid"]["loop_area"])
     assert 1.13 < c["rigid"]["loop_area"] / c["series"]["loop_area"] < 1.17
+
+
+def test_compiled_loop_matches_python_loop(monkeypatch):
+    """coupling/tfp_fast.py (compiled mechanics + fe1d / lumped plates + laws)
+    gives the Python loop's history bit for bit."""
+    pytest.importorskip("numba")
+    from fpd import kernels
+    if not kernels.available():
+        pytest.skip("FPD_NO_JIT")
+    from fpd.coupling import scene as scn
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate
+    from fpd.coupling.tfp_fast import compiled_tfp
+
+    sets = ["solver.duration=3", "thermal.slider_upper.model=lumped", "output.csv_every=7"]
+    sim = build(scn.load("tfp-elcentro", sets))
+    assert compiled_tfp(sim, 7, 45) is not None
+    a = simulate(sim, every=7)
+    monkeypatch.setenv("FPD_NO_JIT", "1")
+    sim = build(scn.load("tfp-elcentro", sets))
+    b = simulate(sim, every=7)
+    assert a.status == b.status == "ok"
+    assert a.columns == b.columns and np.array_equal(a.data, b.data)
+    assert [p.heat_in() for p in a.plates] == [p.heat_in() for p in b.plates]
