@@ -105,7 +105,10 @@ def cmd_run(args) -> int:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
         if scene["output"]["vtk_every"] > 0:
-            from .vtk_output import VTKSeries
+            if scene["device"]["kind"] == "TFP":
+                from .tfp_vtk import TFPVTKSeries as VTKSeries
+            else:
+                from .vtk_output import VTKSeries
             vtk = VTKSeries(folder.subdir("vtk"), sim)
         hottest = None
         if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):

@@ -63,8 +63,10 @@ def columns_of(sim: Simulation):
 
 
 def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject_failure_at=None,
-                 history=None, on_loop_end=None):
-    """simulate() for the TFP (same Result, statuses and history contract)."""
+                 history=None, on_loop_end=None, on_frame=None, frame_every: int = 0):
+    """simulate() for the TFP (same Result, statuses and history contract;
+    ``on_frame(n, sim)`` every ``frame_every`` steps, after the row, with
+    ``sim.frame_values`` the row as a dict: the VTK series, coupling/tfp_vtk.py)."""
     from .run import NumericalFailure, Result, _Progress
 
     mech = sim.mechanics
@@ -112,7 +114,7 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
     old = mech.footprints()
     # the common case compiled (coupling/tfp_fast.py); the loop below takes over where it stops
     from .tfp_fast import CHUNK, FULL, REPLAY, ROW_FAILED, compiled_tfp
-    fast = compiled_tfp(sim, every, len(cols), inject_failure_at)
+    fast = None if (on_frame is not None and frame_every) else compiled_tfp(sim, every, len(cols), inject_failure_at)
     t_start = time.perf_counter()
     n = last_row = n0 = 0
     try:
@@ -184,6 +186,9 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
                 last_row = n
                 if k == cap:
                     flush()
+                if on_frame is not None and frame_every and n % frame_every == 0:
+                    sim.frame_values = dict(zip(cols, r))
+                    on_frame(n, sim)
             if n % 2048 == 0:
                 bar.update(n)
     except NumericalFailure as exc:

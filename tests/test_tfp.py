@@ -271,3 +271,33 @@ def test_compiled_loop_matches_python_loop(monkeypatch):
     assert a.status == b.status == "ok"
     assert a.columns == b.columns and np.array_equal(a.data, b.data)
     assert [p.heat_in() for p in a.plates] == [p.heat_in() for p in b.plates]
+
+
+def test_tfp_vtk_five_bodies(tmp_path):
+    """vtk/device.pvd: six polygons per frame (five bodies and the superstructure),
+    the pad seated on both slider plates (its apexes on S2 and S3)."""
+    meshio = pytest.importorskip("meshio")
+    from fpd.coupling.tfp_vtk import tfp_polygons
+    from fpd.thermal.params import PlateParams
+    out = tmp_path / "r"
+    p = _run_cli(["run", "tfp-lab", "--out", str(out), "--quiet", "--set", "loading.cycles=0.5",
+                  "--set", "solver.dt=5e-3", "--set", "thermal.model=lumped", "--set", "output.vtk_every=500",
+                  "--set", "output.plots=false"], tmp_path)
+    assert p.returncode == 0, p.stderr
+    frames = sorted((out / "vtk").glob("device_*.vtu"))
+    assert len(frames) == 3
+    m = meshio.read(frames[1])
+    assert sum(len(c.data) for c in m.cells) == 6
+    assert sorted(np.concatenate(m.cell_data["body"]).tolist()) == [0, 1, 2, 3, 4, 5]
+    # geometry: the pad's lower apex lies on S2 (distance R2 from C2), its upper apex on S3
+    g = tfp()
+    pp = [PlateParams(plate_radius=0.5, plate_thickness=0.06)] * 4
+    phi, alpha = 0.05, -0.08
+    polys = tfp_polygons(g, pp, 0.1, phi, alpha)
+    pad = polys[2]
+    e = lambda x: np.array([-np.sin(x), np.cos(x)])
+    C2 = np.array([0.1, g.R1]) - g.l1 * e(phi)
+    C3 = C2 - g.Li * e(phi + alpha)
+    n = len(pad) // 2
+    assert abs(np.linalg.norm(pad[n // 2] - C2) - g.R2) < 1e-3
+    assert abs(np.linalg.norm(pad[n + n // 2] - C3) - g.R3) < 1e-3
