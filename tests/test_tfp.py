@@ -157,12 +157,13 @@ def test_ledger_closes_every_step_ground_motion(V):
 
 
 def test_friction_work_converges_in_dt():
-    """Test machine at 0.5 Hz (dynamic): friction work at dt = 4, 2, 1, 0.5 ms;
-    observed order ~1 and the 1 ms value within 3e-4 of the 0.5 ms one."""
+    """Test machine at 0.5 Hz (dynamic), one cycle: friction work at dt = 4, 2,
+    1, 0.5 ms; observed orders 1.2, 1.0 (first order: stick-slip hand-overs) and
+    the 1 ms value within 3e-4 of the 0.5 ms one (measured 1.2e-4)."""
     g = tfp()
     W = []
     for dt in (4e-3, 2e-3, 1e-3, 5e-4):
-        s, _, _ = run(g, sine_programme(0.3, 0.5, 2, dt))
+        s, _, _ = run(g, sine_programme(0.3, 0.5, 1, dt))
         W.append(sum(s.W))
     d = np.abs(np.diff(W))
     orders = np.log2(d[:-1] / d[1:])
@@ -301,3 +302,27 @@ def test_tfp_vtk_five_bodies(tmp_path):
     n = len(pad) // 2
     assert abs(np.linalg.norm(pad[n // 2] - C2) - g.R2) < 1e-3
     assert abs(np.linalg.norm(pad[n + n // 2] - C3) - g.R3) < 1e-3
+
+
+def test_heat_at_four_interfaces_any_plate_model():
+    """S1..S4 heat their own parts with different plate models in one run;
+    friction work of each surface = heat delivered = stored + lost."""
+    from fpd.coupling import scene as scn
+    from fpd.coupling.build import build
+    from fpd.coupling.output import heat_ledger
+    from fpd.coupling.run import simulate
+    sets = ["solver.duration=4", "solver.dt=2e-3", "loading.scale=1.0", "thermal.lower.model=lumped",
+            "thermal.slider_lower.model=fe1d", "thermal.slider_upper.model=axisym", "thermal.slider_upper.nr=12",
+            "thermal.slider_upper.nz=12", "thermal.upper.model=fe1d", "thermal.upper.source=fixed-point"]
+    sim = build(scn.load("tfp-elcentro", sets))
+    r = simulate(sim)
+    assert r.status == "ok", r.message
+    led = heat_ledger(r, sim)
+    assert set(led["plates"]) == {"lower", "slider_lower", "slider_upper", "upper"}
+    for part, i in (("lower", 1), ("slider_lower", 2), ("slider_upper", 3)):
+        e = led["plates"][part]
+        assert e["residual_rel"] < 1e-9 and e["work_vs_heat_rel"] < 1e-9, (part, e)
+        assert e["heat_in_J"] == pytest.approx(r["W%d_J" % i][-1], rel=1e-9) and e["heat_in_J"] > 0
+    assert led["plates"]["upper"]["residual_rel"] < 1e-9
+    # the slider plates (small pad footprint) run hotter than the outer plates
+    assert r["T2_C"].max() > r["T1_C"].max()
