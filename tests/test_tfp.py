@@ -326,3 +326,25 @@ def test_heat_at_four_interfaces_any_plate_model():
     assert led["plates"]["upper"]["residual_rel"] < 1e-9
     # the slider plates (small pad footprint) run hotter than the outer plates
     assert r["T2_C"].max() > r["T1_C"].max()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("mus", [(0.10, 0.02, 0.02, 0.10), (0.08, 0.03, 0.03, 0.08), (0.12, 0.04, 0.04, 0.12)])
+def test_backbone_slow_three_cycles(mus):
+    """The acceptance check at 0.01 Hz, dt = 2 ms, three cycles into the outer
+    rims, for three symmetric friction pairs."""
+    g = tfp()
+    s, d, res = run(g, sine_programme(0.455, 0.01, 3, 2e-3), mus)
+    u, F, reg = d["u_m"], d["F_N"], d["regime"].astype(int)
+    Fb = np.array(backbone_path(g, mus, list(u))[0])
+    last = np.zeros(len(u), bool)
+    last[2 * len(u) // 3:] = True
+    for code in (3, 5):
+        for seg in segments(interior(reg, code) & last):
+            assert abs(slope(u, F, seg) / slope(u, Fb, seg) - 1) < 0.02
+    j = int(np.argmax(reg == 3))
+    i = int(np.flatnonzero(reg[:j] == 1)[-1])
+    assert abs(F[i] / transition_force(g, mus)[0] - 1) < 0.02
+    a, b = (abs(np.trapezoid(x[last], u[last])) for x in (F, Fb))
+    assert abs(a / b - 1) < 0.02
+    assert np.max(np.abs(np.diff(res))) <= 1e-9 * s.E_in
