@@ -408,6 +408,11 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
         ctx.fail("name", data["name"], "must be letters, digits, '_', '-', '.', '+' (it names the results folder)")
     data["loading"] = _loading(ctx, raw.get("loading"), scene_dir)
     heat_only = data["loading"]["kind"] == "heat"
+    dev_raw = raw.get("device")
+    if (isinstance(dev_raw, dict) and dev_raw.get("kind", "DFP") == "DFP"
+            and dev_raw.get("R1") == math.inf and dev_raw.get("R2") == math.inf):
+        # R1 = R2 = inf: the flat double bearing of the paper's Fig. 2 (kind = "flat")
+        raw = dict(raw, device={k: v for k, v in dev_raw.items() if k not in ("R1", "R2")} | {"kind": "flat"})
     for table, schema in TABLES.items():
         given = raw.get(table)
         if heat_only and table in ("device", "superstructure") and given is None:

@@ -53,3 +53,21 @@ def test_flat_ledger_closes_every_step():
         res.append(s.ledger_residual())
     assert np.max(np.abs(np.diff(res))) <= 1e-9 * s.E_in
     assert s.W2 > 0 and s.W1 < 1e-9 * s.W2      # the weaker top face slides, the pad rides the ground
+
+
+def test_dfp_with_infinite_radii_is_the_flat_bearing(tmp_path):
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+    root = Path(__file__).resolve().parent.parent
+    env = dict(os.environ, PYTHONPATH=str(root))
+    out = tmp_path / "r"
+    p = subprocess.run([sys.executable, "-m", "fpd", "run", "northridge-dfp", "--out", str(out), "--quiet",
+                        "--set", "device.R1=inf", "--set", "device.R2=inf", "--set", "solver.duration=2",
+                        "--set", "output.plots=false", "--set", "thermal.model=none"],
+                       capture_output=True, text=True, env=env, cwd=tmp_path, timeout=300)
+    assert p.returncode == 0, p.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert s["device"] == "flat" and s["mu_tip_closed_form"] > 1
