@@ -23,13 +23,17 @@ I_R1, I_R2, I_R3, I_R4 = tk.I_R1, tk.I_R2, tk.I_R3, tk.I_R4
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def run(par, S, A, U, UD, XG, machine, dt, LW, areas, eta, kinds, PP, Ks, Ws, Is, Xs, T, mu, dd,
-        buf, k, n0, n_end, every, N, heat, row, out, M, w, tmp, sc):
+        buf, k, n0, n_end, every, N, heat, row, out, M, w, tmp, sc, S0):
     for n in range(n0 + 1, n_end + 1):
         for i in range(4):
             mu[i] = law_mu(LW[i], T[i], S[S_N + i] / areas[i], S[S_SV + i])
+        for i in range(S.shape[0]):
+            S0[i] = S[i]
         fail = advance(par, S, dt, A[n - 1], mu[0], mu[1], mu[2], mu[3], machine, U[n], UD[n],
                        out, M, w, tmp, sc)
-        if fail == FAIL_CAPACITY:
+        if fail != 0:                    # capacity, or the fixed point: Python replays and raises
+            for i in range(S.shape[0]):
+                S[i] = S0[i]
             return n - 1, k, REPLAY
         if heat:
             fp0 = par[I_R1] * S[0]

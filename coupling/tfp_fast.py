@@ -125,6 +125,7 @@ class TFPCompiled:
         self.out = np.zeros(tk.N_OUT)
         self.M, self.w, self.tmp = np.zeros(3), np.zeros(2), np.zeros(2)
         self.sc = np.zeros(4 + 2 * tk.N_OUT)
+        self.S0 = np.zeros(tk.N_S)
         if _runner is None:
             _runner = _make_runner()
         self.run_chunk = _runner
@@ -137,7 +138,7 @@ class TFPCompiled:
         return self.run_chunk(m.par, m.S, self.A, self.U, self.UD, self.XG, self.machine, self.sim.dt, self.LW,
                               self.areas, self.eta, self.kind_codes, self.PP, self.Ks, self.Ws, self.Is, self.Xs,
                               T, mu, self.dd, buf, k, n0, n_end, self.every, self.sim.n_steps, self.heat,
-                              self.row, self.out, self.M, self.w, self.tmp, self.sc)
+                              self.row, self.out, self.M, self.w, self.tmp, self.sc, self.S0)
 
     def pack(self):
         pj = self.pj

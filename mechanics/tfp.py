@@ -320,6 +320,9 @@ class TFPStepper:
         if fail == K.FAIL_CAPACITY:
             raise TFPFailure(f"the test machine drives the bearing past its displacement capacity "
                              f"{self.geom.capacity:.4g} m (all surfaces at their rims)")
+        if fail == K.FAIL_FIXED_POINT:
+            raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
+                             "iterations (lower solver.dt)")
         self.n = n + 1
         self.t = self.n * self.dt
         return tuple(float(x) for x in self.S[K.S_DW:K.S_DW + 4])
