@@ -184,5 +184,5 @@ def compiled_tfp(sim, every, n_cols, inject_failure_at=None):
         return None
     try:
         return TFPCompiled(sim, kinds, every, n_cols)
-    except (ImportError, LookupError, AttributeError, KeyError):
-        return None
+    except Exception:       # noqa: BLE001 - any kernel missing or not compiling (e.g. renamed
+        return None         # plate or law kernels): the Python loop runs; tests/test_tfp.py notices
