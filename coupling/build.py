@@ -99,6 +99,12 @@ def make_plate(params: PlateParams, dt: float):
 
 
 def build(scene: Scene) -> Simulation:
+    if scene["device"]["kind"] == "TFP":          # four surfaces, five parts: coupling/tfp_loop.py
+        from .tfp_loop import build_tfp
+        return build_tfp(scene)
+    if scene["device"]["kind"] == "flat":         # the flat double bearing (paper Fig. 2)
+        from .tfp_loop import build_flat
+        return build_flat(scene)
     dt = scene["solver"]["dt"]
     geom = geometry_of(scene)
     ld = scene["loading"]

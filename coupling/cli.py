@@ -201,7 +201,10 @@ def cmd_run(args) -> int:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
         if scene["output"]["vtk_every"] > 0:
-            from .vtk_output import VTKSeries
+            if scene["device"]["kind"] == "TFP":
+                from .tfp_vtk import TFPVTKSeries as VTKSeries
+            else:
+                from .vtk_output import VTKSeries
             vtk = VTKSeries(folder.subdir("vtk"), sim)
         hottest = None
         if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
@@ -251,7 +254,7 @@ def _report(s: dict, out: Path) -> None:
     parts = [f"{s['scene']}: {s['status']}, {s['steps']} steps in {s['runtime_s']:.2f} s"]
     if "peak_u_m" in s and s["peak_u_m"] is not None:
         parts.append(f"peak u {1e3 * s['peak_u_m']:.1f} mm, residual {1e3 * s['residual_u_m']:.1f} mm")
-        parts.append(f"friction work {(s['friction_work_J']['lower'] + s['friction_work_J']['upper']) / 1e3:.2f} kJ")
+        parts.append(f"friction work {sum(s['friction_work_J'].values()) / 1e3:.2f} kJ")
         parts.append(f"energy residual {s['energy_residual_rel']:.1e}")
     if "peak_T1_C" in s:
         parts.append(f"peak T {s['peak_T1_C']:.1f} / {s['peak_T2_C']:.1f} C")

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from fpd.mechanics.seated import PHASES
+from fpd.mechanics.tfp import TFP_PHASES      # PHASES + the TFP's inner / outer / inner+outer
 
 from .scene import Scene, SceneError, to_toml
 
@@ -127,7 +128,7 @@ class CsvWriter:
         cols = list(columns)
         self.j = cols.index("phase") if "phase" in cols else -1
         self.rowfmt = ",".join("%s" if c == "phase" else "%.10g" for c in cols) + "\n"
-        self.names = np.array(PHASES, dtype=object)
+        self.names = np.array(TFP_PHASES, dtype=object)
         fh.write(",".join(cols) + "\n")
 
     def format(self, data: np.ndarray) -> list[str]:
@@ -165,6 +166,8 @@ def _f(x):
 
 def summary(scene: Scene, result, sim) -> dict:
     d = scene.data
+    if d["device"]["kind"] == "TFP":
+        return tfp_summary(scene, result, sim)
     s = {"status": result.status, "message": result.message, "scene": scene.name,
          "models": {"mechanics": d["mechanics"]["model"] if sim.mechanics else "none",
                     "thermal_lower": d["thermal"]["lower"]["model"],
@@ -205,6 +208,43 @@ def summary(scene: Scene, result, sim) -> dict:
     return s
 
 
+def tfp_summary(scene: Scene, result, sim) -> dict:
+    """summary.json of a TFP run: per surface S1..S4 (interface.md, wave 2)."""
+    d = scene.data
+    s = {"status": result.status, "message": result.message, "scene": scene.name,
+         "models": {"device": "TFP", "mechanics": d["mechanics"]["model"],
+                    **{f"thermal_{part}": d["thermal"][part]["model"] for part in d["thermal"]},
+                    **{f"friction_{k}": d["friction"][k]["law"] for k in d["friction"]},
+                    "coupling": d["coupling"]["scheme"]},
+         "steps": int(getattr(result, "steps", result.n_rows - 1)),
+         "dt_s": sim.dt, "runtime_s": result.runtime_s, "version": VERSION}
+    if result.n_rows == 0:
+        return s
+    st = result.stats
+    s["peak_u_m"] = _f(st.peak_abs("u_m"))
+    s["residual_u_m"] = _f(st.final("u_m"))
+    s["peak_F_N"] = _f(st.peak_abs("F_N"))
+    s["friction_work_J"] = {f"S{i}": _f(st.final(f"W{i}_J")) for i in range(1, 5)}
+    e_in = st.final("E_input_J")
+    out = st.final("E_kin_J") + st.final("E_pot_J") + st.final("E_rim_J") + sum(
+        st.final(f"W{i}_J") for i in range(1, 5))
+    s["rim_loss_J"] = _f(st.final("E_rim_J"))
+    s["input_work_J"] = _f(e_in)
+    s["energy_residual_rel"] = _f(abs(e_in - out) / abs(e_in)) if e_in else 0.0
+    s["peak_slide_m"] = {f"S{i}": _f(st.peak_abs(f"s{i}_m")) for i in range(1, 5)}
+    if "T1_C" in result:
+        for i in range(1, 5):
+            s[f"peak_T{i}_C"] = _f(st.peak(f"T{i}_C"))
+        s["heat"] = heat_ledger(result, sim)
+        s["heat_residual_rel"] = s["heat"]["residual_rel"]
+    for i in range(1, 5):
+        s[f"min_mu{i}"] = _f(st.low(f"mu{i}"))
+    if d["coupling"]["scheme"] == "iterated":
+        s["coupling_iterations"] = {"total": int(result.iterations), "max_per_step": int(result.max_iterations)}
+    s.update(result.info)
+    return s
+
+
 def closed_form_check(result, sim) -> dict:
     """Thermal-only scenes: the surface temperature of the heated plate
     against the closed form the scene names (model.md section 7)."""
@@ -239,7 +279,7 @@ def heat_ledger(result, sim) -> dict:
     """Per plate: heat delivered = stored + lost; friction work x share = delivered."""
     out = {"plates": {}}
     worst = 0.0
-    for i, (side, plate) in enumerate(zip(("lower", "upper"), result.plates)):
+    for i, (side, plate) in enumerate(zip(list(sim.scene.data["thermal"]), result.plates)):
         if plate is None:
             continue
         q_in, st, lo = plate.heat_in(), plate.stored_heat(), plate.heat_lost()

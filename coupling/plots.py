@@ -13,6 +13,9 @@ def _fig(nrows=1):
 
 
 def make_plots(folder: Path, result, scene) -> list[str]:
+    if "W4_J" in result:                     # the TFP: four surfaces, regimes
+        from .tfp_plots import make_tfp_plots
+        return make_tfp_plots(folder, result, scene)
     made = []
     title = scene.name
     if "u_m" in result:

@@ -143,6 +143,10 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     ``on_loop_end()`` is called when the stepping is over, before the last
     block is handed to the history (the command line starts holding Ctrl-C
     there, so the last block of the CSV is always written)."""
+    if getattr(sim.mechanics, "n_interfaces", 2) == 4:     # the TFP: its own staggered loop
+        from .tfp_loop import simulate_tfp
+        return simulate_tfp(sim, progress=progress, every=every, inject_failure_at=inject_failure_at,
+                            history=history, on_loop_end=on_loop_end, on_frame=on_frame, frame_every=frame_every)
     mech = sim.mechanics
     p1, p2 = sim.plates
     law1, law2 = sim.laws

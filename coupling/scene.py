@@ -123,12 +123,24 @@ LOADING_KEYS = {
 
 TABLES = {
     "device": {
-        "kind": (("DFP", "SFP"), "DFP", None),
-        "R1": ("float", REQUIRED, _pos),
+        "kind": (("DFP", "SFP", "TFP", "flat"), "DFP", None),
+        "R1": ("float", None, _pos),
         "R2": ("float", None, _pos),
         "pad_height": ("float", REQUIRED, _pos),
         "pad_diameter": ("float", REQUIRED, _pos),
         "pad_mass": ("float", None, _pos),
+        # triple friction pendulum only (TFP_DEVICE_KEYS)
+        "R3": ("float", None, _pos),
+        "R4": ("float", None, _pos),
+        "slider_height": ("float", None, _pos),
+        "slider_height_lower": ("float", None, _pos),
+        "slider_height_upper": ("float", None, _pos),
+        "slider_diameter": ("float", None, _pos),
+        "d1": ("float", None, _pos),
+        "d2": ("float", None, _pos),
+        "d3": ("float", None, _pos),
+        "d4": ("float", None, _pos),
+        "slider_mass": ("float", None, _pos),
     },
     "superstructure": {"mass": ("float", REQUIRED, _pos)},
     "mechanics": {"model": (("two-phase", "seated"), "two-phase", None)},
@@ -140,6 +152,12 @@ TABLES = {
                "csv_every": ("int", 1, _atleast(1))},
 }
 TOP_KEYS = {"name": "str", "description": "str"}
+# the TFP's own [device] keys (interface.md, wave 2); its four surfaces and five parts
+TFP_DEVICE_KEYS = ("R3", "R4", "slider_height", "slider_height_lower", "slider_height_upper",
+                   "slider_diameter", "d1", "d2", "d3", "d4", "slider_mass")
+TFP_SURFACES = ("S1", "S2", "S3", "S4")
+TFP_PARTS = ("lower", "slider_lower", "slider_upper", "upper")   # heated by S1, S2, S3, S4
+TWO_SIDES = ("lower", "upper")
 ALL_TABLES = set(TABLES) | {"friction", "loading", "thermal"}
 
 
@@ -165,7 +183,7 @@ class Scene:
         return self.data["friction"][interface]
 
     def needs_heat(self) -> bool:
-        return any(self.thermal(p)["model"] != "none" for p in ("lower", "upper"))
+        return any(t["model"] != "none" for t in self.data["thermal"].values())
 
 
 # -- errors -------------------------------------------------------------------
@@ -268,14 +286,14 @@ def _describe(spec) -> str:
 
 
 # -- the sections with structure -------------------------------------------------
-def _friction(ctx: _Ctx, given) -> dict:
+def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
     if given is None:
         ctx.missing("friction", "the scene needs a [friction] table (law and its keys)")
     if not isinstance(given, dict):
         ctx.fail("friction", given, "must be a table")
-    base = {k: v for k, v in given.items() if k not in ("lower", "upper")}
+    base = {k: v for k, v in given.items() if k not in sides}
     out = {}
-    for side in ("lower", "upper"):
+    for side in sides:
         over = given.get(side, {})
         if not isinstance(over, dict):
             ctx.fail(f"friction.{side}", over, "must be a table")
@@ -294,7 +312,7 @@ def _friction(ctx: _Ctx, given) -> dict:
                 other = [n for n, s in FRICTION_KEYS.items() if key in s]
                 if other:
                     ctx.fail(f"{owner}.{key}", value, f'belongs to law "{other[0]}", not "{law}"')
-                ctx.unknown(f"{owner}.{key}", value, list(schema) + ["law", "lower", "upper"])
+                ctx.unknown(f"{owner}.{key}", value, list(schema) + ["law"] + list(sides))
         res = _table(ctx, where, {k: v for k, v in merged.items() if k != "law"}, schema)
         if law == "table":
             T, mu = res["T_C"], res["mu"]
@@ -310,19 +328,22 @@ def _friction(ctx: _Ctx, given) -> dict:
     return out
 
 
-def _thermal(ctx: _Ctx, given) -> dict:
+def _thermal(ctx: _Ctx, given, sides=TWO_SIDES, part_defaults=None) -> dict:
+    """``part_defaults``: per side, keys that side takes from the device unless
+    its own table sets them (the TFP's slider plates: their radius, thickness)."""
     given = {} if given is None else given
     if not isinstance(given, dict):
         ctx.fail("thermal", given, "must be a table")
-    base = {k: v for k, v in given.items() if k not in ("lower", "upper")}
+    base = {k: v for k, v in given.items() if k not in sides}
     base_res = _table(ctx, "thermal", base, THERMAL_KEYS)
     out = {}
-    for side in ("lower", "upper"):
+    for side in sides:
         over = given.get(side, {})
         res = dict(base_res)
+        res.update((part_defaults or {}).get(side, {}))
         res.update(_table(ctx, f"thermal.{side}", over, {k: (s[0], None, s[2]) for k, s in THERMAL_KEYS.items()}))
         out[side] = res
-    for side in ("lower", "upper"):
+    for side in sides:
         t = out[side]
         where = f"thermal.{side}" if "mesh_file" in given.get(side, {}) else "thermal"
         if t["model"] == "axisym" and t["mesh_file"]:
@@ -387,6 +408,11 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
         ctx.fail("name", data["name"], "must be letters, digits, '_', '-', '.', '+' (it names the results folder)")
     data["loading"] = _loading(ctx, raw.get("loading"), scene_dir)
     heat_only = data["loading"]["kind"] == "heat"
+    dev_raw = raw.get("device")
+    if (isinstance(dev_raw, dict) and dev_raw.get("kind", "DFP") == "DFP"
+            and dev_raw.get("R1") == math.inf and dev_raw.get("R2") == math.inf):
+        # R1 = R2 = inf: the flat double bearing of the paper's Fig. 2 (kind = "flat")
+        raw = dict(raw, device={k: v for k, v in dev_raw.items() if k not in ("R1", "R2")} | {"kind": "flat"})
     for table, schema in TABLES.items():
         given = raw.get(table)
         if heat_only and table in ("device", "superstructure") and given is None:
@@ -395,7 +421,25 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
                      else {"mass": 1.0})
         data[table] = _table(ctx, table, given, schema)
     dev = data["device"]
-    if dev["kind"] == "DFP":
+    if dev["kind"] == "TFP":
+        from .tfp_scene import tfp_device
+        tfp_device(ctx, data, raw)
+        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES)
+        data["thermal"] = _thermal(ctx, raw.get("thermal"), TFP_PARTS, {
+            "slider_lower": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_lower"]},
+            "slider_upper": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_upper"]}})
+        from .tfp_scene import tfp_cross_checks
+        tfp_cross_checks(ctx, data)
+        return Scene(path=path, data=data)
+    for key in TFP_DEVICE_KEYS:
+        if key in dev:
+            ctx.fail(f"device.{key}", dev[key], f'is a key of kind = "TFP" only (this device is "{dev["kind"]}")')
+    if "R1" not in dev and dev["kind"] != "flat":
+        ctx.missing("device.R1", "give a number (the lower concave radius, m)")
+    if dev["kind"] == "flat":
+        from .tfp_scene import flat_device
+        flat_device(ctx, data, raw)
+    elif dev["kind"] == "DFP":
         if "R2" not in dev:
             ctx.missing("device.R2", "a DFP needs the upper radius R2 (m)")
     else:
@@ -408,6 +452,10 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
     else:
         data["friction"] = _friction(ctx, raw.get("friction"))
     data["thermal"] = _thermal(ctx, raw.get("thermal"))
+    if dev["kind"] == "flat":
+        from .tfp_scene import flat_cross_checks
+        flat_cross_checks(ctx, data)
+        return Scene(path=path, data=data)
     _cross_checks(ctx, data)
     return Scene(path=path, data=data)
 
@@ -615,7 +663,7 @@ def to_toml(scene: Scene) -> str:
                   "coupling", "solver", "output"):
         body = d[table]
         if table in ("friction", "thermal"):
-            for side in ("lower", "upper"):
+            for side in body:
                 lines.append(f"\n[{table}.{side}]")
                 lines += [f"{k} = {_toml_value(v)}" for k, v in body[side].items()]
             continue

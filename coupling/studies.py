@@ -113,13 +113,17 @@ def measure(case: Case) -> dict:
     m["residual_u_m"] = float(r["u_m"][-1]) if mech else nan
     m["W1_J"] = float(r["W1_J"][-1]) if mech else nan
     m["W2_J"] = float(r["W2_J"][-1]) if mech else nan
-    m["friction_work_J"] = m["W1_J"] + m["W2_J"]
+    # the TFP's surfaces S3, S4 (mechanics/tfp.py) count in the total
+    w34 = sum(float(r[c][-1]) for c in ("W3_J", "W4_J") if mech and c in r)
+    m["friction_work_J"] = m["W1_J"] + m["W2_J"] + w34
     if mech:
         e_in = r["E_input_J"][-1]
-        out = r["E_kin_J"][-1] + r["E_pot_J"][-1] + r["W1_J"][-1] + r["W2_J"][-1]
+        out = r["E_kin_J"][-1] + r["E_pot_J"][-1] + r["W1_J"][-1] + r["W2_J"][-1] + w34
         if "E_reseat_J" in r:
             out += r["E_reseat_J"][-1]
-        scale = max(abs(e_in), abs(r["W1_J"][-1] + r["W2_J"][-1]), 1e-300)
+        if "E_rim_J" in r:
+            out += r["E_rim_J"][-1]
+        scale = max(abs(e_in), abs(r["W1_J"][-1] + r["W2_J"][-1] + w34), 1e-300)
         m["energy_residual_rel"] = float(abs(e_in - out) / scale) if e_in or out else 0.0
     else:
         m["energy_residual_rel"] = nan

@@ -216,7 +216,7 @@ CATALOGUE = [
     ("friction-law-list", {"friction.law": ["constant"]}, (), ["friction.law", "['constant']", '"constant"']),
     ("loading-kind", {"loading.kind": "quake"}, (), ["loading.kind", "'quake'", '"record"']),
     ("loading-kind-number", {"loading.kind": 3}, (), ["loading.kind", "3", '"record"']),
-    ("device-kind", {"device.kind": "TFP"}, (), ["device.kind", "'TFP'", '"DFP"']),
+    ("device-kind", {"device.kind": "QFP"}, (), ["device.kind", "'QFP'", '"DFP"', '"TFP"']),
     ("packaged-record", {"loading": {"kind": "record", "record": "kobe"}}, (),
      ["loading.record", "'kobe'", '"elcentro-1940"']),
     # --set overrides that are malformed, or whose value the scene refuses

@@ -1,0 +1,143 @@
+"""VTK of the TFP: ``vtk/device.pvd``, the five bodies (and the superstructure
+block) as moving polygons in the x-z plane (y = 0), each frame at the pose of
+the exact rigid model (mechanics/tfp.py): lower plate (band under S1, moving
+with the ground), lower slider plate (convex R1 below, concave S2 above),
+pad (convex R2 and R3), upper slider plate (concave S3 below, convex R4
+above), upper plate (band over S4), superstructure. Cell data per polygon:
+``body`` (0..5 in that order), ``T_C`` (T1 on the lower plate, T2 on the lower
+slider, T3 on the upper slider, T4 on the upper plate) and ``mu`` (the friction
+of the surface that heats that part), the values of timeseries.csv at the
+frame's step. Plate temperature fields: ``<part>_plate.pvd`` for the parts
+whose model has one (fe1d, axisym).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .hottest import HottestFields
+from .scene import TFP_PARTS
+
+BODIES = ("lower_plate", "lower_slider", "pad", "upper_slider", "upper_plate", "superstructure")
+N_ARC = 32
+
+
+def _e(x):
+    return np.array([-math.sin(x), math.cos(x)])
+
+
+def _world(O, angle, body):
+    c, s = math.cos(angle), math.sin(angle)
+    return np.column_stack((O[0] + c * body[:, 0] - s * body[:, 1], O[1] + s * body[:, 0] + c * body[:, 1]))
+
+
+def _band(C, R, half_width, thickness, below: bool, n=N_ARC):
+    """A plate: a band of ``thickness`` behind the arc of radius R about C
+    (below: a concave-up face, the band under it; else a concave-down face)."""
+    w = min(half_width, 0.95 * R)
+    phi = np.linspace(-math.asin(w / R), math.asin(w / R), n)
+    sg = -1.0 if below else 1.0
+    inner = np.column_stack((C[0] + R * np.sin(phi), C[1] + sg * R * np.cos(phi)))
+    outer = np.column_stack((C[0] + (R + thickness) * np.sin(phi[::-1]), C[1] + sg * (R + thickness) * np.cos(phi[::-1])))
+    return np.vstack((inner, outer))
+
+
+def tfp_polygons(g, plate_params, xg: float, phi: float, alpha: float, n: int = N_ARC) -> list:
+    """The six polygons (BODIES order), each a (k, 2) array of (x, z)."""
+    psi = phi + alpha
+    C1 = np.array([xg, g.R1])
+    C2 = C1 - g.l1 * _e(phi)
+    C3 = C2 - g.Li * _e(psi)
+    C4 = C3 - g.l4 * _e(phi)
+    rs, rp = 0.5 * g.slider_diameter, 0.5 * g.pad_diameter
+    tl, tu, hp = g.slider_height_lower, g.slider_height_upper, g.pad_height
+    xs = np.linspace(-rs, rs, n)
+    xp = np.linspace(-rp, rp, n)
+    lower = _band(C1, g.R1, max(plate_params[0].plate_radius, 1.2 * rs), plate_params[0].plate_thickness, True, n)
+    # lower slider in its frame: convex R1 below (centre (0, R1)), concave S2 above (centre (0, tl + R2))
+    sl = np.vstack((np.column_stack((xs, g.R1 - np.sqrt(g.R1 ** 2 - xs ** 2))),
+                    np.column_stack((xs[::-1], tl + g.R2 - np.sqrt(g.R2 ** 2 - xs[::-1] ** 2)))))
+    slider_lo = _world(C1 - g.R1 * _e(phi), phi, sl)
+    pad = np.vstack((np.column_stack((xp, g.R2 - np.sqrt(g.R2 ** 2 - xp ** 2))),
+                     np.column_stack((xp[::-1], hp - g.R3 + np.sqrt(g.R3 ** 2 - xp[::-1] ** 2)))))
+    pad = _world(C2 - g.R2 * _e(psi), psi, pad)
+    # upper slider: origin at its lower apex (C3 + R3 e), concave S3 below, convex R4 above (centre C4)
+    su = np.vstack((np.column_stack((xs, -g.R3 + np.sqrt(g.R3 ** 2 - xs ** 2))),
+                    np.column_stack((xs[::-1], tu - g.R4 + np.sqrt(g.R4 ** 2 - xs[::-1] ** 2)))))
+    slider_up = _world(C3 + g.R3 * _e(phi), phi, su)
+    upper = _band(C4, g.R4, max(plate_params[3].plate_radius, 1.2 * rs), plate_params[3].plate_thickness, False, n)
+    top = C4[1] + g.R4 + plate_params[3].plate_thickness
+    ws = 1.25 * max(plate_params[3].plate_radius, 1.2 * rs)
+    block = np.array([[C4[0] - ws, top], [C4[0] + ws, top], [C4[0] + ws, top + 0.4 * ws], [C4[0] - ws, top + 0.4 * ws]])
+    return [lower, slider_lo, pad, slider_up, upper, block]
+
+
+class TFPVTKSeries:
+    """The TFP's VTK series (same hooks as coupling/vtk_output.VTKSeries)."""
+
+    def __init__(self, folder, sim):
+        from fpd.meshes.vtk import PVDWriter
+
+        self.folder = Path(folder)
+        self.sim = sim
+        self.device = PVDWriter(self.folder, "device")
+        self.hottest = HottestFields()
+        self.plates = []
+        for part, plate in zip(TFP_PARTS, sim.plates):
+            if plate is None or not callable(getattr(plate, "field", None)) or plate.field() is None:
+                continue
+            self.plates.append((part, plate, PVDWriter(self.folder, f"{part}_plate")))
+        mech = sim.mechanics
+        vals = dict(zip(mech.columns, mech.values()))
+        for i, (p, pp) in enumerate(zip(sim.plates, sim.plate_params), start=1):
+            vals[f"T{i}_C"] = p.surface_temperature() if p is not None else pp.T0_C
+        self._write(0, vals)
+
+    def frame(self, n: int, sim=None) -> None:
+        vals = getattr(self.sim, "frame_values", None)
+        if vals is None:
+            mech = self.sim.mechanics
+            vals = dict(zip(mech.columns, mech.values()))
+        self._write(n, dict(vals))
+
+    def _write(self, n: int, vals: dict) -> None:
+        sim = self.sim
+        g = sim.geometry
+        t = float(vals.get("t_s", n * sim.dt))
+        polys = tfp_polygons(g, sim.plate_params, float(vals["xg_m"]), float(vals["phi_rad"]), float(vals["alpha_rad"]))
+        nan = float("nan")
+        T = (vals.get("T1_C", nan), vals.get("T2_C", nan), nan, vals.get("T3_C", nan), vals.get("T4_C", nan), nan)
+        mu = (vals.get("mu1", nan), vals.get("mu2", nan), nan, vals.get("mu3", nan), vals.get("mu4", nan), nan)
+        pts, cells, start = [], [], 0
+        for poly in polys:
+            pts.append(poly)
+            cells.append(("polygon", np.arange(start, start + len(poly))[None, :]))
+            start += len(poly)
+        allp = np.vstack(pts)
+        points = np.column_stack((allp[:, 0], np.zeros(start), allp[:, 1]))
+        self.device.add(t, points, cells, cell_data={
+            "body": [np.array([i], dtype=np.int32) for i in range(len(BODIES))],
+            "T_C": [np.array([float(x)]) for x in T],
+            "mu": [np.array([float(x)]) for x in mu],
+        })
+        for part, plate, writer in self.plates:
+            fld = plate.field()
+            if fld is None:
+                continue
+            p, c, Tf = fld
+            Tf = np.asarray(Tf, dtype=float)
+            p = np.asarray(p, dtype=float)
+            if len(Tf) == len(p):
+                writer.add(t, p, c, point_data={"T_C": Tf})
+            else:
+                writer.add(t, p, c, cell_data={"T_C": [Tf]})
+
+    def close(self) -> None:
+        self.device.close()
+        for _, _, writer in self.plates:
+            writer.close()
+
+    def hottest_pictures(self, plots_dir) -> list:
+        return []

@@ -1,0 +1,494 @@
+"""The triple friction pendulum (TFP) of the paper's Figs. 3, 6, 7: geometry,
+the rigid model's steppers (state holders around mechanics/tfp_kernel.py)
+and its closed-form regime backbone.
+
+Bodies bottom to top: lower plate (concave S1, radius R1, centre C1 on the
+ground), lower slider plate (convex R1 on S1, concave S2 of radius R2 towards
+the pad), pad (convex R2 and R3), upper slider plate (concave S3 of radius R3,
+convex R4 on S4), upper plate with the superstructure (concave S4, R4).
+Heights are apex to apex along each part's axis. Seated and at rest the
+stack height is H = t_lower + pad_height + t_upper.
+
+Rigid, non-articulated model (docs/model.md section 6): the pad's axis lies
+on C2C3 (S2 and S3 slide together, R2 : R3), both slider plates stay seated
+on their outer surfaces and turn together about the outer centres (S1 and S4
+slide together, R1 : R4). Two coordinates: phi (the stack, outer) and alpha
+(the pad relative to the sliders, inner). Rims: |R1 phi| <= d1, |R4 phi| <= d4,
+|R2 alpha| <= d2, |R3 alpha| <= d3 (unilateral, inelastic).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from . import tfp_kernel as K
+from .geometry import G_ACC
+from .ground_motion import float_array
+from .seated import PHASES, MechanicsFailure
+
+# phase codes of the TFP (appended to mechanics.seated.PHASES: the CSV names them)
+INNER, OUTER, BOTH = 3, 4, 5
+TFP_PHASES = PHASES + ("inner", "outer", "inner+outer")
+# regime codes (Fenz-Constantinou numbering where it applies; docs/model.md 6.4)
+REGIMES = {0: "stick", 1: "I (S2+S3)", 3: "III (S1+S4)", 5: "V (S2+S3, outer rims)", 6: "I+III (all four)"}
+
+STEEL = 7850.0
+
+COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
+           "s1_m", "s2_m", "s3_m", "s4_m", "N1_N", "N2_N", "N3_N", "N4_N",
+           "W1_J", "W2_J", "W3_J", "W4_J", "phase",
+           "E_input_J", "E_kin_J", "E_pot_J", "E_rim_J",
+           "phi_rad", "alpha_rad", "regime", "slide1", "slide2", "slide3", "slide4",
+           "rim1", "rim2", "rim3", "rim4")
+
+
+@dataclass(frozen=True)
+class TFPGeometry:
+    R1: float
+    R2: float
+    R3: float
+    R4: float
+    pad_height: float
+    pad_diameter: float
+    slider_height_lower: float
+    slider_height_upper: float
+    slider_diameter: float
+    d1: float
+    d2: float
+    d3: float
+    d4: float
+    pad_mass: float
+    slider_mass: float
+    mass: float                    # superstructure M (kg)
+    g: float = G_ACC
+    kind: str = "TFP"
+
+    # -- lengths ---------------------------------------------------------------
+    @property
+    def l1(self) -> float:
+        """|C1 C2|: the lower slider plate's outer centre to its inner centre."""
+        return self.R1 - self.slider_height_lower - self.R2
+
+    @property
+    def l4(self) -> float:
+        return self.R4 - self.slider_height_upper - self.R3
+
+    @property
+    def Li(self) -> float:
+        """Inner DFP length |C2 C3| = R2 + R3 - pad_height."""
+        return self.R2 + self.R3 - self.pad_height
+
+    @property
+    def A(self) -> float:
+        """Outer lever l1 + l4; A + Li = R1 + R4 - H."""
+        return self.l1 + self.l4
+
+    @property
+    def H(self) -> float:
+        return self.slider_height_lower + self.pad_height + self.slider_height_upper
+
+    @property
+    def L(self) -> float:
+        """Length of the whole stack, A + Li = R1 + R4 - H (outer sliding)."""
+        return self.A + self.Li
+
+    @property
+    def a(self) -> float:
+        return 0.5 * self.pad_diameter
+
+    @property
+    def contact_area(self) -> float:
+        """Pad footprint (S2, S3)."""
+        return math.pi * self.a ** 2
+
+    @property
+    def slider_area(self) -> float:
+        """Slider plate footprint (S1, S4)."""
+        return math.pi * (0.5 * self.slider_diameter) ** 2
+
+    @property
+    def areas(self) -> tuple:
+        return (self.slider_area, self.contact_area, self.contact_area, self.slider_area)
+
+    @property
+    def radii(self) -> tuple:
+        return (self.R1, self.R2, self.R3, self.R4)
+
+    @property
+    def weight(self) -> float:
+        return self.mass * self.g
+
+    @property
+    def qmax(self) -> tuple:
+        """Rim stops of the coordinates: (phi_max, alpha_max) (rad)."""
+        return (min(self.d1 / self.R1, self.d4 / self.R4), min(self.d2 / self.R2, self.d3 / self.R3))
+
+    @property
+    def capacity(self) -> float:
+        """Largest relative displacement: both coordinates at their rims (m)."""
+        pm, am = self.qmax
+        return self.A * math.sin(pm) + self.Li * math.sin(pm + am)
+
+    def bodies(self) -> list:
+        """(mass, a, b, J, rotates_with) of each moving body: r = -a e(phi) - b e(psi) from C1."""
+        ms, mp = self.slider_mass, self.pad_mass
+        rs, rp = 0.5 * self.slider_diameter, 0.5 * self.pad_diameter
+        tl, tu, hp = self.slider_height_lower, self.slider_height_upper, self.pad_height
+        return [
+            (ms, self.R1 - 0.5 * tl, 0.0, ms * (3 * rs ** 2 + tl ** 2) / 12.0, "phi"),
+            (mp, self.l1, self.R2 - 0.5 * hp, mp * (3 * rp ** 2 + hp ** 2) / 12.0, "psi"),
+            (ms, self.A - (self.R4 - 0.5 * tu), self.Li, ms * (3 * rs ** 2 + tu ** 2) / 12.0, "phi"),
+            (self.mass, self.A, self.Li, 0.0, "none"),
+        ]
+
+    def pack(self):
+        """The kernel's parameter vector (tfp_kernel.I_*)."""
+        import numpy as np
+        p = np.zeros(K.N_PAR)
+        b = self.bodies()
+        p[K.I_AA] = sum(m * a * a for m, a, _, _, _ in b)
+        p[K.I_B] = sum(m * bb * bb for m, _, bb, _, _ in b)
+        p[K.I_K] = sum(m * a * bb for m, a, bb, _, _ in b)
+        p[K.I_JPHI] = sum(J for _, _, _, J, w in b if w == "phi")
+        p[K.I_JPSI] = sum(J for _, _, _, J, w in b if w == "psi")
+        p[K.I_P1] = sum(m * a for m, a, _, _, _ in b)
+        p[K.I_P2] = sum(m * bb for m, _, bb, _, _ in b)
+        p[K.I_A], p[K.I_LI], p[K.I_G], p[K.I_MSUP] = self.A, self.Li, self.g, self.mass
+        p[K.I_R1], p[K.I_R2], p[K.I_R3], p[K.I_R4] = self.R1, self.R2, self.R3, self.R4
+        p[K.I_QMAX_PHI], p[K.I_QMAX_ALPHA] = self.qmax
+        p[K.I_MS_LO] = p[K.I_MS_UP] = self.slider_mass
+        p[K.I_MPAD] = self.pad_mass
+        p[K.I_A_SL], p[K.I_A_PAD], p[K.I_B_PAD], p[K.I_A_SU] = b[0][1], b[1][1], b[1][2], b[2][1]
+        return p
+
+    def static_weights(self) -> tuple:
+        """Vertical load carried by S1..S4 at rest (N)."""
+        g, M, ms, mp = self.g, self.mass, self.slider_mass, self.pad_mass
+        return ((M + 2 * ms + mp) * g, (M + ms + mp) * g, (M + ms) * g, M * g)
+
+
+def tfp_geometry_errors(g: TFPGeometry) -> list:
+    """Reasons the stack does not fit, as (key, value, what is allowed)."""
+    out = []
+    rs, rp = 0.5 * g.slider_diameter, 0.5 * g.pad_diameter
+    for key, R in (("R1", g.R1), ("R4", g.R4)):
+        if rs >= R:
+            out.append(("device.slider_diameter", g.slider_diameter, f"< 2 {key} = {2 * R:g}"))
+    for key, R in (("R2", g.R2), ("R3", g.R3)):
+        if rp >= R:
+            out.append(("device.pad_diameter", g.pad_diameter, f"< 2 {key} = {2 * R:g}"))
+    if rp >= rs:
+        out.append(("device.pad_diameter", g.pad_diameter, f"< slider_diameter = {g.slider_diameter:g}"))
+    if g.Li <= 0:
+        out.append(("device.pad_height", g.pad_height, f"< R2 + R3 = {g.R2 + g.R3:g}"))
+    if g.l1 <= 0:
+        out.append(("device.slider_height_lower", g.slider_height_lower, f"< R1 - R2 = {g.R1 - g.R2:g}"))
+    if g.l4 <= 0:
+        out.append(("device.slider_height_upper", g.slider_height_upper, f"< R4 - R3 = {g.R4 - g.R3:g}"))
+    for i, (d, R) in enumerate(((g.d1, g.R1), (g.d2, g.R2), (g.d3, g.R3), (g.d4, g.R4)), start=1):
+        if d >= 0.5 * math.pi * R:
+            out.append((f"device.d{i}", d, f"< pi R{i} / 2 = {0.5 * math.pi * R:.4g} (a quarter circle)"))
+    return out
+
+
+class TFPFailure(MechanicsFailure):
+    pass
+
+
+class TFPStepper:
+    """The rigid TFP under a ground motion (GroundMotion) or in the test
+    machine (DisplacementProgramme: the superstructure's relative displacement
+    imposed, its weight carried). ``step(mu1, mu2, mu3, mu4)`` advances one
+    step and returns the friction work of S1..S4 in it. The state is one
+    float64 vector (tfp_kernel.S_*), advanced by tfp_kernel.advance, so the
+    compiled loop (coupling/tfp_fast.py) runs the same source."""
+
+    columns = COLUMNS
+    n_interfaces = 4
+
+    def __init__(self, geom: TFPGeometry, loading, kernel=None):
+        import numpy as np
+        self.geom = geom
+        self.k = kernel if kernel is not None else K
+        self.dt = loading.dt
+        self.n_steps = loading.n_steps
+        self.machine = hasattr(loading, "u")
+        if self.machine:
+            self._u = float_array(loading.u)
+            self._ud = float_array(loading.ud)
+            self._a = float_array(-np.diff(loading.ud) / loading.dt)
+            self._xg = None
+        else:
+            self._a = float_array(loading.a_step)
+            self._xg = float_array(loading.d)
+        self.par = geom.pack()
+        self.S = np.zeros(K.N_S)
+        self.st = self.S[0:4]                   # a view: phi, alpha and their rates
+        self.N = self.S[K.S_N:K.S_N + 4]         # a view: N1..N4
+        self.out = np.zeros(K.N_OUT)
+        self._row = np.zeros(K.N_ROW)
+        self._M, self._w, self._tmp = np.zeros(3), np.zeros(2), np.zeros(2)
+        self._sc = np.zeros(4 + 2 * K.N_OUT)
+        self.n = 0
+        self.t = 0.0
+        K.normal_forces(self.par, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, self.N)
+        if self.machine and self._ud[0] != 0.0:
+            # the machine launches the programme with u'(0) != 0 on the inner surfaces
+            # (they slide first): that kinetic energy is input
+            self.S[3] = self._ud[0] / geom.Li
+            self.S[K.S_EIN] = self.E_kin()
+
+    # -- accessors the loop and outputs use -----------------------------------------
+    @property
+    def phi(self) -> float:
+        return float(self.S[0])
+
+    @property
+    def alpha(self) -> float:
+        return float(self.S[1])
+
+    @property
+    def F(self) -> float:
+        return float(self.S[K.S_F])
+
+    @property
+    def W(self) -> list:
+        return [float(x) for x in self.S[K.S_W:K.S_W + 4]]
+
+    @property
+    def E_in(self) -> float:
+        return float(self.S[K.S_EIN])
+
+    @property
+    def E_rim(self) -> float:
+        return float(self.S[K.S_ERIM])
+
+    @property
+    def slip_v(self) -> list:
+        return [float(x) for x in self.S[K.S_SV:K.S_SV + 4]]
+
+    def slides(self) -> tuple:
+        """Arc slid on S1..S4 (signed, m)."""
+        g = self.geom
+        return (g.R1 * self.phi, g.R2 * self.alpha, g.R3 * self.alpha, g.R4 * self.phi)
+
+    def footprints(self) -> tuple:
+        """Footprint centre on each heated part (lower plate, lower slider,
+        upper slider, upper plate): +s on the lower parts, -s on the upper."""
+        s = self.slides()
+        return (s[0], s[1], -s[2], -s[3])
+
+    @property
+    def u(self) -> float:
+        return K.u_rel(self.par, self.phi, self.alpha)
+
+    def xg(self) -> float:
+        if self.machine:
+            return -self._u[self.n]
+        return self._xg[self.n]
+
+    def E_kin(self) -> float:
+        return K.kinetic(self.par, self.alpha, float(self.S[2]), float(self.S[3]))
+
+    def E_pot(self) -> float:
+        return K.potential(self.par, self.phi, self.alpha)
+
+    def ledger_residual(self) -> float:
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim)
+
+    def values(self) -> tuple:
+        g = self.geom
+        K.row_values(self.par, self.S, self.t, self.xg(), g.d1, g.d2, g.d3, g.d4, self._row)
+        return tuple(self._row.tolist())
+
+    def save(self):
+        return (self.n, self.t, self.S.copy())
+
+    def restore(self, snap) -> None:
+        self.n, self.t, S = snap
+        self.S[:] = S
+
+    # -- the step -----------------------------------------------------------------
+    def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
+        n = self.n
+        if self.machine:
+            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], mu1, mu2, mu3, mu4, 1, self._u[n + 1],
+                                  self._ud[n + 1], self.out, self._M, self._w, self._tmp, self._sc)
+        else:
+            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], mu1, mu2, mu3, mu4, 0, 0.0, 0.0,
+                                  self.out, self._M, self._w, self._tmp, self._sc)
+        if fail == K.FAIL_CAPACITY:
+            raise TFPFailure(f"the test machine drives the bearing past its displacement capacity "
+                             f"{self.geom.capacity:.4g} m (all surfaces at their rims)")
+        if fail == K.FAIL_FIXED_POINT:
+            raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
+                             "iterations (lower solver.dt)")
+        self.n = n + 1
+        self.t = self.n * self.dt
+        return tuple(float(x) for x in self.S[K.S_DW:K.S_DW + 4])
+
+
+# -- the closed-form backbone (docs/model.md 6.3) ------------------------------------------
+def branch_force(geom: TFPGeometry, mus, phi: float, psi: float, coord: str, s: float) -> float:
+    """Quasi-static horizontal force of the rigid model on a branch where
+    ``coord`` ('alpha': S2+S3, or 'phi': S1+S4) slides in the direction s,
+    the other coordinate held; exact geometry, normal forces from statics
+    (N_i = F sin(axis) + W_i cos(axis))."""
+    mu1, mu2, mu3, mu4 = mus
+    W1, W2, W3, W4 = geom.static_weights()
+    p = geom.pack()
+    g = geom.g
+    cf, sf, cp, sp = math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi)
+    if coord == "alpha":
+        k = mu2 * geom.R2 + mu3 * geom.R3
+        num = g * p[K.I_P2] * sp + s * (mu2 * geom.R2 * W2 + mu3 * geom.R3 * W3) * cp
+        return num / (geom.Li * cp - s * k * sp)
+    k = mu1 * geom.R1 + mu4 * geom.R4
+    num = g * (p[K.I_P1] * sf + p[K.I_P2] * sp) + s * (mu1 * geom.R1 * W1 + mu4 * geom.R4 * W4) * cf
+    return num / (geom.A * cf + geom.Li * cp - s * k * sf)
+
+
+def demand(geom: TFPGeometry, mus, phi, psi, F, coord):
+    """(generalised force the machine's F puts on ``coord`` minus gravity's, its friction cap)."""
+    mu1, mu2, mu3, mu4 = mus
+    W1, W2, W3, W4 = geom.static_weights()
+    p = geom.pack()
+    g = geom.g
+    cf, sf, cp, sp = math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi)
+    if coord == "alpha":
+        d = F * geom.Li * cp - g * p[K.I_P2] * sp
+        cap = mu2 * geom.R2 * (F * sp + W2 * cp) + mu3 * geom.R3 * (F * sp + W3 * cp)
+        return d, cap
+    d = F * (geom.A * cf + geom.Li * cp) - g * (p[K.I_P1] * sf + p[K.I_P2] * sp)
+    cap = mu1 * geom.R1 * (F * sf + W1 * cf) + mu4 * geom.R4 * (F * sf + W4 * cf)
+    return d, cap
+
+
+def backbone_path(geom: TFPGeometry, mus, u_path, tol=1e-12):
+    """The rigid model's quasi-static response along a displacement path
+    (return mapping on the closed-form branch forces): returns lists
+    (F, phi, alpha, regime) at each u of ``u_path`` (starting seated at rest).
+    One coordinate slides at a time, the one whose threshold is reached;
+    the branch force is ``branch_force``; the switch points are found by
+    bisection on the other coordinate's threshold."""
+    pm, am = geom.qmax
+    phi = alpha = 0.0
+    out_F, out_phi, out_al, out_reg = [], [], [], []
+    u_prev = u_path[0]
+    for u in u_path:
+        du = u - u_prev
+        u_prev = u
+        s = 1.0 if du > 0 else -1.0
+        # try the inner coordinate first: psi from u with phi held
+        res = None
+        for coord in ("alpha", "phi"):
+            if coord == "alpha":
+                x = (u - geom.A * math.sin(phi)) / geom.Li
+                if abs(x) >= 1:
+                    continue
+                psi = math.asin(x)
+                al = psi - phi
+                if abs(al) > am * (1 + 1e-12):
+                    continue
+                F = branch_force(geom, mus, phi, psi, "alpha", s)
+                d, cap = demand(geom, mus, phi, psi, F, "phi")
+                if abs(d) <= cap * (1 + 1e-9) or abs(phi) >= pm * (1 - 1e-12) and d * phi > 0:
+                    res = (F, phi, al, 5 if abs(phi) >= pm * (1 - 1e-12) else 1)
+                    break
+            else:
+                # phi with alpha held: solve A sin phi + Li sin(phi + alpha) = u (Newton)
+                ph = phi
+                for _ in range(60):
+                    f = geom.A * math.sin(ph) + geom.Li * math.sin(ph + alpha) - u
+                    df = geom.A * math.cos(ph) + geom.Li * math.cos(ph + alpha)
+                    step = f / df
+                    ph -= step
+                    if abs(step) < 1e-15:
+                        break
+                if abs(ph) > pm * (1 + 1e-12):
+                    continue
+                F = branch_force(geom, mus, ph, ph + alpha, "phi", s)
+                res = (F, ph, alpha, 3)
+                break
+        if res is None:
+            # both would pass their thresholds or a rim: take the inner with phi at its rim
+            ph = math.copysign(pm, u)
+            psi = math.asin(max(-1.0, min(1.0, (u - geom.A * math.sin(ph)) / geom.Li)))
+            res = (branch_force(geom, mus, ph, psi, "alpha", s), ph, psi - ph, 5)
+        F, phi, alpha, reg = res
+        out_F.append(F)
+        out_phi.append(phi)
+        out_al.append(alpha)
+        out_reg.append(reg)
+    return out_F, out_phi, out_al, out_reg
+
+
+def small_angle_backbone(geom: TFPGeometry, mus) -> dict:
+    """Small-angle, light-parts closed forms of the rigid model (docs/model.md 6.3)
+    and of the Fenz-Constantinou series model (R_eff,i = R_i - h_i), symmetric loop."""
+    mu1, mu2, mu3, mu4 = mus
+    W = geom.weight
+    A, Li = geom.A, geom.Li
+    Qi = W * (mu2 * geom.R2 + mu3 * geom.R3)
+    Qo = W * (mu1 * geom.R1 + mu4 * geom.R4)
+    hp, tl, tu = geom.pad_height, geom.slider_height_lower, geom.slider_height_upper
+    Re1, Re4 = geom.R1 - (tl + 0.5 * hp), geom.R4 - (tu + 0.5 * hp)
+    Re2, Re3 = geom.R2 - 0.5 * hp, geom.R3 - 0.5 * hp
+    return {
+        "rigid": {"k_I": W / Li, "k_III": W / (A + Li), "k_V": W / Li,
+                  "F0_I": Qi / Li, "F0_III": Qo / (A + Li),
+                  "F_I_III": (Qo - Qi) / A},
+        "series": {"k_I": W / (Re2 + Re3), "k_III": W / (Re1 + Re4), "k_V": W / (Re2 + Re3),
+                   "F0_I": W * (mu2 * Re2 + mu3 * Re3) / (Re2 + Re3),
+                   "F_I_III": W * mu1},
+    }
+
+
+def transition_force(geom: TFPGeometry, mus, phi_held: float = 0.0, s: float = 1.0) -> tuple:
+    """Force and displacement where the outer surfaces start (regime I -> III)
+    on the inner branch with the stack held at ``phi_held``: the root in psi of
+    the outer demand minus its cap on F = branch_force(alpha), by bisection."""
+    def h(psi):
+        F = branch_force(geom, mus, phi_held, psi, "alpha", s)
+        d, cap = demand(geom, mus, phi_held, psi, F, "phi")
+        return s * d - cap
+    lo, hi = phi_held, phi_held + s * (geom.qmax[1])
+    if h(lo) * h(hi) > 0:
+        return None
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if h(lo) * h(mid) <= 0:
+            hi = mid
+        else:
+            lo = mid
+    psi = 0.5 * (lo + hi)
+    F = branch_force(geom, mus, phi_held, psi, "alpha", s)
+    return F, geom.A * math.sin(phi_held) + geom.Li * math.sin(psi)
+
+
+def hexagon_loop(k1: float, k3: float, F0_I: float, b3: float, U: float) -> tuple:
+    """Small-angle steady loop of amplitude U reached on the outer branch (no
+    rims): outer branches F = k3 u +- b3, inner branches of slope k1 after a
+    rigid drop of 2 F0_I at each reversal. Returns (area, vertices)."""
+    F_top = k3 * U + b3
+    # from (U, F_top - 2 F0_I) along slope k1 down to the lower outer branch F = k3 u - b3
+    F1 = F_top - 2.0 * F0_I
+    u_x = (F1 - k1 * U + b3) / (k3 - k1)
+    V = [(U, F_top), (U, F1), (u_x, k3 * u_x - b3), (-U, -F_top), (-U, -F1), (-u_x, -(k3 * u_x - b3))]
+    area = 0.5 * abs(sum(V[i][0] * V[(i + 1) % 6][1] - V[(i + 1) % 6][0] * V[i][1] for i in range(6)))
+    return area, V
+
+
+def compare_with_series(geom: TFPGeometry, mus, U: float) -> dict:
+    """Rigid model against Fenz-Constantinou (2008) for a symmetric TFP, small
+    angles, amplitude U on the outer branch (docs/model.md 6.4)."""
+    bb = small_angle_backbone(geom, mus)
+    r, s = bb["rigid"], bb["series"]
+    hp = geom.pad_height
+    Re1 = geom.R1 - (geom.slider_height_lower + 0.5 * hp)
+    Re2 = geom.R2 - 0.5 * hp
+    u_star = 2.0 * Re2 * (mus[0] - mus[1])
+    b3_series = geom.weight * mus[0] - geom.weight * u_star / (2.0 * Re1)
+    a_r, _ = hexagon_loop(r["k_I"], r["k_III"], r["F0_I"], r["F0_III"], U)
+    a_s, _ = hexagon_loop(s["k_I"], s["k_III"], s["F0_I"], b3_series, U)
+    return {"rigid": dict(r, loop_area=a_r), "series": dict(s, F0_III=b3_series, loop_area=a_s, u_star=u_star)}

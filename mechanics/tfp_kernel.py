@@ -1,0 +1,729 @@
+"""Per-step physics of the rigid triple friction pendulum (TFP), one source.
+
+Kernel module (fpd/kernels.py): plain functions over floats and float64
+arrays, no classes, dicts or exceptions; the pure path imports it, the
+compiled path loads this same file through ``fpd.kernels.compiled``.
+
+The rigid, non-articulated model (docs/model.md section 6). Two generalised
+coordinates q = (phi, alpha):
+
+- phi: the rotation of BOTH slider plates about the centres of the outer
+  surfaces (the whole stack turning about C1; S1 slides R1 phi, S4 R4 phi);
+- alpha: the pad's rotation relative to the slider plates (the inner DFP of
+  S2 and S3, L_i = R2 + R3 - pad_height; S2 slides R2 alpha, S3 R3 alpha);
+  the pad's absolute angle is psi = phi + alpha.
+
+Every body k sits at r_k = -a_k e(phi) - b_k e(psi) from C1 (e(x) = (-sin x,
+cos x)), so the kinetic energy is (1/2) q'^T M(alpha) q' with
+
+    M11 = Aa + B + 2 K cos(alpha) + Jphi + Jpsi,  M12 = B + K cos(alpha) + Jpsi,
+    M22 = B + Jpsi,   Aa = sum m a^2, B = sum m b^2, K = sum m a b,
+
+the potential g [P1 (1 - cos phi) + P2 (1 - cos psi)] (P1 = sum m a, P2 =
+sum m b) and the horizontal first moment b(q) = P1 sin phi + P2 sin psi,
+through which the ground acceleration works (d'Alembert, relative frame).
+
+Time stepping: an energy-consistent (discrete-gradient) Moreau scheme.
+Friction is an impulse with lambda in Sgn(dq) (so the work it does in a step
+is exactly cap |dq|), the rims are bounds |q_j| <= qmax_j, and the step's
+increment solves the strictly convex problem
+
+    min 1/2 dq^T H dq - r^T dq + c_o |dphi| + c_i |dalpha|   (bounds; machine: d^T dq = e)
+
+with H = 2 M(q1) / dt^2, r = 2 p0 / dt + G(q0, q1), G the discrete gradients
+(Itoh-Abe, evaluated in closed form without cancellation) of the kinetic,
+potential and ground-forcing terms. The minimiser is found exactly among a
+handful of candidates (2 coordinates); a fixed point handles q1 in H and G.
+"""
+import math
+
+__kernel__ = True
+
+# -- parameter vector (pack_params in mechanics/tfp.py) ---------------------------
+I_AA, I_B, I_K, I_JPHI, I_JPSI, I_P1, I_P2 = 0, 1, 2, 3, 4, 5, 6
+I_A, I_LI, I_G, I_MSUP = 7, 8, 9, 10
+I_R1, I_R2, I_R3, I_R4 = 11, 12, 13, 14
+I_QMAX_PHI, I_QMAX_ALPHA = 15, 16
+I_MS_LO, I_MS_UP, I_MPAD = 17, 18, 19
+I_A_SL, I_A_PAD, I_B_PAD, I_A_SU = 20, 21, 22, 23   # a_k, b_k of the lower slider, pad, upper slider
+N_PAR = 24
+
+# -- step output vector ----------------------------------------------------------
+O_DPHI, O_DALPHA, O_F, O_EIN, O_WO, O_WI, O_RIM, O_ITER, O_FAIL = 0, 1, 2, 3, 4, 5, 6, 7, 8
+O_ARREST_O, O_ARREST_I, O_MACH_K, O_NU_PHI, O_NU_ALPHA, O_ARRIVE = 9, 10, 11, 12, 13, 14
+N_OUT = 15
+
+FAIL_NONE, FAIL_CAPACITY, FAIL_FIXED_POINT = 0, 1, 2
+
+FIXED_POINT_TOL = 1e-15
+FIXED_POINT_ITERS = 60
+
+
+def sinc(x):
+    """sin(x) / x, exact near 0."""
+    if abs(x) < 1e-4:
+        return 1.0 - x * x / 6.0
+    return math.sin(x) / x
+
+
+def mass_matrix(par, alpha, M):
+    """M(alpha) into M = [M11, M12, M22]."""
+    c = math.cos(alpha)
+    B, K, Jpsi = par[I_B], par[I_K], par[I_JPSI]
+    M[0] = par[I_AA] + B + 2.0 * K * c + par[I_JPHI] + Jpsi
+    M[1] = B + K * c + Jpsi
+    M[2] = B + Jpsi
+
+
+def solve2(m11, m12, m22, b1, b2, out):
+    """x = M^-1 b for the symmetric 2x2 M; out[0], out[1]."""
+    det = m11 * m22 - m12 * m12
+    out[0] = (m22 * b1 - m12 * b2) / det
+    out[1] = (m11 * b2 - m12 * b1) / det
+
+
+def kinetic(par, alpha, v1, v2):
+    c = math.cos(alpha)
+    B, K, Jpsi = par[I_B], par[I_K], par[I_JPSI]
+    m11 = par[I_AA] + B + 2.0 * K * c + par[I_JPHI] + Jpsi
+    m12 = B + K * c + Jpsi
+    m22 = B + Jpsi
+    return 0.5 * (m11 * v1 * v1 + 2.0 * m12 * v1 * v2 + m22 * v2 * v2)
+
+
+def potential(par, phi, alpha):
+    return par[I_G] * (par[I_P1] * (1.0 - math.cos(phi)) + par[I_P2] * (1.0 - math.cos(phi + alpha)))
+
+
+def moment_x(par, phi, alpha):
+    """b(q): horizontal first moment sum m_k x_k relative to the ground (kg m)."""
+    return par[I_P1] * math.sin(phi) + par[I_P2] * math.sin(phi + alpha)
+
+
+def u_rel(par, phi, alpha):
+    """Superstructure displacement relative to the ground, u = A sin phi + L_i sin psi."""
+    return par[I_A] * math.sin(phi) + par[I_LI] * math.sin(phi + alpha)
+
+
+def uplift(par, phi, alpha):
+    return par[I_A] * (1.0 - math.cos(phi)) + par[I_LI] * (1.0 - math.cos(phi + alpha))
+
+
+def dgrad_cos_sin(p1, p2, phi0, a0, phi1, a1, out, use_sin):
+    """Itoh-Abe discrete gradient of f = p1 (1 - cos phi) + p2 (1 - cos(phi + alpha))
+    (use_sin = 0) or f = p1 sin phi + p2 sin(phi + alpha) (use_sin = 1), phi first,
+    then alpha, so that out . (q1 - q0) = f(q1) - f(q0) exactly."""
+    hp = 0.5 * (phi1 - phi0)
+    ha = 0.5 * (a1 - a0)
+    pm = 0.5 * (phi0 + phi1)
+    am = 0.5 * (a0 + a1)
+    sp, sa = sinc(hp), sinc(ha)
+    if use_sin == 0:
+        out[0] = (p1 * math.sin(pm) + p2 * math.sin(pm + a0)) * sp
+        out[1] = p2 * math.sin(phi1 + am) * sa
+    else:
+        out[0] = (p1 * math.cos(pm) + p2 * math.cos(pm + a0)) * sp
+        out[1] = p2 * math.cos(phi1 + am) * sa
+
+
+def qp_box(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x):
+    """Minimise f = 1/2 x^T H x - r^T x + c1|x1| + c2|x2| on the box; the
+    minimiser is one of the candidates (each coordinate at lo, 0, hi, or free
+    on one side of its kink), so the feasible candidate of least f is exact.
+    The minimiser without the box comes first (9 candidates): when it lies in
+    the box it is the answer (convexity), which is the common case."""
+    _qp_cands(h11, h12, h22, r1, r2, c1, c2, -1e300, 1e300, -1e300, 1e300, x, 1)
+    if lo1 <= x[0] <= hi1 and lo2 <= x[1] <= hi2:
+        return 0.0
+    return _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, 0)
+
+
+def _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, free_only):
+    best = 1e300
+    x[0] = 0.0
+    x[1] = 0.0
+    for s1 in range(5):
+        for s2 in range(5):
+            if free_only == 1 and (s1 == 0 or s1 == 2 or s2 == 0 or s2 == 2):
+                continue
+            # states: 0 lo, 1 zero, 2 hi, 3 free negative, 4 free positive
+            f1 = s1 < 3
+            f2 = s2 < 3
+            y1 = 0.0
+            y2 = 0.0
+            if f1:
+                y1 = lo1 if s1 == 0 else (0.0 if s1 == 1 else hi1)
+            if f2:
+                y2 = lo2 if s2 == 0 else (0.0 if s2 == 1 else hi2)
+            g1 = 1.0 if s1 == 4 else -1.0
+            g2 = 1.0 if s2 == 4 else -1.0
+            if not f1 and not f2:
+                det = h11 * h22 - h12 * h12
+                b1 = r1 - c1 * g1
+                b2 = r2 - c2 * g2
+                y1 = (h22 * b1 - h12 * b2) / det
+                y2 = (h11 * b2 - h12 * b1) / det
+                if y1 * g1 <= 0.0 or y2 * g2 <= 0.0:
+                    continue
+            elif not f1:
+                y1 = (r1 - c1 * g1 - h12 * y2) / h11
+                if y1 * g1 <= 0.0:
+                    continue
+            elif not f2:
+                y2 = (r2 - c2 * g2 - h12 * y1) / h22
+                if y2 * g2 <= 0.0:
+                    continue
+            if y1 < lo1 or y1 > hi1 or y2 < lo2 or y2 > hi2:
+                continue
+            f = 0.5 * (h11 * y1 * y1 + 2.0 * h12 * y1 * y2 + h22 * y2 * y2) - r1 * y1 - r2 * y2 \
+                + c1 * abs(y1) + c2 * abs(y2)
+            if f < best:
+                best = f
+                x[0] = y1
+                x[1] = y2
+    return best
+
+
+def qp_line(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, d1, d2, e, x):
+    """The same minimisation on the line d1 x1 + d2 x2 = e (test machine).
+    Returns 0, or 1 when the line misses the box (capacity exhausted)."""
+    # parametrise by the coordinate with the larger coefficient eliminated
+    swap = abs(d2) > abs(d1)
+    if swap:
+        h11, h22 = h22, h11
+        r1, r2 = r2, r1
+        c1, c2 = c2, c1
+        lo1, lo2 = lo2, lo1
+        hi1, hi2 = hi2, hi1
+        d1, d2 = d2, d1
+    # x1 = (e - d2 t) / d1, x2 = t
+    k0 = e / d1
+    k1 = -d2 / d1
+    # t range from both boxes
+    tlo, thi = lo2, hi2
+    # which bound of x1 (if any) makes each end of the t range: snapped to exactly at the end
+    ylo, yhi = 0.0, 0.0
+    flo, fhi = False, False
+    if k1 != 0.0:
+        ta = (lo1 - k0) / k1
+        tb = (hi1 - k0) / k1
+        if k1 > 0.0:
+            if ta > tlo:
+                tlo, ylo, flo = ta, lo1, True
+            if tb < thi:
+                thi, yhi, fhi = tb, hi1, True
+        else:
+            if tb > tlo:
+                tlo, ylo, flo = tb, hi1, True
+            if ta < thi:
+                thi, yhi, fhi = ta, lo1, True
+    elif k0 < lo1 or k0 > hi1:
+        return 1
+    if tlo > thi:
+        # allow round-off at the capacity
+        if tlo - thi > 1e-12 * (1.0 + abs(tlo)):
+            return 1
+        thi = tlo
+    # f(t) = 1/2 A t^2 + Bq t + const + c1 |k0 + k1 t| + c2 |t|
+    A = h11 * k1 * k1 + 2.0 * h12 * k1 + h22
+    Bq = h11 * k0 * k1 + h12 * k0 - r1 * k1 - r2
+    best = 1e300
+    bt = tlo
+    bj = 0
+    # candidates: ends, kinks, stationary points of the four smooth pieces
+    for j in range(8):
+        if j == 0:
+            t = tlo
+        elif j == 1:
+            t = thi
+        elif j == 2:
+            t = 0.0
+        elif j == 3:
+            if k1 == 0.0:
+                continue
+            t = -k0 / k1
+        else:
+            s1 = 1.0 if (j - 4) // 2 == 0 else -1.0
+            s2 = 1.0 if (j - 4) % 2 == 0 else -1.0
+            if A <= 0.0:
+                continue
+            t = -(Bq + c1 * s1 * k1 + c2 * s2) / A
+        if t < tlo or t > thi:
+            continue
+        y1 = k0 + k1 * t
+        f = 0.5 * A * t * t + Bq * t + c1 * abs(y1) + c2 * abs(t)
+        if f < best:
+            best = f
+            bt = t
+            bj = j
+    y1 = k0 + k1 * bt
+    if bj == 0 and flo:
+        y1 = ylo
+    elif bj == 1 and fhi:
+        y1 = yhi
+    if bj == 3:
+        y1 = 0.0            # the kink of the eliminated coordinate: it sticks exactly
+    if swap:
+        x[0] = bt
+        x[1] = y1
+    else:
+        x[0] = y1
+        x[1] = bt
+    return 0
+
+
+def normal_forces(par, phi, alpha, v1, v2, a1, a2, ag, F, N):
+    """Normal forces N1..N4 (N[0..3]) along the axes through the surface
+    centres, from the bodies' accelerations (generalised accelerations a1, a2,
+    ground acceleration ag) top down: the superstructure (minus the machine's
+    horizontal force F), the upper slider, the pad, the lower slider.
+    No tension across a contact: negative values are clipped to 0."""
+    g = par[I_G]
+    psi = phi + alpha
+    vpsi = v1 + v2
+    apsi = a1 + a2
+    cf, sf = math.cos(phi), math.sin(phi)
+    cp, sp = math.cos(psi), math.sin(psi)
+    # acceleration of a point r = -a e(phi) - b e(psi): x'' = a(phi'' c - phi'^2 s) + ..., z'' = a(phi'' s + phi'^2 c) + ...
+    axf = a1 * cf - v1 * v1 * sf
+    azf = a1 * sf + v1 * v1 * cf
+    axp = apsi * cp - vpsi * vpsi * sp
+    azp = apsi * sp + vpsi * vpsi * cp
+    A, Li, Ms = par[I_A], par[I_LI], par[I_MSUP]
+    # force of the bearing on the superstructure (upwards through S4)
+    bx = Ms * (ag + A * axf + Li * axp) - F
+    bz = Ms * (g + A * azf + Li * azp)
+    N[3] = -bx * sf + bz * cf
+    a_su = par[I_A_SU]
+    m = par[I_MS_UP]
+    bx += m * (ag + a_su * axf + Li * axp)
+    bz += m * (g + a_su * azf + Li * azp)
+    N[2] = -bx * sp + bz * cp
+    m = par[I_MPAD]
+    bx += m * (ag + par[I_A_PAD] * axf + par[I_B_PAD] * axp)
+    bz += m * (g + par[I_A_PAD] * azf + par[I_B_PAD] * azp)
+    N[1] = -bx * sp + bz * cp
+    m = par[I_MS_LO]
+    bx += m * (ag + par[I_A_SL] * axf)
+    bz += m * (g + par[I_A_SL] * azf)
+    N[0] = -bx * sf + bz * cf
+    for i in range(4):
+        if N[i] < 0.0:
+            N[i] = 0.0
+
+
+def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
+    """One step of the rigid TFP (see ``substep``), split at a rim impact.
+
+    A coordinate that reaches its rim inside the step would otherwise be
+    stopped by a position clamp whose reaction (and so the momentum it hands
+    to the other coordinate, and the loss) depends on where in the step the
+    rim was met. Instead the step is split: the first part ends at the rim
+    (fraction tau of the step, from the unclamped increment), where the
+    impact is inelastic at velocity level (the kinetic energy of the stopped
+    coordinate, exactly, is the rim loss); the rest starts on the rim.
+    sc: scratch of length >= 4 + 2 N_OUT."""
+    for i in range(4):
+        sc[i] = st[i]
+    substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+    if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0:
+        return
+    # the unclamped increment decides where the rim was met
+    for i in range(4):
+        st[i] = sc[i]
+    u0 = 0.0
+    ud0 = 0.0
+    if machine == 1:
+        u0 = u_rel(par, sc[0], sc[1])
+        A, Li = par[I_A], par[I_LI]
+        ud0 = (A * math.cos(sc[0]) + Li * math.cos(sc[0] + sc[1])) * sc[2] + Li * math.cos(sc[0] + sc[1]) * sc[3]
+    substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 1)
+    tau = 1.0
+    qm1 = par[I_QMAX_PHI]
+    qm2 = par[I_QMAX_ALPHA]
+    d1 = out[O_DPHI]
+    d2 = out[O_DALPHA]
+    if d1 != 0.0 and abs(sc[0] + d1) > qm1:
+        dist = (qm1 if d1 > 0.0 else -qm1) - sc[0]
+        tau = min(tau, dist / d1)
+    if d2 != 0.0 and abs(sc[1] + d2) > qm2:
+        dist = (qm2 if d2 > 0.0 else -qm2) - sc[1]
+        tau = min(tau, dist / d2)
+    if tau < 1e-9:
+        tau = 1e-9
+    if tau > 1.0 - 1e-9:
+        tau = 1.0 - 1e-9
+    for i in range(4):
+        st[i] = sc[i]
+    acc = 4
+    uh = u0 + tau * (u1 - u0)
+    udh = ud0 + tau * (ud1 - ud0)
+    substep(par, st, tau * dt, ag, c_o, c_i, machine, uh, udh, out, M, w, tmp, 0)
+    for i in range(N_OUT):
+        sc[acc + i] = out[i]
+    if out[O_FAIL] != FAIL_NONE:
+        return
+    substep(par, st, (1.0 - tau) * dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+    for i in range(N_OUT):
+        if i != O_F and i != O_FAIL and i != O_NU_PHI and i != O_NU_ALPHA and i != O_ARRIVE:
+            out[i] += sc[acc + i]
+    if sc[acc + O_FAIL] > out[O_FAIL]:
+        out[O_FAIL] = sc[acc + O_FAIL]
+    out[O_ARRIVE] = 1.0
+
+
+def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobounds):
+    """One step of the rigid TFP. st = [phi, alpha, v_phi, v_alpha] (updated).
+
+    ag: mean ground acceleration over the step; c_o = mu1 N1 R1 + mu4 N4 R4,
+    c_i = mu2 N2 R2 + mu3 N3 R3 (friction caps of the two coordinates);
+    machine = 1: the superstructure's relative displacement is imposed,
+    u(t_n+1) = u1, u'(t_n+1) = ud1 (test machine; F is its horizontal force).
+    M, w, tmp: scratch arrays of length >= 3, 2, 2.
+    out[O_*]: increments, F, input work, friction work per coordinate (the
+    arrest losses included), rim loss, iterations, failure flag."""
+    for i in range(N_OUT):
+        out[i] = 0.0
+    q10 = st[0]
+    q20 = st[1]
+    v10 = st[2]
+    v20 = st[3]
+    qm1 = par[I_QMAX_PHI]
+    qm2 = par[I_QMAX_ALPHA]
+    if nobounds == 1:
+        qm1 = 1e30
+        qm2 = 1e30
+    # momentum p0 = M(q0) v0
+    mass_matrix(par, q20, M)
+    p1 = M[0] * v10 + M[1] * v20
+    p2 = M[1] * v10 + M[2] * v20
+    m011, m012, m022 = M[0], M[1], M[2]
+    # box of the increment (a start a hair outside by round-off counts as on the rim)
+    lo1 = -qm1 - q10
+    hi1 = qm1 - q10
+    lo2 = -qm2 - q20
+    hi2 = qm2 - q20
+    # on a rim to round-off: exactly on it (no spurious slide of an ulp)
+    if abs(lo1) <= 1e-13 * qm1:
+        lo1 = 0.0
+    if abs(hi1) <= 1e-13 * qm1:
+        hi1 = 0.0
+    if abs(lo2) <= 1e-13 * qm2:
+        lo2 = 0.0
+    if abs(hi2) <= 1e-13 * qm2:
+        hi2 = 0.0
+    if lo1 > 0.0:
+        lo1 = 0.0
+    if hi1 < 0.0:
+        hi1 = 0.0
+    if lo2 > 0.0:
+        lo2 = 0.0
+    if hi2 < 0.0:
+        hi2 = 0.0
+    # predictor
+    x1 = dt * v10
+    x2 = dt * v20
+    if x1 < lo1:
+        x1 = lo1
+    if x1 > hi1:
+        x1 = hi1
+    if x2 < lo2:
+        x2 = lo2
+    if x2 > hi2:
+        x2 = hi2
+    A, Li, g = par[I_A], par[I_LI], par[I_G]
+    e = 0.0
+    if machine == 1:
+        e = u1 - u_rel(par, q10, q20)
+    it = 0
+    G1 = 0.0
+    G2 = 0.0
+    r1 = 0.0
+    r2 = 0.0
+    h11 = h12 = h22 = 0.0
+    dx1 = 0.0
+    dx2 = 0.0
+    converged = False
+    while it < FIXED_POINT_ITERS:
+        it += 1
+        phi1 = q10 + x1
+        al1 = q20 + x2
+        mass_matrix(par, al1, M)
+        # discrete gradient of T(q, p0) in alpha: -1/2 w1^T dM w0 / dalpha
+        solve2(M[0], M[1], M[2], p1, p2, w)
+        w11, w12 = w[0], w[1]
+        solve2(m011, m012, m022, p1, p2, w)
+        w01, w02 = w[0], w[1]
+        K = par[I_K]
+        dTa = 0.5 * (2.0 * K * w11 * w01 + K * (w11 * w02 + w12 * w01)) * math.sin(0.5 * (q20 + al1)) \
+            * sinc(0.5 * (al1 - q20))
+        # discrete gradients of V and b
+        dgrad_cos_sin(g * par[I_P1], g * par[I_P2], q10, q20, phi1, al1, tmp, 0)
+        G1 = -tmp[0]
+        G2 = -dTa - tmp[1]
+        dgrad_cos_sin(par[I_P1], par[I_P2], q10, q20, phi1, al1, tmp, 1)
+        G1 -= ag * tmp[0]
+        G2 -= ag * tmp[1]
+        h11 = 2.0 * M[0] / (dt * dt)
+        h12 = 2.0 * M[1] / (dt * dt)
+        h22 = 2.0 * M[2] / (dt * dt)
+        r1 = 2.0 * p1 / dt + G1
+        r2 = 2.0 * p2 / dt + G2
+        if machine == 1:
+            dgrad_cos_sin(A, Li, q10, q20, phi1, al1, tmp, 1)
+            dx1, dx2 = tmp[0], tmp[1]
+            if qp_line(h11, h12, h22, r1, r2, c_o, c_i, lo1, hi1, lo2, hi2, dx1, dx2, e, w) != 0:
+                out[O_FAIL] = FAIL_CAPACITY
+                return
+        else:
+            qp_box(h11, h12, h22, r1, r2, c_o, c_i, lo1, hi1, lo2, hi2, w)
+        n1, n2 = w[0], w[1]
+        ch = abs(n1 - x1) + abs(n2 - x2)
+        x1, x2 = n1, n2
+        if ch <= FIXED_POINT_TOL:
+            converged = True
+            break
+    if not converged:
+        out[O_FAIL] = FAIL_FIXED_POINT
+    # the generalised force of friction, rims and machine: Phi = r - H dq
+    Phi1 = r1 - (h11 * x1 + h12 * x2)
+    Phi2 = r2 - (h12 * x1 + h22 * x2)
+    # momentum and velocity at t_n+1 (M holds M(q1))
+    pn1 = p1 + dt * (G1 - Phi1)
+    pn2 = p2 + dt * (G2 - Phi2)
+    solve2(M[0], M[1], M[2], pn1, pn2, w)
+    v11, v21 = w[0], w[1]
+    phi1 = q10 + x1
+    al1 = q20 + x2
+    if x1 == lo1 and lo1 < 0.0:
+        phi1 = -qm1
+    elif x1 == hi1 and hi1 > 0.0:
+        phi1 = qm1
+    if x2 == lo2 and lo2 < 0.0:
+        al1 = -qm2
+    elif x2 == hi2 and hi2 > 0.0:
+        al1 = qm2
+    # the split of Phi into friction, rim reaction and machine force
+    s1 = 1.0 if x1 > 0.0 else (-1.0 if x1 < 0.0 else 0.0)
+    s2 = 1.0 if x2 > 0.0 else (-1.0 if x2 < 0.0 else 0.0)
+    at1 = (x1 == lo1 and lo1 < 0.0) or (x1 == hi1 and hi1 > 0.0)
+    at2 = (x2 == lo2 and lo2 < 0.0) or (x2 == hi2 and hi2 > 0.0)
+    F = 0.0
+    if machine == 1:
+        # F from a coordinate that slides freely: Phi_k = c_k s_k - F d_k
+        if s2 != 0.0 and not at2 and dx2 != 0.0:
+            F = (c_i * s2 - Phi2) / dx2
+        elif s1 != 0.0 and not at1 and dx1 != 0.0:
+            F = (c_o * s1 - Phi1) / dx1
+        elif s1 != 0.0 and dx1 != 0.0:
+            F = (c_o * s1 - Phi1) / dx1
+            at1 = False
+        elif s2 != 0.0 and dx2 != 0.0:
+            F = (c_i * s2 - Phi2) / dx2
+            at2 = False
+    wo = c_o * abs(x1)
+    wi = c_i * abs(x2)
+    rim = 0.0
+    nu1 = 0.0
+    nu2 = 0.0
+    if at1:
+        nu1 = Phi1 - c_o * s1 + F * dx1
+        rim += nu1 * x1
+    if at2:
+        nu2 = Phi2 - c_i * s2 + F * dx2
+        rim += nu2 * x2
+    ein = -ag * (moment_x(par, phi1, al1) - moment_x(par, q10, q20)) + F * e
+    # velocity jumps at t_n+1 (impulses at fixed position, each one's kinetic
+    # energy change booked where it belongs): a coordinate that stuck (dq = 0)
+    # or stopped at its rim ends at rest
+    K0 = kinetic(par, al1, v11, v21)
+    z1 = s1 == 0.0 or at1
+    z2 = s2 == 0.0 or at2
+    arr_o = 0.0
+    arr_i = 0.0
+    if z1 and z2:
+        # stop the coordinate 1 first (impulse along e1), then the rest
+        # an impulse on coordinate 1 only keeps p2 = M12 v1 + M22 v2
+        va = 0.0
+        vb = (M[1] * v11 + M[2] * v21) / M[2]
+        Ka = kinetic(par, al1, va, vb)
+        l1 = K0 - Ka
+        l2 = Ka
+        if at1:
+            rim += l1
+        else:
+            arr_o += l1
+        if at2:
+            rim += l2
+        else:
+            arr_i += l2
+        v11 = 0.0
+        v21 = 0.0
+    elif z1:
+        v21 = (M[1] * v11 + M[2] * v21) / M[2]
+        v11 = 0.0
+        l1 = K0 - kinetic(par, al1, v11, v21)
+        if at1:
+            rim += l1
+        else:
+            arr_o += l1
+    elif z2:
+        v11 = (M[0] * v11 + M[1] * v21) / M[0]
+        v21 = 0.0
+        l2 = K0 - kinetic(par, al1, v11, v21)
+        if at2:
+            rim += l2
+        else:
+            arr_i += l2
+    mk = 0.0
+    if machine == 1:
+        # the machine imposes u'(t_n+1) through the coordinates still free
+        c1 = A * math.cos(phi1) + Li * math.cos(phi1 + al1)
+        c2 = Li * math.cos(phi1 + al1)
+        Kb = kinetic(par, al1, v11, v21)
+        if not z1 and not z2:
+            solve2(M[0], M[1], M[2], c1, c2, w)
+            den = c1 * w[0] + c2 * w[1]
+            P = (ud1 - (c1 * v11 + c2 * v21)) / den
+            v11 += P * w[0]
+            v21 += P * w[1]
+        elif not z1 and c1 != 0.0:
+            v11 = ud1 / c1
+        elif not z2 and c2 != 0.0:
+            v21 = ud1 / c2
+        mk = kinetic(par, al1, v11, v21) - Kb
+        ein += mk
+    st[0] = phi1
+    st[1] = al1
+    st[2] = v11
+    st[3] = v21
+    out[O_DPHI] = x1
+    out[O_DALPHA] = x2
+    out[O_F] = F
+    out[O_EIN] = ein
+    out[O_WO] = wo + arr_o
+    out[O_WI] = wi + arr_i
+    out[O_RIM] = rim
+    out[O_ITER] = it
+    out[O_ARREST_O] = arr_o
+    out[O_ARREST_I] = arr_i
+    out[O_MACH_K] = mk
+    out[O_NU_PHI] = nu1
+    out[O_NU_ALPHA] = nu2
+    # a coordinate that moved onto its rim in this step (not one that stayed on it)
+    if (at1 and x1 != 0.0) or (at2 and x2 != 0.0):
+        out[O_ARRIVE] = 1.0
+
+
+# -- the whole step of the stepper (mechanics/tfp.py's TFPStepper and the compiled loop) --------
+S_F, S_W, S_EIN, S_ERIM, S_PHASE, S_REG, S_SLIDE, S_SV, S_DW, S_N = 4, 5, 9, 10, 11, 12, 13, 17, 21, 25
+N_S = 29
+PHASE_STICK, PHASE_INNER, PHASE_OUTER, PHASE_BOTH = 0, 3, 4, 5
+N_ROW = 35          # len(mechanics.tfp.COLUMNS)
+
+
+def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc):
+    """One step of the stepper on its state vector S (layout S_*): normal
+    forces at the start of the step (weights, the ground's d'Alembert force,
+    centripetal terms, the machine's force; without the generalised
+    accelerations, see docs/model.md 6.2), caps, ``step``, the friction work of
+    each surface (the arrest loss of a coordinate shared by its two surfaces as
+    their caps), the force F, phase, regime, sliding flags and speeds.
+    Returns the failure flag (FAIL_*)."""
+    N = S[S_N:S_N + 4]
+    normal_forces(par, S[0], S[1], S[2], S[3], 0.0, 0.0, ag, S[S_F], N)
+    R1, R2, R3, R4 = par[I_R1], par[I_R2], par[I_R3], par[I_R4]
+    a1 = mu1 * N[0] * R1
+    a4 = mu4 * N[3] * R4
+    a2 = mu2 * N[1] * R2
+    a3 = mu3 * N[2] * R3
+    c_o = a1 + a4
+    c_i = a2 + a3
+    ph0, al0, v00, v01 = S[0], S[1], S[2], S[3]
+    step(par, S[0:4], dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc)
+    fail = int(out[O_FAIL])
+    if fail == FAIL_CAPACITY:
+        return fail
+    dphi = out[O_DPHI]
+    dal = out[O_DALPHA]
+    wo = out[O_WO]
+    wi = out[O_WI]
+    fo = a1 / c_o if c_o > 0.0 else 0.5
+    fi = a2 / c_i if c_i > 0.0 else 0.5
+    S[S_DW] = fo * wo
+    S[S_DW + 1] = fi * wi
+    S[S_DW + 2] = (1.0 - fi) * wi
+    S[S_DW + 3] = (1.0 - fo) * wo
+    for i in range(4):
+        S[S_W + i] += S[S_DW + i]
+    S[S_EIN] += out[O_EIN]
+    S[S_ERIM] += out[O_RIM]
+    if machine == 1:
+        S[S_F] = out[O_F]
+    else:
+        # the bearing's horizontal force against u: minus the superstructure's inertia force
+        A, Li = par[I_A], par[I_LI]
+        x0 = (A * math.cos(ph0) + Li * math.cos(ph0 + al0)) * v00 + Li * math.cos(ph0 + al0) * v01
+        x1 = (A * math.cos(S[0]) + Li * math.cos(S[0] + S[1])) * S[2] + Li * math.cos(S[0] + S[1]) * S[3]
+        S[S_F] = -par[I_MSUP] * (ag + (x1 - x0) / dt)
+    so = 1.0 if dphi != 0.0 else 0.0
+    si = 1.0 if dal != 0.0 else 0.0
+    S[S_SLIDE] = so
+    S[S_SLIDE + 1] = si
+    S[S_SLIDE + 2] = si
+    S[S_SLIDE + 3] = so
+    if so != 0.0 and si != 0.0:
+        S[S_PHASE] = PHASE_BOTH
+        S[S_REG] = 6.0
+    elif so != 0.0:
+        S[S_PHASE] = PHASE_OUTER
+        S[S_REG] = 3.0
+    elif si != 0.0:
+        S[S_PHASE] = PHASE_INNER
+        S[S_REG] = 5.0 if abs(S[0]) >= par[I_QMAX_PHI] * (1.0 - 1e-12) else 1.0
+    else:
+        S[S_PHASE] = PHASE_STICK
+        S[S_REG] = 0.0
+    S[S_SV] = R1 * abs(dphi) / dt
+    S[S_SV + 1] = R2 * abs(dal) / dt
+    S[S_SV + 2] = R3 * abs(dal) / dt
+    S[S_SV + 3] = R4 * abs(dphi) / dt
+    return fail
+
+
+def row_values(par, S, t, xg, d1, d2, d3, d4, row):
+    """The stepper's output columns (mechanics.tfp.COLUMNS) into row[0:N_ROW]."""
+    phi, al = S[0], S[1]
+    v1, v2 = S[2], S[3]
+    A, Li = par[I_A], par[I_LI]
+    R1, R2, R3, R4 = par[I_R1], par[I_R2], par[I_R3], par[I_R4]
+    c = math.cos(phi + al)
+    row[0] = t
+    row[1] = xg
+    row[2] = u_rel(par, phi, al)
+    row[3] = (A * math.cos(phi) + Li * c) * v1 + Li * c * v2
+    row[4] = S[S_F]
+    row[5] = uplift(par, phi, al)
+    row[6] = phi + al
+    row[7] = R1 * phi
+    row[8] = R2 * al
+    row[9] = R3 * al
+    row[10] = R4 * phi
+    for i in range(4):
+        row[11 + i] = S[S_N + i]
+        row[15 + i] = S[S_W + i]
+    row[19] = S[S_PHASE]
+    row[20] = S[S_EIN]
+    row[21] = kinetic(par, al, v1, v2)
+    row[22] = potential(par, phi, al)
+    row[23] = S[S_ERIM]
+    row[24] = phi
+    row[25] = al
+    row[26] = S[S_REG]
+    for i in range(4):
+        row[27 + i] = S[S_SLIDE + i]
+    tol = 1.0 - 1e-12
+    row[31] = 1.0 if abs(R1 * phi) >= d1 * tol else 0.0
+    row[32] = 1.0 if abs(R2 * al) >= d2 * tol else 0.0
+    row[33] = 1.0 if abs(R3 * al) >= d3 * tol else 0.0
+    row[34] = 1.0 if abs(R4 * phi) >= d4 * tol else 0.0
