@@ -1,0 +1,381 @@
+"""Bidirectional DFP steppers, one source for the pure and the compiled path (model.md 8).
+
+Kernel module (fpd/kernels.py): plain functions over floats and float64
+arrays (or lists on the pure path); ``fpd.kernels.compiled(__name__)`` gives
+the same functions compiled by numba. Errors are returned as flags.
+
+State: the unit vector n from the centre C1 of the lower sphere to the centre
+C2 of the upper one (the pad axis, pointing down), n = (sin th cos phi,
+sin th sin phi, -cos th), and its rate w = dn/dt (tangent to the unit
+sphere). The superstructure's displacement relative to the ground is
+u = L (n_x, n_y); its uplift L (1 + n_z). Everything is written in Cartesian
+components, so nothing is singular at theta = 0 (the planar model is the
+special case n_y = w_y = 0, with n_x = sin(theta), w = theta' (cos, 0, sin)).
+
+A step of either scheme (``C[C_MID]``):
+
+- stick trial: Moreau step on the sphere. The d'Alembert and gravity terms
+  are the discrete gradient of the potential V(n) = f . n, f = S (a_x, a_y, g),
+  along the great circle of the step's increment (exact work along it); the
+  friction impulse is capped by the disk of radius h (mu1 N1 R1 + mu2 N2 R2)/I
+  (radial return of the free trial velocity onto that disk);
+- when the trial fails the device slides in the plane pi through C1, C2 and
+  the increment: phase 1 moves the superstructure by L |d| along the tangent,
+  the pad pivots on its trailing rim point by beta1 (the planar
+  corner_pivot_rotation, made in pi); phase 2 re-seats in pi, so the axis
+  turns by atan(|d|) about the normal of pi;
+- an arrest inside the step (the velocity brought to zero by friction) splits
+  the step there, as the planar stepper does.
+
+"start" (the paper's section 3, C[C_MID] = 0): N frozen at t_n, friction along
+the end velocity (radial return), the velocity projected onto the seated
+tangent after every slip step (the kinetic energy removed is E_reseat). With a
+zero y component it is the planar TwoPhaseStepper, to round-off.
+
+"midpoint" (C[C_MID] = 1): N at the step midpoint (position and velocity),
+friction along the mid-step velocity (the increment), no projection: the
+velocity is carried along the great circle (the perpendicular component
+unchanged). Second order in smooth sliding. Projections are kept for real
+landings from rocking only; this stepper does not model rocking yet: a step
+where the rocking check of Eq. (7) says the stuck pad tips returns
+FLAG_ROCKING (the planar stepper models it).
+"""
+import math
+
+__kernel__ = True
+
+# -- constants array C ---------------------------------------------------------
+C_L, C_RHO, C_I, C_S, C_M, C_MP, C_J, C_G, C_R1, C_R2 = 0, 1, 2, 3, 4, 5, 6, 7, 8, 9
+C_A, C_EB, C_ET, C_H, C_ITRANS, C_MID, C_XB, C_ZB = 10, 11, 12, 13, 14, 15, 16, 17
+N_C = 18
+
+# -- state array S -------------------------------------------------------------
+S_NX, S_NY, S_NZ, S_WX, S_WY, S_WZ = 0, 1, 2, 3, 4, 5
+S_W1, S_W2, S_EIN, S_ERES, S_N1, S_N2 = 6, 7, 8, 9, 10, 11
+S_FX, S_FY, S_FF1, S_FF2, S_SLIP1, S_SLIP2 = 12, 13, 14, 15, 16, 17
+S_DS1, S_DS2, S_BETA1, S_BETA2, S_TILT, S_MODE = 18, 19, 20, 21, 22, 23
+S_SV1, S_SV2, S_DPHI = 24, 25, 26
+N_S = 27
+
+STICK, SLIP, TILT = 0, 1, 2
+FLAG_OK, FLAG_ROCKING = 0, 1
+
+FIXED_POINT_TOL = 1e-15
+FIXED_POINT_ITERS = 50
+
+
+def sinc(x):
+    """sin(x) / x, exact near 0 (as the planar stepper's)."""
+    if abs(x) < 1e-4:
+        return 1.0 - x * x / 6.0
+    return math.sin(x) / x
+
+
+def corner_pivot_rotation(a, eta_bottom, eta_top, h, R2, shift):
+    """Phase-1 rotation of the pad about its trailing rim point, in the plane
+    pi, for a shift L |d| >= 0 of C2 along the tangent (the planar formula of
+    mechanics.two_phase.corner_pivot_rotation, which docs/two_phase.md derives)."""
+    e = abs(shift)
+    px, pz = -a - e, eta_bottom - h + R2
+    rx, rz = 2.0 * a, eta_top - eta_bottom
+    P = px * rx + pz * rz
+    Q = pz * rx - px * rz
+    D = a * e - 0.5 * e * e
+    disc = Q * Q - D * (2.0 * P + D)
+    tau = D / (Q + math.sqrt(disc if disc > 0.0 else 0.0))
+    return 2.0 * math.atan(tau)
+
+
+def tangent_basis(nx, ny, nz):
+    """Orthonormal tangent vectors (t1, t2) at n: the horizontal unit vectors
+    x, y turned by the rotation taking the centred axis (0, 0, -1) onto n
+    (regular for every n with n_z < 1, i.e. all seated states)."""
+    k = 1.0 / (1.0 - nz)
+    return (1.0 - nx * nx * k, -nx * ny * k, nx), (-nx * ny * k, 1.0 - ny * ny * k, ny)
+
+
+def normal_forces(C, nx, ny, nz, wx, wy, wz, ax, ay):
+    """Seated normal forces (N1, N2) at axis n, axis rate w, ground acceleration
+    (ax, ay): model.md 2 with the axial component of gravity and of the
+    d'Alembert force, g_axis = -(a . n_h + g n_z), and the centripetal terms
+    of the superstructure (radius L) and pad centroid (radius rho). Clipped at
+    zero (no tension across a contact)."""
+    g_axis = -(ax * nx + ay * ny + C[C_G] * nz)
+    w2 = wx * wx + wy * wy + wz * wz
+    N2 = C[C_M] * (g_axis + C[C_L] * w2)
+    N1 = N2 + C[C_MP] * (g_axis + C[C_RHO] * w2)
+    if N2 < 0.0:
+        N2 = 0.0
+        if N1 < 0.0:
+            N1 = 0.0
+    elif N1 < 0.0:
+        N1 = 0.0
+    return N1, N2
+
+
+def drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay):
+    """Tangential driving force (generalised, per unit I times I) of gravity
+    and the ground's d'Alembert force for an increment of angle d along the
+    unit tangent e: the discrete gradient of V = f . n, f = S (ax, ay, g), on
+    the great circle through n along e (its work over the increment is exactly
+    V(start) - V(end)); the component normal to the plane pi is the exact
+    -f . b (constant along the arc). Returns the 3-vector."""
+    S = C[C_S]
+    fx, fy, fz = S * ax, S * ay, S * C[C_G]
+    bx, by, bz = ny * ez - nz * ey, nz * ex - nx * ez, nx * ey - ny * ex
+    fn = fx * nx + fy * ny + fz * nz
+    fe = fx * ex + fy * ey + fz * ez
+    fb = fx * bx + fy * by + fz * bz
+    half = 0.5 * d
+    De = sinc(half) * (fn * math.sin(half) - fe * math.cos(half))
+    return De * ex - fb * bx, De * ey - fb * by, De * ez - fb * bz
+
+
+def _free_direction(C, nx, ny, nz, ax, ay):
+    """Unit direction of the tangential drive at n (from rest), or (0, 0, 0)."""
+    S = C[C_S]
+    fx, fy, fz = S * ax, S * ay, S * C[C_G]
+    fn = fx * nx + fy * ny + fz * nz
+    dx, dy, dz = -(fx - fn * nx), -(fy - fn * ny), -(fz - fn * nz)
+    m = math.sqrt(dx * dx + dy * dy + dz * dz)
+    if m == 0.0:
+        return 0.0, 0.0, 0.0
+    return dx / m, dy / m, dz / m
+
+
+def rocking_starts(C, nx, ny, nz, ex, ey, ez, ax, ay):
+    """Rocking check of Eq. (7) in the plane pi through the axis and the unit
+    tangent e: does the stuck pad, pivoting on its rim point trailing e (the
+    planar A-C chain in pi), get a rotation acceleration opening the gap?
+    Moments about the pivot of the field per unit mass F = -(ax, ay, g) on the
+    chain's first moments (Xb along e, Zb along the axis, up): Xb F_up - Zb F_e.
+    Checked for e and -e (the B-D chain)."""
+    g = C[C_G]
+    F_e = -(ax * ex + ay * ey + g * ez)
+    F_up = ax * nx + ay * ny + g * nz      # F . (-n)
+    Xb, Zb = C[C_XB], C[C_ZB]
+    return Xb * F_up - Zb * F_e > 0.0 or Xb * F_up + Zb * F_e > 0.0
+
+
+def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, h, cap0, mu1, mu2):
+    """Time tau in (0, h] at which friction at the cap, opposing the velocity
+    w0 along its own direction, brings the rate to zero; the cap is frozen
+    ("start") or at the sub-step's midpoint ("midpoint"). Returns
+    (tau, d, ex, ey, ez, N1, N2): d the angle travelled along e = w0 / |w0|."""
+    I = C[C_I]
+    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    ex, ey, ez = wx / w, wy / w, wz / w
+    mid = C[C_MID] != 0.0
+    cap = cap0
+    N1 = N2 = 0.0
+    tau = h
+    for _ in range(FIXED_POINT_ITERS):
+        d = 0.5 * tau * w
+        if mid:
+            q = 0.5 * d
+            c, s = math.cos(q), math.sin(q)
+            N1, N2 = normal_forces(C, c * nx + s * ex, c * ny + s * ey, c * nz + s * ez,
+                                   0.5 * wx, 0.5 * wy, 0.5 * wz, ax, ay)
+            cap = mu1 * N1 * C[C_R1] + mu2 * N2 * C[C_R2]
+        dx, dy, dz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay)
+        decel = (dx * ex + dy * ey + dz * ez) - cap
+        tau_new = w * I / -decel if decel < 0.0 else h
+        tau_new = min(max(tau_new, 0.0), h)
+        if abs(tau_new - tau) <= 1e-15 * h:
+            tau = tau_new
+            break
+        tau = tau_new
+    return tau, 0.5 * tau * w, ex, ey, ez, N1, N2
+
+
+def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
+    """Phases 1 and 2 of a sliding (part-)step in the plane pi: C2 moved by
+    L d along the unit tangent e at n_n with rate v1 (tangent at n_n) at the
+    end; re-seat by the rotation atan(d) about the normal of pi; friction work
+    f_i atan(d) per interface (the net slip, counted once); the velocity
+    projected ("start") or carried along ("midpoint")."""
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    I = C[C_I]
+    S[S_BETA1] = corner_pivot_rotation(C[C_A], C[C_EB], C[C_ET], C[C_H], C[C_R2], C[C_L] * d)
+    dphi = math.atan(d)
+    c, s = math.cos(dphi), math.sin(dphi)
+    sh = math.sin(0.5 * dphi)
+    k = -2.0 * sh * sh                       # cos(dphi) - 1, without cancellation
+    dnx, dny, dnz = k * nx + s * ex, k * ny + s * ey, k * nz + s * ez
+    n1x, n1y, n1z = nx + dnx, ny + dny, nz + dnz
+    r = 1.0 / math.sqrt(n1x * n1x + n1y * n1y + n1z * n1z)
+    n1x, n1y, n1z = n1x * r, n1y * r, n1z * r
+    # the tangent e carried to n_n+1, and the normal b of pi (tangent at both ends)
+    e1x, e1y, e1z = -s * nx + c * ex, -s * ny + c * ey, -s * nz + c * ez
+    bx, by, bz = ny * ez - nz * ey, nz * ex - nx * ez, nx * ey - ny * ex
+    ve = v1x * ex + v1y * ey + v1z * ez
+    vb = v1x * bx + v1y * by + v1z * bz
+    S[S_BETA2] = dphi - S[S_BETA1]
+    S[S_TILT] = -S[S_BETA2]
+    S[S_DPHI] += dphi
+    S[S_W1] += f1 * dphi
+    S[S_W2] += f2 * dphi
+    S[S_DS1] += C[C_R1] * dphi
+    S[S_DS2] += C[C_R2] * dphi
+    S[S_SLIP1] += C[C_R1] * dphi
+    S[S_SLIP2] += C[C_R2] * dphi
+    if C[C_MID] == 0.0:
+        # kinetic-energy metric: translations lose their component along C1C2
+        # at n_n+1 (in pi), the pad spin is kept; the normal component is
+        # tangent at both ends and is kept whole
+        vp = ve * (C[C_ITRANS] * c + C[C_J]) / I
+        S[S_ERES] += 0.5 * I * (ve * ve - vp * vp)
+        ve = vp
+    S[S_EIN] -= C[C_S] * (ax * dnx + ay * dny)
+    S[S_NX], S[S_NY], S[S_NZ] = n1x, n1y, n1z
+    wx, wy, wz = ve * e1x + vb * bx, ve * e1y + vb * by, ve * e1z + vb * bz
+    # keep w tangent to round-off at the new axis
+    wn = wx * n1x + wy * n1y + wz * n1z
+    S[S_WX], S[S_WY], S[S_WZ] = wx - wn * n1x, wy - wn * n1y, wz - wn * n1z
+
+
+def _part(C, S, ax, ay, h, mu1, mu2):
+    """One seated (part-)step of length h: stick trial, then slide or stick.
+    Returns (time used, flag): less than h at an arrest inside the step."""
+    I, R1, R2 = C[C_I], C[C_R1], C[C_R2]
+    mid = C[C_MID] != 0.0
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    w0x, w0y, w0z = S[S_WX], S[S_WY], S[S_WZ]
+    moving = w0x != 0.0 or w0y != 0.0 or w0z != 0.0
+    N1, N2 = normal_forces(C, nx, ny, nz, w0x, w0y, w0z, ax, ay)
+    cap = mu1 * N1 * R1 + mu2 * N2 * R2
+    hI = h / I
+    Dx, Dy, Dz = h * w0x, h * w0y, h * w0z
+    v1x, v1y, v1z = w0x, w0y, w0z
+    lam = 0.0
+    arrest = False
+    fx0, fy0, fz0 = _free_direction(C, nx, ny, nz, ax, ay)
+    for _ in range(FIXED_POINT_ITERS):
+        d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
+        if d > 0.0:
+            ex, ey, ez = Dx / d, Dy / d, Dz / d
+        else:
+            ex, ey, ez = fx0, fy0, fz0
+            if ex == 0.0 and ey == 0.0 and ez == 0.0:
+                t1, _t2 = tangent_basis(nx, ny, nz)
+                ex, ey, ez = t1
+        if mid:
+            q = 0.5 * d
+            c, s = math.cos(q), math.sin(q)
+            N1, N2 = normal_forces(C, c * nx + s * ex, c * ny + s * ey, c * nz + s * ez,
+                                   0.5 * (w0x + v1x), 0.5 * (w0y + v1y), 0.5 * (w0z + v1z), ax, ay)
+            cap = mu1 * N1 * R1 + mu2 * N2 * R2
+        gx, gy, gz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay)
+        vfx, vfy, vfz = w0x + hI * gx, w0y + hI * gy, w0z + hI * gz
+        if mid and moving:
+            # friction along the mid-step velocity x = w0 + v1: x + h cap x/|x| / I
+            # = w0 + v_free, so x is the radial return of w0 + v_free onto the
+            # disk (closed form, well posed whatever the angle between w0 and
+            # the drive); |w0 + v_free| inside the disk: the velocity passes
+            # through zero in the step (arrest)
+            yx, yy, yz = w0x + vfx, w0y + vfy, w0z + vfz
+            y = math.sqrt(yx * yx + yy * yy + yz * yz)
+            if y <= hI * cap:
+                arrest = True
+                break
+            r = 1.0 - hI * cap / y
+            v1x, v1y, v1z = yx * r - w0x, yy * r - w0y, yz * r - w0z
+            lam = 1.0
+        else:
+            # radial return of the free trial velocity onto the friction disk
+            vf = math.sqrt(vfx * vfx + vfy * vfy + vfz * vfz)
+            if vf <= hI * cap:
+                v1x = v1y = v1z = 0.0
+                lam = vf / (hI * cap) if cap > 0.0 else 0.0
+            else:
+                r = 1.0 - hI * cap / vf
+                v1x, v1y, v1z = vfx * r, vfy * r, vfz * r
+                lam = 1.0
+        Nx, Ny, Nz = 0.5 * h * (w0x + v1x), 0.5 * h * (w0y + v1y), 0.5 * h * (w0z + v1z)
+        if mid and moving and Nx * w0x + Ny * w0y + Nz * w0z <= 0.0:
+            arrest = True
+            break
+        ddx, ddy, ddz = Nx - Dx, Ny - Dy, Nz - Dz
+        Dx, Dy, Dz = Nx, Ny, Nz
+        if math.sqrt(ddx * ddx + ddy * ddy + ddz * ddz) <= FIXED_POINT_TOL:
+            break
+    if moving and (arrest or v1x * w0x + v1y * w0y + v1z * w0z <= 0.0):
+        tau, d, ex, ey, ez, N1a, N2a = _arrest(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, cap, mu1, mu2)
+        if mid:
+            N1, N2 = N1a, N2a
+        S[S_N1], S[S_N2] = N1, N2
+        f1, f2 = mu1 * N1 * R1, mu2 * N2 * R2
+        S[S_FF1], S[S_FF2] = f1 / C[C_L], f2 / C[C_L]
+        _slide(C, S, d, ex, ey, ez, 0.0, 0.0, 0.0, ax, ay, f1, f2)
+        S[S_MODE] = STICK
+        S[S_SV1] = S[S_SV2] = 0.0
+        return tau, FLAG_OK
+    S[S_N1], S[S_N2] = N1, N2
+    f1, f2 = mu1 * N1 * R1, mu2 * N2 * R2
+    S[S_FF1], S[S_FF2] = lam * f1 / C[C_L], lam * f2 / C[C_L]
+    if v1x == 0.0 and v1y == 0.0 and v1z == 0.0:
+        # the joints hold over the whole (part-)step
+        S[S_MODE] = STICK
+        S[S_SV1] = S[S_SV2] = 0.0
+        if not moving:
+            ex, ey, ez = _free_direction(C, nx, ny, nz, ax, ay)
+            if (ex != 0.0 or ey != 0.0 or ez != 0.0) and rocking_starts(C, nx, ny, nz, ex, ey, ez, ax, ay):
+                return h, FLAG_ROCKING
+        return h, FLAG_OK
+    d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
+    _slide(C, S, d, Dx / d, Dy / d, Dz / d, v1x, v1y, v1z, ax, ay, f1, f2)
+    S[S_MODE] = SLIP
+    w = math.sqrt(S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ])
+    S[S_SV1], S[S_SV2] = R1 * w, R2 * w
+    return h, FLAG_OK
+
+
+def step(C, S, ax, ay, h, mu1, mu2):
+    """One step of length h under the step-mean ground acceleration (ax, ay)
+    with mu1, mu2 held. Returns a flag (FLAG_OK, FLAG_ROCKING). Sets the
+    force the bearing transmits to the ground, from the momentum balance of
+    the moving parts over the step: F = -((M + m) a + S (w_h(end) - w_h(start)) / h)."""
+    Sm = C[C_S]
+    px0, py0 = Sm * S[S_WX], Sm * S[S_WY]
+    S[S_DS1] = S[S_DS2] = S[S_DPHI] = 0.0
+    S[S_BETA1] = S[S_BETA2] = S[S_TILT] = 0.0
+    rem = h
+    flag = FLAG_OK
+    for _ in range(4):
+        used, flag = _part(C, S, ax, ay, rem, mu1, mu2)
+        if flag != FLAG_OK:
+            break
+        rem = rem - used
+        if not rem > 0.0:
+            break
+    Mt = C[C_M] + C[C_MP]
+    S[S_FX] = -(Mt * ax + (Sm * S[S_WX] - px0) / h)
+    S[S_FY] = -(Mt * ay + (Sm * S[S_WY] - py0) / h)
+    return flag
+
+
+def uplift_factor(nx, ny, nz):
+    """1 + n_z = 1 - cos(theta), without cancellation: |n_h|^2 / (1 - n_z)."""
+    return (nx * nx + ny * ny) / (1.0 - nz)
+
+
+def energies(C, S):
+    """(E_kin, E_pot): I |w|^2 / 2 and S g (1 - cos theta)."""
+    w2 = S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ]
+    return 0.5 * C[C_I] * w2, C[C_S] * C[C_G] * uplift_factor(S[S_NX], S[S_NY], S[S_NZ])
+
+
+def run_steps(C, S, AX, AY, h, mu1, mu2, n0, n1, out):
+    """Steps n0..n1-1 with constant friction (mechanics-only runs, studies,
+    benchmarks): out[k] = (ux, uy, W1 + W2) after each step. Returns the
+    number of steps done (fewer on a flag)."""
+    L = C[C_L]
+    for n in range(n0, n1):
+        flag = step(C, S, AX[n], AY[n], h, mu1, mu2)
+        k = n - n0
+        out[k, 0] = L * S[S_NX]
+        out[k, 1] = L * S[S_NY]
+        out[k, 2] = S[S_W1] + S[S_W2]
+        if flag != FLAG_OK:
+            return n - n0
+    return n1 - n0

@@ -1,0 +1,181 @@
+"""Bidirectional DFP steppers (mechanics/bidirectional*.py, model.md section 8).
+
+Fast versions of every check run by default; the long studies are slow.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from fpd import kernels
+from fpd.mechanics.bidirectional import BidirectionalStepper, COLUMNS, PadRocks
+from fpd.mechanics.geometry import G_ACC, DeviceGeometry
+from fpd.mechanics.ground_motion import GroundMotion, harmonic_ground_motion
+from fpd.mechanics.two_phase import TwoPhaseStepper
+from tests.records_helper import elcentro, pulse
+
+DEVICE = DeviceGeometry("DFP", R1=2.2, R2=2.2, pad_height=0.10, pad_diameter=0.25,
+                        pad_mass=30.0, mass=1.0e5)
+HARSH = DeviceGeometry("DFP", R1=1.0, R2=1.0, pad_height=0.10, pad_diameter=0.25,
+                       pad_mass=30.0, mass=1.0e5)
+TALL_PAD = DeviceGeometry("DFP", R1=2.2, R2=2.2, pad_height=0.50, pad_diameter=0.10,
+                          pad_mass=30.0, mass=1.0e5)
+COL = {c: i for i, c in enumerate(COLUMNS)}
+JIT = kernels.available()
+
+
+def zero_like(g: GroundMotion) -> GroundMotion:
+    z = np.zeros_like(g.t)
+    return GroundMotion("zero", g.dt, g.t, z, z.copy(), z.copy(), np.zeros_like(g.a_step))
+
+
+def rotated(g: GroundMotion, angle: float):
+    """The x component g turned by angle: (cos, sin) times it."""
+    c, s = math.cos(angle), math.sin(angle)
+    mk = lambda f: GroundMotion(g.name, g.dt, g.t, f * g.d, f * g.v, f * g.a, f * g.a_step)  # noqa: E731
+    return mk(c), mk(s)
+
+
+def harsh(dt: float, cycles: float = 3.0) -> GroundMotion:
+    """The harsh harmonic: 0.6 g peak ground acceleration at 0.5 Hz (R = 1 m device)."""
+    w = 2.0 * math.pi * 0.5
+    return harmonic_ground_motion(0.6 * G_ACC / w ** 2, 0.5, cycles, dt)
+
+
+def history(geom, gx, gy=None, mu=0.05, normal_force="midpoint", jit=False):
+    st = BidirectionalStepper(geom, gx, gy, normal_force=normal_force, jit=jit)
+    rows = [st.values()]
+    for _ in range(st.n_steps):
+        st.step(mu, mu)
+        rows.append(st.values())
+    return np.array(rows), st
+
+
+def planar_history(geom, g, mu=0.05):
+    st = TwoPhaseStepper(geom, g)
+    rows = [st.values()]
+    for _ in range(st.n_steps):
+        st.step(mu, mu)
+        rows.append(st.values())
+    cols = {c: i for i, c in enumerate(st.columns)}
+    return np.array(rows), cols, st
+
+
+# -- the planar model is the special case --------------------------------------------
+
+@pytest.mark.parametrize("ground", ["elcentro", "harsh"])
+def test_zero_y_start_scheme_reproduces_planar_stepper(ground):
+    """'start' with a zero y component is today's planar TwoPhaseStepper to
+    1e-12 relative (each series against its own peak; the re-seating loss,
+    a difference of squares, against the input work)."""
+    g = elcentro(1e-3, duration=8.0) if ground == "elcentro" else harsh(2e-3, cycles=1.0)
+    geom = DEVICE if ground == "elcentro" else HARSH
+    P, pc, ps = planar_history(geom, g)
+    B, bs = history(geom, g, zero_like(g), normal_force="start")
+    assert np.all(B[:, COL["uy_m"]] == 0.0) and np.all(B[:, COL["Fy_N"]] == 0.0)
+    pairs = [("u_m", "ux_m"), ("v_mps", "vx_mps"), ("F_N", "Fx_N"), ("N1_N", "N1_N"), ("N2_N", "N2_N"),
+             ("W1_J", "W1_J"), ("W2_J", "W2_J"), ("E_input_J", "E_input_J"), ("z_m", "z_m"),
+             ("E_kin_J", "E_kin_J"), ("E_pot_J", "E_pot_J")]
+    for pcol, bcol in pairs:
+        ref = P[:, pc[pcol]]
+        err = np.max(np.abs(B[:, COL[bcol]] - ref)) / np.max(np.abs(ref))
+        assert err <= 1e-12, (pcol, err)
+    scale = np.max(np.abs(P[:, pc["E_input_J"]]))
+    assert np.max(np.abs(B[:, COL["E_reseat_J"]] - P[:, pc["E_reseat_J"]])) <= 1e-12 * scale
+    np.testing.assert_array_equal(B[:, COL["phase"]], P[:, pc["phase"]])
+    assert np.max(np.abs(np.abs(B[:, COL["theta_rad"]]) - np.abs(P[:, pc["theta_rad"]]))) <= 1e-12
+
+
+def test_rotating_the_ground_rotates_the_response():
+    """Isotropy: the x record turned by 37 degrees gives the x response turned
+    by 37 degrees (same work, same resultants), to round-off."""
+    g = elcentro(2e-3, duration=6.0)
+    A, _ = history(DEVICE, g, zero_like(g))
+    gx, gy = rotated(g, math.radians(37.0))
+    B, _ = history(DEVICE, gx, gy)
+    c, s = math.cos(math.radians(37.0)), math.sin(math.radians(37.0))
+    peak = np.max(np.abs(A[:, COL["ux_m"]]))
+    assert np.max(np.abs(B[:, COL["ux_m"]] - c * A[:, COL["ux_m"]])) <= 1e-10 * peak
+    assert np.max(np.abs(B[:, COL["uy_m"]] - s * A[:, COL["ux_m"]])) <= 1e-10 * peak
+    for col in ("W1_J", "W2_J", "F_N", "N1_N"):
+        ref = A[:, COL[col]]
+        assert np.max(np.abs(B[:, COL[col]] - ref)) <= 1e-9 * np.max(np.abs(ref)), col
+
+
+@pytest.mark.skipif(not JIT, reason="numba not installed")
+def test_compiled_kernel_matches_pure_path():
+    """One source: the compiled kernel gives the pure path's numbers."""
+    gx, gy = rotated(elcentro(2e-3, duration=5.0), 0.4)
+    A, _ = history(DEVICE, gx, gy, jit=False)
+    B, _ = history(DEVICE, gx, gy, jit=True)
+    assert np.max(np.abs(A - B) / (1.0 + np.max(np.abs(A), axis=0))) <= 1e-12
+
+
+def test_ledger_closes_to_the_scheme_order():
+    """Energy ledger of the midpoint scheme on a two-component input: the
+    residual over the whole history is small (it closes up to the
+    d - atan(d) of the re-seating), and shrinks with dt."""
+    worst = []
+    for dt in (2e-3, 1e-3):
+        gx, gy = rotated(elcentro(dt, duration=6.0), 0.7)
+        H, st = history(DEVICE, gx, gy)
+        res = H[:, COL["E_input_J"]] - (H[:, COL["E_kin_J"]] + H[:, COL["E_pot_J"]] + H[:, COL["W1_J"]]
+                                         + H[:, COL["W2_J"]] + H[:, COL["E_reseat_J"]])
+        worst.append(np.max(np.abs(res)) / np.max(H[:, COL["E_input_J"]]))
+    assert worst[0] < 1e-5 and worst[1] < worst[0]
+
+
+def test_stuck_pad_that_would_rock_is_refused():
+    """Rocking is modelled by the planar stepper only: the bidirectional one
+    stops with a MechanicsFailure naming it, not silently."""
+    g = pulse(1e-3, 0.5 * G_ACC, 1.0, 2.0)
+    st = BidirectionalStepper(TALL_PAD, g, None, jit=False)
+    with pytest.raises(PadRocks, match="rocks"):
+        for _ in range(st.n_steps):
+            st.step(0.6, 0.6)
+
+
+# -- order ----------------------------------------------------------------------------
+
+def _slope(dts, errs):
+    return float(np.polyfit(np.log(dts), np.log(errs), 1)[0])
+
+
+def _errors(geom, mk, dts, ref_dt, normal_force, mu=0.06):
+    def run(dt):
+        g = mk(dt)
+        st = BidirectionalStepper(geom, g, zero_like(g), normal_force=normal_force, jit=JIT)
+        return st.run(mu, mu)
+    ref = run(ref_dt)
+    eW, eU = [], []
+    for dt in dts:
+        o = run(dt)
+        k = int(round(dt / ref_dt))
+        eW.append(abs(o[-1, 2] - ref[-1, 2]) / ref[-1, 2])
+        eU.append(np.max(np.abs(o[:, 0] - ref[k - 1::k, 0])))
+    return np.array(eW), np.array(eU)
+
+
+@pytest.mark.skipif(not JIT, reason="numba not installed (the pure path is too slow for this study)")
+def test_midpoint_second_order_harsh_harmonic_start_first_order():
+    """Friction work on the harsh harmonic (0.6 g, 0.5 Hz, R = 1 m): the
+    'midpoint' scheme converges at order >= 1.8, the paper's 'start' scheme
+    (N frozen, projection every step) at order ~1."""
+    dts = np.array([4e-3, 2e-3, 1e-3])
+    eW, eU = _errors(HARSH, lambda dt: harsh(dt, 2.0), dts, 2.5e-4, "midpoint")
+    assert _slope(dts, eW) >= 1.8 and eW[-1] < 2e-5
+    assert _slope(dts, eU) >= 1.8 and eU[-1] < 2e-4
+    eWs, _ = _errors(HARSH, lambda dt: harsh(dt, 2.0), dts, 2.5e-4, "start")
+    assert 0.8 < _slope(dts, eWs) < 1.3 and eWs[-1] > 10 * eW[-1]
+
+
+@pytest.mark.skipif(not JIT, reason="numba not installed (the pure path is too slow for this study)")
+def test_midpoint_second_order_el_centro():
+    """Friction work on El Centro (first 10 s) converges at order >= 1.8
+    (least-squares slope over dt = 4..0.5 ms against 0.0625 ms)."""
+    dts = np.array([4e-3, 2e-3, 1e-3, 5e-4])
+    eW, eU = _errors(DEVICE, lambda dt: elcentro(dt, duration=10.0), dts, 6.25e-5, "midpoint")
+    assert _slope(dts, eW) >= 1.8 and eW[-1] < 2e-5
+    assert eU[-1] < 1e-6          # m
