@@ -54,7 +54,7 @@ def kernel(jit: bool | None = None):
     return _pure
 
 
-def constants(geom: DeviceGeometry, midpoint: bool) -> list:
+def constants(geom: DeviceGeometry, midpoint: bool, seated: bool = False) -> list:
     """The kernel's constants array C (a list; np.array of it for the compiled path)."""
     C = [0.0] * K.N_C
     C[K.C_L], C[K.C_RHO], C[K.C_I], C[K.C_S] = geom.L, geom.rho, geom.I, geom.S
@@ -64,6 +64,7 @@ def constants(geom: DeviceGeometry, midpoint: bool) -> list:
     C[K.C_A], C[K.C_EB], C[K.C_ET], C[K.C_H] = geom.a, c["A"][1], c["C"][1], geom.pad_height
     C[K.C_ITRANS] = geom.mass * geom.L ** 2 + geom.pad_mass * geom.rho ** 2
     C[K.C_MID] = 1.0 if midpoint else 0.0
+    C[K.C_SEATED] = 1.0 if seated or geom.kind == "SFP" else 0.0
     if geom.kind == "DFP":
         _, X0, Z0 = pivot_chain(geom, 0.0, DIAGONAL_AC)[:3]
         C[K.C_XB], C[K.C_ZB] = X0, Z0
@@ -75,7 +76,7 @@ def constants(geom: DeviceGeometry, midpoint: bool) -> list:
 class _Base:
     columns = COLUMNS
 
-    def _setup(self, geom, dt, n_steps, midpoint, jit, u0=(0.0, 0.0), v0=(0.0, 0.0)):
+    def _setup(self, geom, dt, n_steps, midpoint, jit, u0=(0.0, 0.0), v0=(0.0, 0.0), seated=False):
         self.geom = geom
         self.dt = float(dt)
         self.n_steps = int(n_steps)
@@ -83,7 +84,7 @@ class _Base:
         self.midpoint = bool(midpoint)
         self._K = kernel(jit)
         self.compiled = self._K is not _pure
-        C = constants(geom, midpoint)
+        C = constants(geom, midpoint, seated)
         S = [0.0] * K.N_S
         L = geom.L
         nx, ny = u0[0] / L, u0[1] / L
@@ -208,17 +209,20 @@ class BidirectionalStepper(_Base):
 
     ``gx``, ``gy``: GroundMotion of the x and y components on the same grid
     (gy None: unidirectional along x). ``normal_force``: "midpoint" or
-    "start". ``jit``: use the compiled kernel (None: when numba is loaded)."""
+    "start". ``model``: "two-phase" or "seated" (the spherical pendulum of
+    model.md 2 in 3D: no re-seating phase; the SFP always). ``jit``: use the
+    compiled kernel (None: when numba is loaded)."""
 
     def __init__(self, geom: DeviceGeometry, gx, gy=None, normal_force: str = "midpoint",
-                 jit: bool | None = None):
+                 jit: bool | None = None, model: str = "two-phase"):
         if normal_force not in NORMAL_FORCE:
             raise ValueError(f"normal_force = {normal_force!r}: must be one of {NORMAL_FORCE}")
         if gy is not None and (gy.n_steps != gx.n_steps or gy.dt != gx.dt):
             raise ValueError("the two ground-motion components must share the time grid")
         self.ground, self.ground_y = gx, gy
-        self._setup(geom, gx.dt, gx.n_steps, normal_force == "midpoint", jit)
+        self._setup(geom, gx.dt, gx.n_steps, normal_force == "midpoint", jit, seated=model == "seated")
         self.normal_force = normal_force
+        self.model = "seated" if geom.kind == "SFP" else model
         self._ax = float_array(gx.a_step)
         self._ay = float_array(gy.a_step if gy is not None else np.zeros(gx.n_steps))
         self._xg = gx.d
@@ -252,3 +256,32 @@ class BidirectionalStepper(_Base):
             raise PadRocks(f"the stuck pad rocks on its rim at t = {self.n * self.dt:.6g} s (Eq. 7): "
                            "rocking is modelled by the planar two-phase stepper only")
         return out
+
+
+class BidirectionalTestMachine(_Base):
+    """Seated DFP/SFP in a bearing-test machine driven along a planar orbit
+    (mechanics.orbits.OrbitProgramme). F_N components are the restraint's
+    horizontal force; the normal forces include its axial share."""
+
+    def __init__(self, geom: DeviceGeometry, programme, jit: bool | None = None):
+        u0, v0 = programme.u[0], programme.ud[0]
+        self._setup(geom, programme.dt, programme.n_steps, True, jit,
+                    u0=(float(u0[0]), float(u0[1])), v0=(float(v0[0]), float(v0[1])), seated=True)
+        self.prog = programme
+        self._U = np.ascontiguousarray(programme.u, dtype=float)
+        self._UD = np.ascontiguousarray(programme.ud, dtype=float)
+        self._UDD = np.ascontiguousarray(programme.udd, dtype=float)
+        self.normal_force = "seated"
+
+    def ground_position(self):
+        # the lower plate moves by -u
+        return (-float(self._U[self.n, 0]), -float(self._U[self.n, 1]))
+
+    def step(self, mu1: float, mu2: float) -> tuple[float, float]:
+        if self.n >= self.n_steps:
+            raise IndexError(f"all {self.n_steps} steps of the loading are taken")
+        S = self.S
+        W1, W2 = S[K.S_W1], S[K.S_W2]
+        self._K.machine_step(self.C, S, self._U, self._UD, self._UDD, self.n, mu1, mu2)
+        self.n += 1
+        return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)

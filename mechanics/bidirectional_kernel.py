@@ -47,7 +47,8 @@ __kernel__ = True
 # -- constants array C ---------------------------------------------------------
 C_L, C_RHO, C_I, C_S, C_M, C_MP, C_J, C_G, C_R1, C_R2 = 0, 1, 2, 3, 4, 5, 6, 7, 8, 9
 C_A, C_EB, C_ET, C_H, C_ITRANS, C_MID, C_XB, C_ZB = 10, 11, 12, 13, 14, 15, 16, 17
-N_C = 18
+C_SEATED = 18           # 1: the seated model (no phase 2: the axis moves along the arc by |d|)
+N_C = 19
 
 # -- state array S -------------------------------------------------------------
 S_NX, S_NY, S_NZ, S_WX, S_WY, S_WZ = 0, 1, 2, 3, 4, 5
@@ -196,8 +197,13 @@ def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
     projected ("start") or carried along ("midpoint")."""
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     I = C[C_I]
-    S[S_BETA1] = corner_pivot_rotation(C[C_A], C[C_EB], C[C_ET], C[C_H], C[C_R2], C[C_L] * d)
-    dphi = math.atan(d)
+    seated = C[C_SEATED] != 0.0
+    if seated:
+        S[S_BETA1] = 0.0
+        dphi = d
+    else:
+        S[S_BETA1] = corner_pivot_rotation(C[C_A], C[C_EB], C[C_ET], C[C_H], C[C_R2], C[C_L] * d)
+        dphi = math.atan(d)
     c, s = math.cos(dphi), math.sin(dphi)
     sh = math.sin(0.5 * dphi)
     k = -2.0 * sh * sh                       # cos(dphi) - 1, without cancellation
@@ -219,7 +225,7 @@ def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
     S[S_DS2] += C[C_R2] * dphi
     S[S_SLIP1] += C[C_R1] * dphi
     S[S_SLIP2] += C[C_R2] * dphi
-    if C[C_MID] == 0.0:
+    if C[C_MID] == 0.0 and not seated:
         # kinetic-energy metric: translations lose their component along C1C2
         # at n_n+1 (in pi), the pad spin is kept; the normal component is
         # tangent at both ends and is kept whole
@@ -379,3 +385,113 @@ def run_steps(C, S, AX, AY, h, mu1, mu2, n0, n1, out):
         if flag != FLAG_OK:
             return n - n0
     return n1 - n0
+
+
+# -- the bearing-test machine: a prescribed orbit u(t) = (ux, uy) --------------------
+
+def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2):
+    """Restraint force (Fx, Fy) and normal forces at one instant of a
+    prescribed relative motion u, u', u'' (the lower plate moves by -u, the
+    superstructure is held horizontally and rides on its weight), with the
+    unit tangent t of the slip (friction opposes it; zero: no friction).
+
+    The seated equation on the sphere (tangent plane at n):
+        I (n'')_T + S P_T(a_g, g) + cap t = L P_T(F)
+    with a_g = -u'' the lower plate's acceleration and cap = sum mu_i R_i N_i,
+    N_i = N_i0 + F . n_h (the restraint's axial share). Linear in F: solved
+    in the tangent basis. The planar SeatedTestMachine is the case u_y = 0.
+    Returns (Fx, Fy, N1, N2, nx, ny, nz, wx, wy, wz)."""
+    L, I, S, g = C[C_L], C[C_I], C[C_S], C[C_G]
+    nx, ny = ux / L, uy / L
+    nz = -math.sqrt(1.0 - nx * nx - ny * ny)
+    wx, wy = vx / L, vy / L
+    wz = -(nx * wx + ny * wy) / nz
+    w2 = wx * wx + wy * wy + wz * wz
+    qx, qy = ax / L, ay / L
+    qz = -(w2 + nx * qx + ny * qy) / nz
+    gax, gay = -ax, -ay                       # the lower plate's acceleration
+    # the seated normal forces (unclipped: the machine's formula is linear in F)
+    g_axis = -(gax * nx + gay * ny + g * nz)
+    N2_0 = C[C_M] * (g_axis + L * w2)
+    N1_0 = N2_0 + C[C_MP] * (g_axis + C[C_RHO] * w2)
+    k = mu1 * C[C_R1] + mu2 * C[C_R2]
+    cap0 = mu1 * C[C_R1] * N1_0 + mu2 * C[C_R2] * N2_0
+    t1, t2 = tangent_basis(nx, ny, nz)
+    # right-hand side, a 3-vector in the tangent plane (normal parts drop in the dots)
+    rx = I * qx + S * gax + cap0 * tx
+    ry = I * qy + S * gay + cap0 * ty
+    rz = I * qz + S * g + cap0 * tz
+    b1 = rx * t1[0] + ry * t1[1] + rz * t1[2]
+    b2 = rx * t2[0] + ry * t2[1] + rz * t2[2]
+    tt1 = tx * t1[0] + ty * t1[1] + tz * t1[2]
+    tt2 = tx * t2[0] + ty * t2[1] + tz * t2[2]
+    a11, a12 = L * t1[0] - k * nx * tt1, L * t1[1] - k * ny * tt1
+    a21, a22 = L * t2[0] - k * nx * tt2, L * t2[1] - k * ny * tt2
+    det = a11 * a22 - a12 * a21
+    Fx = (b1 * a22 - a12 * b2) / det
+    Fy = (a11 * b2 - a21 * b1) / det
+    share = Fx * nx + Fy * ny
+    return Fx, Fy, N1_0 + share, N2_0 + share, nx, ny, nz, wx, wy, wz
+
+
+def _chord_tangent(nx, ny, nz, dx, dy, dz):
+    """Unit tangent at n of the chord d (projected), or zeros."""
+    p = dx * nx + dy * ny + dz * nz
+    tx, ty, tz = dx - p * nx, dy - p * ny, dz - p * nz
+    m = math.sqrt(tx * tx + ty * ty + tz * tz)
+    if m == 0.0:
+        return 0.0, 0.0, 0.0
+    return tx / m, ty / m, tz / m
+
+
+def _slip_tangent(nx, ny, nz, wx, wy, dx, dy, dz):
+    """Direction of slip at n for the step with chord d: the velocity's
+    direction when it points along the step (exactly tangent), else the
+    chord's (a reversal or a stop at this point)."""
+    wz = -(nx * wx + ny * wy) / nz
+    if wx * dx + wy * dy + wz * dz > 0.0:
+        m = math.sqrt(wx * wx + wy * wy + wz * wz)
+        return wx / m, wy / m, wz / m
+    return _chord_tangent(nx, ny, nz, dx, dy, dz)
+
+
+def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
+    """Grid point i -> i+1 of the prescribed orbit (U, UD, UDD: (n+1, 2)
+    arrays of u, u', u''). Friction work per interface: mu_i R_i times the
+    normal force averaged over the step times the angle between the axes
+    (the great-circle arc); the input work: the generalised force of the
+    restraint and of the moving plate's d'Alembert force, trapezoidal over
+    the chord. Returns the flag."""
+    L = C[C_L]
+    n0x, n0y = U[i, 0] / L, U[i, 1] / L
+    n1x, n1y = U[i + 1, 0] / L, U[i + 1, 1] / L
+    n0z = -math.sqrt(1.0 - n0x * n0x - n0y * n0y)
+    n1z = -math.sqrt(1.0 - n1x * n1x - n1y * n1y)
+    dx, dy, dz = n1x - n0x, n1y - n0y, n1z - n0z
+    chord = math.sqrt(dx * dx + dy * dy + dz * dz)
+    ang = 2.0 * math.asin(0.5 * chord)
+    t0 = _slip_tangent(n0x, n0y, n0z, UD[i, 0] / L, UD[i, 1] / L, dx, dy, dz)
+    t1 = _slip_tangent(n1x, n1y, n1z, UD[i + 1, 0] / L, UD[i + 1, 1] / L, dx, dy, dz)
+    Fa = machine_point(C, U[i, 0], U[i, 1], UD[i, 0], UD[i, 1], UDD[i, 0], UDD[i, 1],
+                       t0[0], t0[1], t0[2], mu1, mu2)
+    Fb = machine_point(C, U[i + 1, 0], U[i + 1, 1], UD[i + 1, 0], UD[i + 1, 1], UDD[i + 1, 0],
+                       UDD[i + 1, 1], t1[0], t1[1], t1[2], mu1, mu2)
+    R1, R2 = C[C_R1], C[C_R2]
+    S[S_W1] += mu1 * 0.5 * (Fa[2] + Fb[2]) * R1 * ang
+    S[S_W2] += mu2 * 0.5 * (Fa[3] + Fb[3]) * R2 * ang
+    # generalised force Q = L F + S u'' (the plate's d'Alembert force is -S a_g = S u'')
+    qa = (L * Fa[0] + C[C_S] * UDD[i, 0], L * Fa[1] + C[C_S] * UDD[i, 1])
+    qb = (L * Fb[0] + C[C_S] * UDD[i + 1, 0], L * Fb[1] + C[C_S] * UDD[i + 1, 1])
+    S[S_EIN] += 0.5 * ((qa[0] + qb[0]) * dx + (qa[1] + qb[1]) * dy)
+    S[S_NX], S[S_NY], S[S_NZ] = Fb[4], Fb[5], Fb[6]
+    S[S_WX], S[S_WY], S[S_WZ] = Fb[7], Fb[8], Fb[9]
+    S[S_FX], S[S_FY], S[S_N1], S[S_N2] = Fb[0], Fb[1], Fb[2], Fb[3]
+    S[S_FF1] = mu1 * Fb[2]
+    S[S_FF2] = mu2 * Fb[3]
+    S[S_DS1], S[S_DS2], S[S_DPHI] = R1 * ang, R2 * ang, ang
+    S[S_SLIP1] += R1 * ang
+    S[S_SLIP2] += R2 * ang
+    S[S_MODE] = SLIP if ang != 0.0 else STICK
+    w = math.sqrt(Fb[7] * Fb[7] + Fb[8] * Fb[8] + Fb[9] * Fb[9])
+    S[S_SV1], S[S_SV2] = R1 * w, R2 * w
+    return FLAG_OK
