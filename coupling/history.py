@@ -63,6 +63,12 @@ class Stats:
         self.columns = list(columns)
         self.rows = 0
         self.max = self.min = self.first = self.last = None
+        # the energy ledger over the whole history (largest |residual|, largest |input|)
+        terms = ("E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J")
+        self._ledger_cols = ([self.columns.index(c) for c in terms]
+                             + ([self.columns.index("E_reseat_J")] if "E_reseat_J" in self.columns else [])
+                             if all(c in self.columns for c in terms) else None)
+        self.ledger_worst = self.input_worst = 0.0
 
     def add(self, block: np.ndarray) -> None:
         if not len(block):
@@ -74,6 +80,11 @@ class Stats:
             self.max, self.min = np.maximum(self.max, mx), np.minimum(self.min, mn)
         self.last = block[-1].copy()
         self.rows += len(block)
+        if self._ledger_cols is not None:
+            j = self._ledger_cols
+            res = block[:, j[0]] - block[:, j[1:]].sum(axis=1)
+            self.ledger_worst = max(self.ledger_worst, float(np.max(np.abs(res))))
+            self.input_worst = max(self.input_worst, float(np.max(np.abs(block[:, j[0]]))))
 
     def _get(self, arr, name) -> float:
         return float(arr[self.columns.index(name)])

@@ -179,3 +179,15 @@ def test_midpoint_second_order_el_centro():
     eW, eU = _errors(DEVICE, lambda dt: elcentro(dt, duration=10.0), dts, 6.25e-5, "midpoint")
     assert _slope(dts, eW) >= 1.8 and eW[-1] < 2e-5
     assert eU[-1] < 1e-6          # m
+
+
+def test_summary_energy_residual_is_the_largest_over_the_history():
+    """A ledger that is off in the middle and closes at the end is reported
+    by its worst row (coupling/history.Stats, summary.json)."""
+    from fpd.coupling.history import Stats
+    cols = ["t_s", "E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J", "E_reseat_J"]
+    st = Stats(cols)
+    st.add(np.array([[0.0, 0, 0, 0, 0, 0, 0], [1.0, 10, 5, 0, 0, 0, 0]]))
+    st.add(np.array([[2.0, 10, 0, 0, 6, 4, 0]]))
+    assert st.ledger_worst == 5.0 and st.input_worst == 10.0
+    assert st.final("E_input_J") - (st.final("W1_J") + st.final("W2_J")) == 0.0
