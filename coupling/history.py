@@ -36,7 +36,7 @@ CHUNK_ROWS = 1 << 14        # rows per block streamed (37 columns: 4.8 MB)
 PLOT_FULL_ROWS = 50_000     # up to this many rows the plots get every row
 PLOT_BINS = 2000            # beyond: this many bins (a few per pixel of a 770-px plot)
 PLOT_COLUMNS = ("u_m", "F_N", "xg_m", "W1_J", "W2_J", "E_input_J", "E_reseat_J", "T1_C", "T2_C",
-                "mu1", "mu2")
+                "mu1", "mu2", "ux_m", "uy_m", "Fx_N", "Fy_N")
 
 
 @contextlib.contextmanager

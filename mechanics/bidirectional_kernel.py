@@ -162,7 +162,10 @@ def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, h, cap0, mu1, mu2):
     """Time tau in (0, h] at which friction at the cap, opposing the velocity
     w0 along its own direction, brings the rate to zero; the cap is frozen
     ("start") or at the sub-step's midpoint ("midpoint"). Returns
-    (tau, d, ex, ey, ez, N1, N2): d the angle travelled along e = w0 / |w0|."""
+    (tau, d, ex, ey, ez, N1, N2, plane): d the angle travelled along e = w0 / |w0|;
+    ``plane``: the drive has no component across the line of w0 (to 1e-9 of the
+    forces at play), so the motion stays on that line and really passes through
+    rest (the planar case; in 2D the velocity turns instead)."""
     I = C[C_I]
     w = math.sqrt(wx * wx + wy * wy + wz * wz)
     ex, ey, ez = wx / w, wy / w, wz / w
@@ -170,6 +173,7 @@ def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, h, cap0, mu1, mu2):
     cap = cap0
     N1 = N2 = 0.0
     tau = h
+    plane = True
     for _ in range(FIXED_POINT_ITERS):
         d = 0.5 * tau * w
         if mid:
@@ -179,14 +183,17 @@ def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, h, cap0, mu1, mu2):
                                    0.5 * wx, 0.5 * wy, 0.5 * wz, ax, ay)
             cap = mu1 * N1 * C[C_R1] + mu2 * N2 * C[C_R2]
         dx, dy, dz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay)
-        decel = (dx * ex + dy * ey + dz * ez) - cap
+        De = dx * ex + dy * ey + dz * ez
+        px, py, pz = dx - De * ex, dy - De * ey, dz - De * ez
+        plane = math.sqrt(px * px + py * py + pz * pz) <= 1e-9 * (cap + abs(De))
+        decel = De - cap
         tau_new = w * I / -decel if decel < 0.0 else h
         tau_new = min(max(tau_new, 0.0), h)
         if abs(tau_new - tau) <= 1e-15 * h:
             tau = tau_new
             break
         tau = tau_new
-    return tau, 0.5 * tau * w, ex, ey, ez, N1, N2
+    return tau, 0.5 * tau * w, ex, ey, ez, N1, N2, plane
 
 
 def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
@@ -240,14 +247,13 @@ def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
     S[S_WX], S[S_WY], S[S_WZ] = wx - wn * n1x, wy - wn * n1y, wz - wn * n1z
 
 
-def _part(C, S, ax, ay, h, mu1, mu2):
-    """One seated (part-)step of length h: stick trial, then slide or stick.
-    Returns (time used, flag): less than h at an arrest inside the step."""
+def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, mu1, mu2, middir):
+    """The stick trial's fixed point on the step increment D (a tangent
+    vector at n): returns (v1, D, lam, N1, N2, arrest). ``middir``: friction
+    along the mid-step velocity (the midpoint scheme while moving), else along
+    the end velocity (radial return of the free trial velocity)."""
     I, R1, R2 = C[C_I], C[C_R1], C[C_R2]
     mid = C[C_MID] != 0.0
-    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
-    w0x, w0y, w0z = S[S_WX], S[S_WY], S[S_WZ]
-    moving = w0x != 0.0 or w0y != 0.0 or w0z != 0.0
     N1, N2 = normal_forces(C, nx, ny, nz, w0x, w0y, w0z, ax, ay)
     cap = mu1 * N1 * R1 + mu2 * N2 * R2
     hI = h / I
@@ -273,7 +279,7 @@ def _part(C, S, ax, ay, h, mu1, mu2):
             cap = mu1 * N1 * R1 + mu2 * N2 * R2
         gx, gy, gz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay)
         vfx, vfy, vfz = w0x + hI * gx, w0y + hI * gy, w0z + hI * gz
-        if mid and moving:
+        if middir:
             # friction along the mid-step velocity x = w0 + v1: x + h cap x/|x| / I
             # = w0 + v_free, so x is the radial return of w0 + v_free onto the
             # disk (closed form, well posed whatever the angle between w0 and
@@ -298,32 +304,59 @@ def _part(C, S, ax, ay, h, mu1, mu2):
                 v1x, v1y, v1z = vfx * r, vfy * r, vfz * r
                 lam = 1.0
         Nx, Ny, Nz = 0.5 * h * (w0x + v1x), 0.5 * h * (w0y + v1y), 0.5 * h * (w0z + v1z)
-        if mid and moving and Nx * w0x + Ny * w0y + Nz * w0z <= 0.0:
+        if middir and Nx * w0x + Ny * w0y + Nz * w0z <= 0.0:
             arrest = True
             break
         ddx, ddy, ddz = Nx - Dx, Ny - Dy, Nz - Dz
         Dx, Dy, Dz = Nx, Ny, Nz
         if math.sqrt(ddx * ddx + ddy * ddy + ddz * ddz) <= FIXED_POINT_TOL:
             break
+    return v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest
+
+
+def _part(C, S, ax, ay, h, mu1, mu2):
+    """One seated (part-)step of length h: stick trial, then slide or stick.
+    Returns (time used, flag): less than h at an arrest inside the step."""
+    R1, R2 = C[C_R1], C[C_R2]
+    mid = C[C_MID] != 0.0
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    w0x, w0y, w0z = S[S_WX], S[S_WY], S[S_WZ]
+    moving = w0x != 0.0 or w0y != 0.0 or w0z != 0.0
+    v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+        C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, mu1, mu2, mid and moving)
     if moving and (arrest or v1x * w0x + v1y * w0y + v1z * w0z <= 0.0):
-        tau, d, ex, ey, ez, N1a, N2a = _arrest(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, cap, mu1, mu2)
-        if mid:
-            N1, N2 = N1a, N2a
-        S[S_N1], S[S_N2] = N1, N2
-        f1, f2 = mu1 * N1 * R1, mu2 * N2 * R2
-        S[S_FF1], S[S_FF2] = f1 / C[C_L], f2 / C[C_L]
-        _slide(C, S, d, ex, ey, ez, 0.0, 0.0, 0.0, ax, ay, f1, f2)
-        S[S_MODE] = STICK
-        S[S_SV1] = S[S_SV2] = 0.0
-        return tau, FLAG_OK
+        tau, d, ex, ey, ez, N1a, N2a, plane = _arrest(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, cap, mu1, mu2)
+        if not plane or (mid and not tau < h):
+            # the velocity turns in the plane (a drive across its line) rather
+            # than passing through rest on it: no split (it would drop the
+            # cross impulse); friction along the end velocity (radial return,
+            # the Moreau step: it sticks exactly if the drive is inside the disk)
+            if mid:
+                v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+                    C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, mu1, mu2, False)
+        else:
+            if mid:
+                N1, N2 = N1a, N2a
+            S[S_N1], S[S_N2] = N1, N2
+            f1, f2 = mu1 * N1 * R1, mu2 * N2 * R2
+            S[S_FF1], S[S_FF2] = f1 / C[C_L], f2 / C[C_L]
+            _slide(C, S, d, ex, ey, ez, 0.0, 0.0, 0.0, ax, ay, f1, f2)
+            S[S_MODE] = STICK
+            S[S_SV1] = S[S_SV2] = 0.0
+            return tau, FLAG_OK
     S[S_N1], S[S_N2] = N1, N2
     f1, f2 = mu1 * N1 * R1, mu2 * N2 * R2
     S[S_FF1], S[S_FF2] = lam * f1 / C[C_L], lam * f2 / C[C_L]
     if v1x == 0.0 and v1y == 0.0 and v1z == 0.0:
-        # the joints hold over the whole (part-)step
+        # the joints hold at the end of the (part-)step
+        if moving:                 # from a moving state (2D, no split): it slid by D first
+            d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
+            if d > 0.0:
+                _slide(C, S, d, Dx / d, Dy / d, Dz / d, 0.0, 0.0, 0.0, ax, ay, f1, f2)
+            S[S_WX] = S[S_WY] = S[S_WZ] = 0.0
         S[S_MODE] = STICK
         S[S_SV1] = S[S_SV2] = 0.0
-        if not moving:
+        if not moving:             # the stuck pad's rocking check (from rest, as the planar stepper)
             ex, ey, ez = _free_direction(C, nx, ny, nz, ax, ay)
             if (ex != 0.0 or ey != 0.0 or ez != 0.0) and rocking_starts(C, nx, ny, nz, ex, ey, ez, ax, ay):
                 return h, FLAG_ROCKING

@@ -191,3 +191,22 @@ def test_summary_energy_residual_is_the_largest_over_the_history():
     st.add(np.array([[2.0, 10, 0, 0, 6, 4, 0]]))
     assert st.ledger_worst == 5.0 and st.input_worst == 10.0
     assert st.final("E_input_J") - (st.final("W1_J") + st.final("W2_J")) == 0.0
+
+
+def _pair(dt, duration):
+    from fpd.coupling import build, scene
+    s = scene.load("impvall-bidirectional", [f"solver.duration={duration}", f"solver.dt={dt}"])
+    return build.bidirectional_loading_of(s, dt)
+
+
+def test_bearing_force_stays_within_friction_disk_plus_restoring_force():
+    """On the two-component record, every step's transmitted force (from the
+    momentum balance) is the restoring force plus a friction force inside the
+    disk of radius (mu1 N1 R1 + mu2 N2 R2) / L: no impulse is dropped at the
+    events where the velocity turns or stops (2D)."""
+    gx, gy = _pair(1e-3, 12.0)
+    H, st = history(DEVICE, gx, gy, mu=0.06)
+    L, W = DEVICE.L, (DEVICE.mass + DEVICE.pad_mass) * G_ACC
+    Fr = np.hypot(H[:, COL["Fx_N"]] - W * H[:, COL["ux_m"]] / L, H[:, COL["Fy_N"]] - W * H[:, COL["uy_m"]] / L)
+    cap = 0.06 * (H[:, COL["N1_N"]] * DEVICE.R1 + H[:, COL["N2_N"]] * DEVICE.R2) / L
+    assert np.all(Fr[1:] <= 1.03 * cap[1:]), float(np.max(Fr[1:] / cap[1:]))
