@@ -369,6 +369,45 @@ def _part(C, S, ax, ay, h, mu1, mu2):
     return h, FLAG_OK
 
 
+SUBSTEP_MIN = 1.0 / 256.0     # shortest sub-step near a turning event, in steps
+SUBSTEP_TAU = 0.02            # s: turning time scale below which the midpoint scheme sub-steps
+SUBSTEPS_MAX = 2000
+
+
+def _event_substep(C, S, ax, ay, h, rem, h_min, mu1, mu2):
+    """Length of the next sub-step of the midpoint scheme.
+
+    Near an event where the velocity passes close to zero (a stop, or in 2D
+    a fast turn), the friction direction turns at the rate ~ acc / |w|,
+    acc = (cap + |f_t|) / I, and a step of length h has a local error
+    ~ h^3 cap/I (acc/|w|)^2: summed over the event, h^2 / tau with tau the
+    time to the event, which is first order overall. Sub-steps of length
+    h tau / SUBSTEP_TAU (tau = |w| / acc < SUBSTEP_TAU), at least h_min,
+    make the event's error O(h^2) again, at a cost of
+    ~ (SUBSTEP_TAU / h) log(h / h_min) sub-steps per event."""
+    wx, wy, wz = S[S_WX], S[S_WY], S[S_WZ]
+    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    if w == 0.0:
+        return rem
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    N1, N2 = normal_forces(C, nx, ny, nz, wx, wy, wz, ax, ay)
+    cap = mu1 * N1 * C[C_R1] + mu2 * N2 * C[C_R2]
+    Sm = C[C_S]
+    fx, fy, fz = Sm * ax, Sm * ay, Sm * C[C_G]
+    fn = fx * nx + fy * ny + fz * nz
+    tx, ty, tz = fx - fn * nx, fy - fn * ny, fz - fn * nz
+    acc = (cap + math.sqrt(tx * tx + ty * ty + tz * tz)) / C[C_I]
+    tau = w / acc
+    if tau >= SUBSTEP_TAU:
+        return rem
+    hs = h * tau / SUBSTEP_TAU
+    if hs < h_min:
+        hs = h_min
+    if rem - hs < h_min:
+        hs = rem
+    return hs
+
+
 def step(C, S, ax, ay, h, mu1, mu2):
     """One step of length h under the step-mean ground acceleration (ax, ay)
     with mu1, mu2 held. Returns a flag (FLAG_OK, FLAG_ROCKING). Sets the
@@ -380,8 +419,12 @@ def step(C, S, ax, ay, h, mu1, mu2):
     S[S_BETA1] = S[S_BETA2] = S[S_TILT] = 0.0
     rem = h
     flag = FLAG_OK
-    for _ in range(4):
-        used, flag = _part(C, S, ax, ay, rem, mu1, mu2)
+    h_min = h * SUBSTEP_MIN
+    for _ in range(SUBSTEPS_MAX):
+        hs = rem
+        if C[C_MID] != 0.0:
+            hs = _event_substep(C, S, ax, ay, h, rem, h_min, mu1, mu2)
+        used, flag = _part(C, S, ax, ay, hs, mu1, mu2)
         if flag != FLAG_OK:
             break
         rem = rem - used
