@@ -104,7 +104,10 @@ def cmd_run(args) -> int:
     try:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
-        if scene["output"]["vtk_every"] > 0:
+        if scene["output"]["vtk_every"] > 0 and hasattr(sim.mechanics, "centre1"):
+            from .vtk_bidirectional import VTKSeries3D      # bidirectional runs: the device in 3D
+            vtk = VTKSeries3D(folder.subdir("vtk"), sim)
+        elif scene["output"]["vtk_every"] > 0:
             from .vtk_output import VTKSeries
             vtk = VTKSeries(folder.subdir("vtk"), sim)
         hottest = None
