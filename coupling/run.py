@@ -212,6 +212,9 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     p1_step, p2_step = (p1.step if p1 else None), (p2.step if p2 else None)
     # the common case compiled (coupling/fast_loop.py); the loop below takes over where it stops
     jit = compiled_loop(sim, every, n_rows, cols, inject_failure_at) if fast else None
+    if fast and jit is None and two_d:      # the bidirectional stepper's own compiled loop
+        from .bidirectional_loop import compiled_loop_2d
+        jit = compiled_loop_2d(sim, every, n_rows, cols, inject_failure_at)
     t_start = time.perf_counter()
     n = last_row = n0 = 0
     try:

@@ -133,11 +133,6 @@ class _Base:
         """Azimuth of the displacement, atan2(uy, ux)."""
         return math.atan2(self.S[K.S_NY], self.S[K.S_NX])
 
-    def _dir(self):
-        S = self.S
-        r = math.hypot(S[K.S_NX], S[K.S_NY])
-        return (S[K.S_NX] / r, S[K.S_NY] / r) if r > 0.0 else (0.0, 0.0)
-
     @property
     def s1(self) -> float:
         """Distance of the lower footprint from the plate centre, R1 theta (m)."""
@@ -150,14 +145,14 @@ class _Base:
     @property
     def centre1(self) -> tuple:
         """Footprint centre on the lower plate, R1 theta (cos phi, sin phi) (m)."""
-        s, (cx, cy) = self.s1, self._dir()
-        return (s * cx, s * cy)
+        c = _pure.centres(self.C, self.S)
+        return (float(c[0]), float(c[1]))
 
     @property
     def centre2(self) -> tuple:
         """Footprint centre on the upper plate, -R2 theta (cos phi, sin phi) (m)."""
-        s, (cx, cy) = self.s2, self._dir()
-        return (-s * cx, -s * cy)
+        c = _pure.centres(self.C, self.S)
+        return (float(c[2]), float(c[3]))
 
     @property
     def u(self) -> tuple:
@@ -184,24 +179,19 @@ class _Base:
             self.S[i] = x
 
     def values(self) -> tuple:
-        S, C = [float(x) for x in self.S], self.C
-        L = self.geom.L
-        nx, ny, nz = S[K.S_NX], S[K.S_NY], S[K.S_NZ]
-        Ek, Ep = _pure.energies(C, S)
-        th = math.atan2(math.hypot(nx, ny), -nz)
-        c1x, c1y = self.centre1
-        c2x, c2y = self.centre2
+        out = [0.0] * K.N_VALUES
         xg, yg = self.ground_position()
-        ux, uy, vx, vy = L * nx, L * ny, L * S[K.S_WX], L * S[K.S_WY]
-        return (
-            self.n * self.dt, xg, yg, ux, uy, math.hypot(ux, uy), vx, vy, math.hypot(vx, vy),
-            S[K.S_FX], S[K.S_FY], math.hypot(S[K.S_FX], S[K.S_FY]),
-            L * _pure.uplift_factor(nx, ny, nz), th, math.atan2(ny, nx), S[K.S_BETA1],
-            C[K.C_R1] * th, C[K.C_R2] * th, S[K.S_N1], S[K.S_N2], S[K.S_W1], S[K.S_W2], S[K.S_MODE],
-            S[K.S_EIN], Ek, Ep, S[K.S_ERES],
-            S[K.S_BETA1], S[K.S_BETA2], S[K.S_TILT], S[K.S_DS1], S[K.S_DS2], S[K.S_FF1], S[K.S_FF2],
-            S[K.S_SLIP1], S[K.S_SLIP2], c1x, c1y, c2x, c2y,
-        )
+        _pure.values(self.C, [float(x) for x in self.S] if self.compiled else self.S,
+                     self.n * self.dt, xg, yg, out)
+        return tuple(out)
+
+    def use_compiled(self) -> None:
+        """Hold the state as float64 arrays and step with the compiled kernel."""
+        if not self.compiled:
+            self._K = kernel(True)
+            self.compiled = self._K is not _pure
+            if self.compiled:
+                self.C, self.S = np.array(self.C), np.array(self.S)
 
 
 class BidirectionalStepper(_Base):

@@ -571,3 +571,42 @@ def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
     w = math.sqrt(Fb[7] * Fb[7] + Fb[8] * Fb[8] + Fb[9] * Fb[9])
     S[S_SV1], S[S_SV2] = R1 * w, R2 * w
     return FLAG_OK
+
+
+# -- outputs (the class's values() and the compiled loop's rows) ----------------------
+
+N_VALUES = 40           # len(mechanics.bidirectional.COLUMNS)
+
+
+def centres(C, S):
+    """Footprint centres (c1x, c1y, c2x, c2y): lower plate R1 theta (cos phi,
+    sin phi), upper plate -R2 theta (cos phi, sin phi)."""
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    r = math.hypot(nx, ny)
+    th = math.atan2(r, -nz)
+    if r > 0.0:
+        cx, cy = nx / r, ny / r
+    else:
+        cx, cy = 0.0, 0.0
+    s1, s2 = C[C_R1] * th, C[C_R2] * th
+    return s1 * cx, s1 * cy, -(s2 * cx), -(s2 * cy)
+
+
+def values(C, S, t, xg, yg, out):
+    """The row of mechanics.bidirectional.COLUMNS into out[0:N_VALUES]."""
+    L = C[C_L]
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    Ek, Ep = energies(C, S)
+    th = math.atan2(math.hypot(nx, ny), -nz)
+    c1x, c1y, c2x, c2y = centres(C, S)
+    ux, uy, vx, vy = L * nx, L * ny, L * S[S_WX], L * S[S_WY]
+    out[0], out[1], out[2], out[3], out[4], out[5] = t, xg, yg, ux, uy, math.hypot(ux, uy)
+    out[6], out[7], out[8] = vx, vy, math.hypot(vx, vy)
+    out[9], out[10], out[11] = S[S_FX], S[S_FY], math.hypot(S[S_FX], S[S_FY])
+    out[12], out[13], out[14], out[15] = L * uplift_factor(nx, ny, nz), th, math.atan2(ny, nx), S[S_BETA1]
+    out[16], out[17], out[18], out[19] = C[C_R1] * th, C[C_R2] * th, S[S_N1], S[S_N2]
+    out[20], out[21], out[22] = S[S_W1], S[S_W2], S[S_MODE]
+    out[23], out[24], out[25], out[26] = S[S_EIN], Ek, Ep, S[S_ERES]
+    out[27], out[28], out[29], out[30], out[31] = S[S_BETA1], S[S_BETA2], S[S_TILT], S[S_DS1], S[S_DS2]
+    out[32], out[33], out[34], out[35] = S[S_FF1], S[S_FF2], S[S_SLIP1], S[S_SLIP2]
+    out[36], out[37], out[38], out[39] = c1x, c1y, c2x, c2y

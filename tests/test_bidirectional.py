@@ -359,3 +359,30 @@ def test_ledger_passes_a_consistent_physics_error(monkeypatch):
     # both ~2.5e-6 (the d - atan(d) of the re-seating at dt = 2 ms); the work differs by ~35 %
     assert worst(bad) < 1e-5 and worst(right) < 1e-5 and worst(bad) < 2.0 * worst(right)
     assert abs(W_bad / W_right - 1.0) > 0.1
+
+
+@pytest.mark.skipif(not JIT, reason="numba not installed")
+@pytest.mark.parametrize("thermal", [["thermal.model=fe1d"], ["thermal.model=lumped"],
+                                     ["thermal.model=fe1d", "thermal.source=fixed-point", "thermal.radius_m=0.03"]])
+def test_compiled_coupled_loop_gives_the_python_loops_rows(monkeypatch, thermal):
+    """simulate()'s compiled loop for the bidirectional stepper (coupling/
+    bidirectional_loop.py) writes the rows of the Python loop (same kernels,
+    same order): every column to 1e-12 of its scale."""
+    from fpd.coupling import bidirectional_loop, build, scene
+    from fpd.coupling.run import simulate
+    s = scene.load("impvall-bidirectional", ["solver.duration=9.0", "solver.dt=2e-3"] + thermal)
+    used = []
+    orig = bidirectional_loop.compiled_loop_2d
+
+    def spy(*a, **k):
+        loop = orig(*a, **k)
+        used.append(loop is not None)
+        return loop
+    monkeypatch.setattr(bidirectional_loop, "compiled_loop_2d", spy)
+    fast = simulate(build.build(s))
+    monkeypatch.setattr(bidirectional_loop, "compiled_loop_2d", lambda *a, **k: None)
+    slow = simulate(build.build(s))
+    assert used == [True] and fast.status == slow.status == "ok"
+    scale = 1.0 + np.max(np.abs(slow.data), axis=0)
+    assert np.max(np.abs(fast.data - slow.data) / scale) <= 1e-12
+    assert np.max(fast["u_m"]) > 0.05
