@@ -40,7 +40,17 @@ NORMAL_FORCE = ("midpoint", "start")
 
 
 class PadRocks(MechanicsFailure):
-    """The stuck pad would rock (Eq. 7): not modelled by the bidirectional stepper."""
+    """The stuck pad would rock (Eq. 7) where the stepper does not model it."""
+
+
+class PadOverturned(MechanicsFailure):
+    """The rocking pad passed the angle where gravity stops restoring it."""
+
+
+def _failure(flag, t):
+    if flag == K.FLAG_OVERTURN:
+        return PadOverturned(f"pad overturned at t = {t:.6g} s (rocking in the plane of the trial)")
+    return PadRocks(f"the stuck pad rocks on its rim at t = {t:.6g} s (Eq. 7)")
 
 
 def kernel(jit: bool | None = None):
@@ -66,10 +76,15 @@ def constants(geom: DeviceGeometry, midpoint: bool, seated: bool = False) -> lis
     C[K.C_MID] = 1.0 if midpoint else 0.0
     C[K.C_SEATED] = 1.0 if seated or geom.kind == "SFP" else 0.0
     if geom.kind == "DFP":
-        _, X0, Z0 = pivot_chain(geom, 0.0, DIAGONAL_AC)[:3]
-        C[K.C_XB], C[K.C_ZB] = X0, Z0
+        # the A-C chain of Eq. (7) in the pad frame (mechanics.two_phase.pivot_chain at theta = 0)
+        I_P, X0, Z0, rGx, rGz, rQx, rQz = pivot_chain(geom, 0.0, DIAGONAL_AC)
+        C[K.C_XB], C[K.C_ZB], C[K.C_IP] = X0, Z0, I_P
+        C[K.C_RGX], C[K.C_RGZ], C[K.C_RQX], C[K.C_RQZ] = rGx, rGz, rQx, rQz
+        xa, R1, R2 = geom.a, geom.R1, geom.R2
+        C[K.C_N1X], C[K.C_N1Z] = xa / R1, math.sqrt(R1 * R1 - xa * xa) / R1
+        C[K.C_N2X], C[K.C_N2Z] = xa / R2, math.sqrt(R2 * R2 - xa * xa) / R2
     else:                              # the SFP's articulated slider does not rock
-        C[K.C_XB], C[K.C_ZB] = 1.0, 0.0
+        C[K.C_XB], C[K.C_ZB], C[K.C_IP] = 1.0, 0.0, 1.0
     return C
 
 
@@ -228,8 +243,7 @@ class BidirectionalStepper(_Base):
         W1, W2 = S[K.S_W1], S[K.S_W2]
         flag = self._K.step(self.C, S, self._ax[self.n], self._ay[self.n], self.dt, mu1, mu2)
         if flag != K.FLAG_OK:
-            raise PadRocks(f"the stuck pad rocks on its rim at t = {self.n * self.dt:.6g} s (Eq. 7): "
-                           "rocking is modelled by the planar two-phase stepper only")
+            raise _failure(flag, self.n * self.dt)
         self.n += 1
         return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)
 
@@ -243,8 +257,7 @@ class BidirectionalStepper(_Base):
         done = self._K.run_steps(C, S, AX, AY, self.dt, mu1, mu2, self.n, n1, out)
         self.n += done
         if self.n < n1:
-            raise PadRocks(f"the stuck pad rocks on its rim at t = {self.n * self.dt:.6g} s (Eq. 7): "
-                           "rocking is modelled by the planar two-phase stepper only")
+            raise _failure(K.FLAG_OVERTURN, self.n * self.dt)
         return out
 
 

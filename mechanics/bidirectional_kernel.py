@@ -48,7 +48,11 @@ __kernel__ = True
 C_L, C_RHO, C_I, C_S, C_M, C_MP, C_J, C_G, C_R1, C_R2 = 0, 1, 2, 3, 4, 5, 6, 7, 8, 9
 C_A, C_EB, C_ET, C_H, C_ITRANS, C_MID, C_XB, C_ZB = 10, 11, 12, 13, 14, 15, 16, 17
 C_SEATED = 18           # 1: the seated model (no phase 2: the axis moves along the arc by |d|)
-N_C = 19
+# the rocking chain of Eq. (7) (pivot A, top corner C) in the pad frame (xi along e, eta up):
+# inertia about the pivot, arms of the pad centroid and of the top corner, contact normals
+C_IP, C_RGX, C_RGZ, C_RQX, C_RQZ = 19, 20, 21, 22, 23
+C_N1X, C_N1Z, C_N2X, C_N2Z = 24, 25, 26, 27
+N_C = 28
 
 # -- state array S -------------------------------------------------------------
 S_NX, S_NY, S_NZ, S_WX, S_WY, S_WZ = 0, 1, 2, 3, 4, 5
@@ -56,10 +60,13 @@ S_W1, S_W2, S_EIN, S_ERES, S_N1, S_N2 = 6, 7, 8, 9, 10, 11
 S_FX, S_FY, S_FF1, S_FF2, S_SLIP1, S_SLIP2 = 12, 13, 14, 15, 16, 17
 S_DS1, S_DS2, S_BETA1, S_BETA2, S_TILT, S_MODE = 18, 19, 20, 21, 22, 23
 S_SV1, S_SV2, S_DPHI = 24, 25, 26
-N_S = 27
+# rocking: flag, angle and rate about the pivot, the plane's tangent e; within a step:
+# no rocking after a landing, the landing flag and the phase-1 angle at the landing
+S_ROCK, S_BETA, S_BETAD, S_EX, S_EY, S_EZ, S_NOROCK, S_LANDED, S_BLAND = 27, 28, 29, 30, 31, 32, 33, 34, 35
+N_S = 36
 
 STICK, SLIP, TILT = 0, 1, 2
-FLAG_OK, FLAG_ROCKING = 0, 1
+FLAG_OK, FLAG_ROCKING, FLAG_OVERTURN = 0, 1, 2
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 50
@@ -314,9 +321,139 @@ def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, mu1, mu2, middir):
     return v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest
 
 
+def smallest_positive_root(c2, c1, c0, default):
+    """Smallest positive root of c2 x^2 + c1 x + c0 (stable form), else default."""
+    if c2 == 0.0:
+        if c1 != 0.0 and -c0 / c1 > 0.0:
+            return -c0 / c1
+        return default
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return default
+    q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
+    r1 = q / c2
+    r2 = c0 / q if q != 0.0 else -1.0
+    best = default
+    found = False
+    for r in (r1, r2):
+        if r > 0.0 and (not found or r < best):
+            best = r
+            found = True
+    return best
+
+
+def _plane_fields(C, S, ax, ay):
+    """Field per unit mass in the rocking plane (components along e and along
+    the pad axis up, -n): the whole (gravity and ground) and the ground's part."""
+    g = C[C_G]
+    ex, ey, ez = S[S_EX], S[S_EY], S[S_EZ]
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    ge, gu = -(ax * ex + ay * ey), ax * nx + ay * ny
+    return ge - g * ez, gu + g * nz, ge, gu
+
+
+def _chain_forces(C, S, ax, ay):
+    """Normal forces of the rocking chain at the pivot (N1) and at the top
+    corner (N2) from the accelerations of Eq. (7) and each body's momentum
+    balance, in the plane (the planar _chain_normal_forces); Ff1, Ff2 the
+    tangential forces the pinned joints carry. The field's component across
+    the plane is taken by the pivot."""
+    Fe, Fu, _ge, _gu = _plane_fields(C, S, ax, ay)
+    b, w = S[S_BETA], S[S_BETAD]
+    c, s = math.cos(b), math.sin(b)
+    Xr, Zr = c * C[C_XB] - s * C[C_ZB], s * C[C_XB] + c * C[C_ZB]
+    alpha = (Xr * Fu - Zr * Fe) / C[C_IP]
+    rGe, rGu = c * C[C_RGX] - s * C[C_RGZ], s * C[C_RGX] + c * C[C_RGZ]
+    rQe, rQu = c * C[C_RQX] - s * C[C_RQZ], s * C[C_RQX] + c * C[C_RQZ]
+    w2 = w * w
+    M, m = C[C_M], C[C_MP]
+    FMe = M * (-Fe - alpha * rQu - w2 * rQe)
+    FMu = M * (-Fu + alpha * rQe - w2 * rQu)
+    FPe = FMe + m * (-Fe - alpha * rGu - w2 * rGe)
+    FPu = FMu + m * (-Fu + alpha * rGe - w2 * rGu)
+    S[S_N1] = FPe * C[C_N1X] + FPu * C[C_N1Z]
+    S[S_N2] = FMe * C[C_N2X] + FMu * C[C_N2Z]
+    S[S_FF1] = FPe * C[C_N1Z] - FPu * C[C_N1X]
+    S[S_FF2] = FMe * C[C_N2Z] - FMu * C[C_N2X]
+
+
+def _tilt(C, S, ax, ay, h):
+    """The rocking chain of Eq. (7) in its plane over a (part-)step of length
+    h (the planar _tilt_step: discrete gradient, so the step's work equals the
+    potential's change); on landing (beta back to 0) the impact projects the
+    chain's velocity onto the seated tangent e (kinetic-energy metric, the
+    loss in E_reseat) and the rest of the step is seated, without rocking.
+    Returns (time used, flag)."""
+    Fe, Fu, ge, gu = _plane_fields(C, S, ax, ay)
+    IP, Xb, Zb = C[C_IP], C[C_XB], C[C_ZB]
+    b0, w0 = S[S_BETA], S[S_BETAD]
+    db = h * w0
+    w1 = w0
+    for _ in range(FIXED_POINT_ITERS):
+        mid = b0 + 0.5 * db
+        c, s = math.cos(mid), math.sin(mid)
+        torque = sinc(0.5 * db) * (-Fe * (s * Xb + c * Zb) + Fu * (c * Xb - s * Zb))
+        w1 = w0 + h * torque / IP
+        db_new = 0.5 * h * (w0 + w1)
+        if abs(db_new - db) <= FIXED_POINT_TOL:
+            db = db_new
+            break
+        db = db_new
+    b1 = b0 + db
+    S[S_MODE] = TILT
+    S[S_BETA2] = 0.0
+    S[S_SV1] = S[S_SV2] = 0.0
+    if b1 > 0.0:
+        c1, s1 = math.cos(b1), math.sin(b1)
+        g = C[C_G]
+        # gravity's moment about the pivot no longer restoring: overturned
+        if (c1 * Xb - s1 * Zb) * (g * S[S_NZ]) + (s1 * Xb + c1 * Zb) * (g * S[S_EZ]) >= 0.0:
+            return h, FLAG_OVERTURN
+        c0, s0 = math.cos(b0), math.sin(b0)
+        S[S_EIN] += ge * ((c1 - c0) * Xb - (s1 - s0) * Zb) + gu * ((s1 - s0) * Xb + (c1 - c0) * Zb)
+        S[S_BETA], S[S_BETAD] = b1, w1
+        S[S_BETA1] = b1
+        S[S_TILT] = b1
+        _chain_forces(C, S, ax, ay)
+        return h, FLAG_OK
+    # landing inside the step: the time from the same discrete gradient (end point 0 known)
+    mid = 0.5 * b0
+    c, s = math.cos(mid), math.sin(mid)
+    torque = sinc(mid) * (-Fe * (s * Xb + c * Zb) + Fu * (c * Xb - s * Zb))
+    tau = smallest_positive_root(0.5 * torque / IP, w0, b0, h)
+    tau = min(max(tau, 0.0), h)
+    w_land = w0 + tau * torque / IP
+    c0, s0 = math.cos(b0), math.sin(b0)
+    S[S_EIN] += ge * ((1.0 - c0) * Xb + s0 * Zb) + gu * (-s0 * Xb + (1.0 - c0) * Zb)
+    # impact: the chain's velocities (pad spin, centroid, RB3+4 at the corner)
+    # projected onto the seated tangent field (L e, rho e, spin 1)
+    p = w_land * (C[C_M] * C[C_L] * -C[C_RQZ] + C[C_MP] * C[C_RHO] * -C[C_RGZ] + C[C_J])
+    v_seat = p / C[C_I]
+    S[S_ERES] += 0.5 * IP * w_land * w_land - 0.5 * C[C_I] * v_seat * v_seat
+    S[S_ROCK], S[S_BETA], S[S_BETAD] = 0.0, 0.0, 0.0
+    S[S_WX], S[S_WY], S[S_WZ] = v_seat * S[S_EX], v_seat * S[S_EY], v_seat * S[S_EZ]
+    S[S_NOROCK] = 1.0
+    S[S_LANDED] = 1.0
+    S[S_BLAND] = S[S_BETA1]
+    return tau, FLAG_OK
+
+
+def momentum(C, S):
+    """Horizontal momentum (M v_s + m v_G relative to the ground): S w_h seated;
+    the chain's first moment turning about the pivot while rocking."""
+    if S[S_ROCK] != 0.0:
+        b, w = S[S_BETA], S[S_BETAD]
+        c, s = math.cos(b), math.sin(b)
+        Xr, Zr = c * C[C_XB] - s * C[C_ZB], s * C[C_XB] + c * C[C_ZB]
+        return w * (-Zr * S[S_EX] - Xr * S[S_NX]), w * (-Zr * S[S_EY] - Xr * S[S_NY])
+    return C[C_S] * S[S_WX], C[C_S] * S[S_WY]
+
+
 def _part(C, S, ax, ay, h, mu1, mu2):
     """One seated (part-)step of length h: stick trial, then slide or stick.
     Returns (time used, flag): less than h at an arrest inside the step."""
+    if S[S_ROCK] != 0.0:
+        return _tilt(C, S, ax, ay, h)
     R1, R2 = C[C_R1], C[C_R2]
     mid = C[C_MID] != 0.0
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
@@ -356,10 +493,25 @@ def _part(C, S, ax, ay, h, mu1, mu2):
             S[S_WX] = S[S_WY] = S[S_WZ] = 0.0
         S[S_MODE] = STICK
         S[S_SV1] = S[S_SV2] = 0.0
-        if not moving:             # the stuck pad's rocking check (from rest, as the planar stepper)
+        if not moving:
+            S[S_BETA1] = S[S_BETA2] = S[S_TILT] = 0.0
+        if not moving and S[S_NOROCK] == 0.0:
+            # the stuck pad's rocking check (from rest, as the planar stepper), in
+            # the plane of the trial: the chain pivots on the rim point trailing e
             ex, ey, ez = _free_direction(C, nx, ny, nz, ax, ay)
-            if (ex != 0.0 or ey != 0.0 or ez != 0.0) and rocking_starts(C, nx, ny, nz, ex, ey, ez, ax, ay):
-                return h, FLAG_ROCKING
+            if ex != 0.0 or ey != 0.0 or ez != 0.0:
+                g = C[C_G]
+                Fe = -(ax * ex + ay * ey + g * ez)
+                Fu = ax * nx + ay * ny + g * nz
+                sgn = 0.0
+                if C[C_XB] * Fu - C[C_ZB] * Fe > 0.0:
+                    sgn = 1.0
+                elif C[C_XB] * Fu + C[C_ZB] * Fe > 0.0:
+                    sgn = -1.0
+                if sgn != 0.0:
+                    S[S_ROCK], S[S_BETA], S[S_BETAD] = 1.0, 0.0, 0.0
+                    S[S_EX], S[S_EY], S[S_EZ] = sgn * ex, sgn * ey, sgn * ez
+                    return _tilt(C, S, ax, ay, h)
         return h, FLAG_OK
     d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
     _slide(C, S, d, Dx / d, Dy / d, Dz / d, v1x, v1y, v1z, ax, ay, f1, f2)
@@ -413,10 +565,12 @@ def step(C, S, ax, ay, h, mu1, mu2):
     with mu1, mu2 held. Returns a flag (FLAG_OK, FLAG_ROCKING). Sets the
     force the bearing transmits to the ground, from the momentum balance of
     the moving parts over the step: F = -((M + m) a + S (w_h(end) - w_h(start)) / h)."""
-    Sm = C[C_S]
-    px0, py0 = Sm * S[S_WX], Sm * S[S_WY]
+    px0, py0 = momentum(C, S)
     S[S_DS1] = S[S_DS2] = S[S_DPHI] = 0.0
-    S[S_BETA1] = S[S_BETA2] = S[S_TILT] = 0.0
+    S[S_BETA2] = 0.0
+    if S[S_ROCK] == 0.0:
+        S[S_BETA1] = S[S_TILT] = 0.0
+    S[S_NOROCK] = S[S_LANDED] = 0.0
     rem = h
     flag = FLAG_OK
     h_min = h * SUBSTEP_MIN
@@ -430,9 +584,13 @@ def step(C, S, ax, ay, h, mu1, mu2):
         rem = rem - used
         if not rem > 0.0:
             break
+    if S[S_LANDED] != 0.0:         # the step is labelled by its rocking part
+        S[S_MODE] = TILT
+        S[S_BETA1] = S[S_BLAND]
     Mt = C[C_M] + C[C_MP]
-    S[S_FX] = -(Mt * ax + (Sm * S[S_WX] - px0) / h)
-    S[S_FY] = -(Mt * ay + (Sm * S[S_WY] - py0) / h)
+    px1, py1 = momentum(C, S)
+    S[S_FX] = -(Mt * ax + (px1 - px0) / h)
+    S[S_FY] = -(Mt * ay + (py1 - py0) / h)
     return flag
 
 
@@ -442,9 +600,36 @@ def uplift_factor(nx, ny, nz):
 
 
 def energies(C, S):
-    """(E_kin, E_pot): I |w|^2 / 2 and S g (1 - cos theta)."""
+    """(E_kin, E_pot): I |w|^2 / 2 and S g (1 - cos theta) seated; while
+    rocking I_P beta'^2 / 2, and the rise of the chain's first moment added."""
+    Ep = C[C_S] * C[C_G] * uplift_factor(S[S_NX], S[S_NY], S[S_NZ])
+    if S[S_ROCK] != 0.0:
+        b = S[S_BETA]
+        c, s = math.cos(b), math.sin(b)
+        dX = (c - 1.0) * C[C_XB] - s * C[C_ZB]
+        dZ = s * C[C_XB] + (c - 1.0) * C[C_ZB]
+        # gravity in the plane: (-g e_z, g n_z); its potential -F . dr
+        Ep += C[C_G] * (S[S_EZ] * dX - S[S_NZ] * dZ)
+        return 0.5 * C[C_IP] * S[S_BETAD] * S[S_BETAD], Ep
     w2 = S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ]
-    return 0.5 * C[C_I] * w2, C[C_S] * C[C_G] * uplift_factor(S[S_NX], S[S_NY], S[S_NZ])
+    return 0.5 * C[C_I] * w2, Ep
+
+
+def rocking_offsets(C, S):
+    """Displacement (dx, dy, dz) and velocity (vx, vy) of the superstructure
+    (carried by the top corner) added by the rocking chain to the seated values."""
+    if S[S_ROCK] == 0.0:
+        return 0.0, 0.0, 0.0, 0.0, 0.0
+    b, w = S[S_BETA], S[S_BETAD]
+    c, s = math.cos(b), math.sin(b)
+    qe, qu = C[C_RQX], C[C_RQZ]
+    re, ru = c * qe - s * qu, s * qe + c * qu
+    de, du = re - qe, ru - qu
+    ex, ey, ez = S[S_EX], S[S_EY], S[S_EZ]
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    # up = -n; the corner's velocity w (-r_up e + r_e up)
+    return (de * ex - du * nx, de * ey - du * ny, de * ez - du * nz,
+            w * (-ru * ex - re * nx), w * (-ru * ey - re * ny))
 
 
 def run_steps(C, S, AX, AY, h, mu1, mu2, n0, n1, out):
@@ -455,8 +640,9 @@ def run_steps(C, S, AX, AY, h, mu1, mu2, n0, n1, out):
     for n in range(n0, n1):
         flag = step(C, S, AX[n], AY[n], h, mu1, mu2)
         k = n - n0
-        out[k, 0] = L * S[S_NX]
-        out[k, 1] = L * S[S_NY]
+        dx, dy, _dz, _vx, _vy = rocking_offsets(C, S)
+        out[k, 0] = L * S[S_NX] + dx
+        out[k, 1] = L * S[S_NY] + dy
         out[k, 2] = S[S_W1] + S[S_W2]
         if flag != FLAG_OK:
             return n - n0
@@ -599,11 +785,12 @@ def values(C, S, t, xg, yg, out):
     Ek, Ep = energies(C, S)
     th = math.atan2(math.hypot(nx, ny), -nz)
     c1x, c1y, c2x, c2y = centres(C, S)
-    ux, uy, vx, vy = L * nx, L * ny, L * S[S_WX], L * S[S_WY]
+    dx, dy, dz, rvx, rvy = rocking_offsets(C, S)
+    ux, uy, vx, vy = L * nx + dx, L * ny + dy, L * S[S_WX] + rvx, L * S[S_WY] + rvy
     out[0], out[1], out[2], out[3], out[4], out[5] = t, xg, yg, ux, uy, math.hypot(ux, uy)
     out[6], out[7], out[8] = vx, vy, math.hypot(vx, vy)
     out[9], out[10], out[11] = S[S_FX], S[S_FY], math.hypot(S[S_FX], S[S_FY])
-    out[12], out[13], out[14], out[15] = L * uplift_factor(nx, ny, nz), th, math.atan2(ny, nx), S[S_BETA1]
+    out[12], out[13], out[14], out[15] = L * uplift_factor(nx, ny, nz) + dz, th, math.atan2(ny, nx), S[S_BETA1]
     out[16], out[17], out[18], out[19] = C[C_R1] * th, C[C_R2] * th, S[S_N1], S[S_N2]
     out[20], out[21], out[22] = S[S_W1], S[S_W2], S[S_MODE]
     out[23], out[24], out[25], out[26] = S[S_EIN], Ek, Ep, S[S_ERES]

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from fpd import kernels
-from fpd.mechanics.bidirectional import BidirectionalStepper, COLUMNS, PadRocks
+from fpd.mechanics.bidirectional import BidirectionalStepper, COLUMNS
 from fpd.mechanics.geometry import G_ACC, DeviceGeometry
 from fpd.mechanics.ground_motion import GroundMotion, harmonic_ground_motion
 from fpd.mechanics.two_phase import TwoPhaseStepper
@@ -129,14 +129,55 @@ def test_ledger_closes_to_the_scheme_order():
     assert worst[0] < 1e-5 and worst[1] < worst[0]
 
 
-def test_stuck_pad_that_would_rock_is_refused():
-    """Rocking is modelled by the planar stepper only: the bidirectional one
-    stops with a MechanicsFailure naming it, not silently."""
+@pytest.mark.parametrize("amp, mu", [(0.3, 0.6), (0.35, 0.3)])
+def test_zero_y_start_scheme_reproduces_planar_rocking(amp, mu):
+    """The tall pad rocks on its corner and lands (Eq. 7 chain, made in the
+    plane of the trial): 'start' with a zero y component reproduces the
+    planar stepper's rocking, landing impact and re-seating to 1e-12."""
+    g = pulse(1e-3, amp * G_ACC, 0.3, 1.5)
+    P, pc, ps = planar_history(TALL_PAD, g, mu=mu)
+    B, bs = history(TALL_PAD, g, zero_like(g), mu=mu, normal_force="start")
+    assert (P[:, pc["phase"]] == 2).sum() > 20       # it really rocks
+    np.testing.assert_array_equal(B[:, COL["phase"]], P[:, pc["phase"]])
+    for pcol, bcol in [("u_m", "ux_m"), ("v_mps", "vx_mps"), ("F_N", "Fx_N"), ("z_m", "z_m"), ("N1_N", "N1_N"),
+                       ("N2_N", "N2_N"), ("W1_J", "W1_J"), ("E_input_J", "E_input_J"), ("E_kin_J", "E_kin_J"),
+                       ("E_pot_J", "E_pot_J")]:
+        ref = P[:, pc[pcol]]
+        err = np.max(np.abs(B[:, COL[bcol]] - ref)) / np.max(np.abs(ref))
+        assert err <= 1e-12, (pcol, err)
+    scale = np.max(np.abs(P[:, pc["E_input_J"]]))
+    assert np.max(np.abs(B[:, COL["E_reseat_J"]] - P[:, pc["E_reseat_J"]])) <= 1e-12 * scale
+    assert np.max(np.abs(np.abs(B[:, COL["beta_rad"]]) - np.abs(P[:, pc["beta_rad"]]))) <= 1e-12
+
+
+def test_pad_overturns_as_in_the_planar_stepper():
+    from fpd.mechanics.bidirectional import PadOverturned
+    from fpd.mechanics.two_phase import PadOverturned as PlanarOverturned
     g = pulse(1e-3, 0.5 * G_ACC, 1.0, 2.0)
-    st = BidirectionalStepper(TALL_PAD, g, None, jit=False)
-    with pytest.raises(PadRocks, match="rocks"):
+    st = BidirectionalStepper(TALL_PAD, g, None, normal_force="start", jit=False)
+    with pytest.raises(PadOverturned, match="overturned"):
         for _ in range(st.n_steps):
             st.step(0.6, 0.6)
+    n_bi = st.n
+    pl = TwoPhaseStepper(TALL_PAD, g)
+    with pytest.raises(PlanarOverturned):
+        for _ in range(pl.n_steps):
+            pl.step(0.6, 0.6)
+    assert n_bi == pl.n
+
+
+def test_rocking_in_a_turned_plane_is_the_planar_rocking_turned():
+    """The rocking pulse along 50 degrees: the same rocking, turned."""
+    g = pulse(1e-3, 0.3 * G_ACC, 0.3, 1.5)
+    A, _ = history(TALL_PAD, g, zero_like(g), mu=0.6)
+    gx, gy = rotated(g, math.radians(50.0))
+    B, _ = history(TALL_PAD, gx, gy, mu=0.6)
+    c, s = math.cos(math.radians(50.0)), math.sin(math.radians(50.0))
+    np.testing.assert_array_equal(A[:, COL["phase"]], B[:, COL["phase"]])
+    peak = np.max(np.abs(A[:, COL["ux_m"]]))
+    assert np.max(np.abs(B[:, COL["ux_m"]] - c * A[:, COL["ux_m"]])) <= 1e-9 * peak
+    assert np.max(np.abs(B[:, COL["uy_m"]] - s * A[:, COL["ux_m"]])) <= 1e-9 * peak
+    assert np.max(np.abs(B[:, COL["E_reseat_J"]] - A[:, COL["E_reseat_J"]])) <= 1e-9 * np.max(A[:, COL["E_input_J"]])
 
 
 # -- order ----------------------------------------------------------------------------
