@@ -25,7 +25,8 @@ A step of either scheme (``C[C_MID]``):
   corner_pivot_rotation, made in pi); phase 2 re-seats in pi, so the axis
   turns by atan(|d|) about the normal of pi;
 - an arrest inside the step (the velocity brought to zero by friction) splits
-  the step there, as the planar stepper does.
+  the step there, as the planar stepper does, when the motion stays on a line
+  (in 2D the velocity turns instead: the radial return takes the step).
 
 "start" (the paper's section 3, C[C_MID] = 0): N frozen at t_n, friction along
 the end velocity (radial return), the velocity projected onto the seated
@@ -35,10 +36,11 @@ zero y component it is the planar TwoPhaseStepper, to round-off.
 "midpoint" (C[C_MID] = 1): N at the step midpoint (position and velocity),
 friction along the mid-step velocity (the increment), no projection: the
 velocity is carried along the great circle (the perpendicular component
-unchanged). Second order in smooth sliding. Projections are kept for real
-landings from rocking only; this stepper does not model rocking yet: a step
-where the rocking check of Eq. (7) says the stuck pad tips returns
-FLAG_ROCKING (the planar stepper models it).
+unchanged). Second order in smooth sliding (with sub-steps at events where
+the velocity passes near zero). Projections are kept for real landings from
+rocking: a stuck pad that tips (Eq. 7) rocks in the plane of the trial on
+its trailing rim point, and its landing is an impact (both schemes).
+docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
