@@ -144,9 +144,11 @@ def build(scene: Scene) -> Simulation:
 def bidirectional_loading_of(scene: Scene, dt: float):
     """(gx, gy) ground motions on the solver grid, or an OrbitProgramme (test machine).
 
-    Records: each component read, scaled and baseline-corrected as a planar
-    record is, then the pair turned by loading.angle_deg (x towards y). The
-    two records must share their sampling; the shorter sets the length."""
+    Records: each component read, scaled, baseline-corrected and integrated
+    onto the solver grid as a planar record is (each on its own sampling),
+    then the pair turned by loading.angle_deg (x towards y). The x record
+    (or solver.duration) sets the length; after a shorter y record ends the
+    ground stops accelerating in y."""
     from fpd.mechanics import ground_motion as gmod
 
     ld = scene["loading"]
