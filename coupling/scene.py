@@ -505,6 +505,11 @@ def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
     if data["coupling"]["substeps"] > 1:
         ctx.fail("coupling.substeps", data["coupling"]["substeps"],
                  "must be 1 for a bidirectional run (thermal sub-steps interpolate a 1D footprint path)")
+    ld, sol = data["loading"], data["solver"]
+    if ld["kind"] == "displacement" and "duration" in sol and sol["duration"] > loading_length(ld) * (1 + 1e-12):
+        # the planar machine books the stopping impulse of a programme that ends early; the orbits do not
+        ctx.fail("solver.duration", sol["duration"], f"must not exceed the orbit's length {loading_length(ld):g} s "
+                 "(cycles / frequency_Hz) on the bidirectional test machine")
     for side in ("lower", "upper"):
         t = data["thermal"][side]
         if t["model"] == "axisym":

@@ -456,6 +456,12 @@ def test_bad_bidirectional_keys_are_one_line_errors(over, needle):
     assert needle in msg and "\n" not in msg, msg
 
 
+def test_orbit_longer_than_its_programme_is_refused():
+    from fpd.coupling import scene
+    with pytest.raises(scene.SceneError, match="solver.duration = 10: must not exceed the orbit's length 7.5 s"):
+        scene.load("lab-sine", ["loading.waveform=circle", "solver.duration=10"])
+
+
 def test_scene_defaults_and_kinds(tmp_path):
     from fpd.coupling import scene
     s = _scene([])
