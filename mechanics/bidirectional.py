@@ -171,8 +171,10 @@ class _Base:
 
     @property
     def u(self) -> tuple:
+        """Relative displacement (ux, uy) of the superstructure (m), rocking included."""
         L = self.geom.L
-        return (L * float(self.S[K.S_NX]), L * float(self.S[K.S_NY]))
+        dx, dy = _pure.rocking_offsets(self.C, self.S)[:2]
+        return (L * float(self.S[K.S_NX]) + float(dx), L * float(self.S[K.S_NY]) + float(dy))
 
     def kinetic_energy(self) -> float:
         return _pure.energies(self.C, self.S)[0]
