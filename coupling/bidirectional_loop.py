@@ -58,12 +58,14 @@ def compiled_loop_2d(sim, every: int, n_rows: int, cols, inject_failure_at=None)
     if not kernels.available():
         return None
     try:
+        # the plate kernels and compiled laws are other modules' (being reworked
+        # into the one-source style): if their names move, the Python loop runs
         from . import _bidirectional_loop_jit as lj
         from fpd.mechanics import _two_phase_jit as tp
         from fpd.thermal import _plate_jit as pj
-    except ImportError:
+        laws = [tp.pack_law(law) for law in sim.laws]
+    except (ImportError, AttributeError):
         return None
-    laws = [tp.pack_law(law) for law in sim.laws]
     if any(x is None for x in laws):
         return None
     heat = any(k != "none" for k in kinds)
