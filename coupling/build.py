@@ -6,6 +6,7 @@ meshio or pyvista.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 from fpd.mechanics.friction import make_law
@@ -120,6 +121,9 @@ def build(scene: Scene) -> Simulation:
         plates = tuple(make_plate(p, dt / substeps) if o else None for p, o in zip(pp, on))
         return Simulation(scene, dt, n_steps, geom, None, (None, None), plates, pp,
                           heat_power=(power * on[0], power * on[1]), substeps=substeps, info=info)
+    from .scene import is_bidirectional
+    if is_bidirectional(scene.data) or scene["mechanics"]["normal_force"] == "midpoint":
+        return _build_bidirectional(scene, dt, geom, pp, substeps, info)
     loading = loading_of(scene, dt)
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
@@ -139,3 +143,88 @@ def build(scene: Scene) -> Simulation:
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
     return Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp,
                       substeps=substeps, info=info)
+
+
+# -- bidirectional runs (model.md 8) ----------------------------------------------------
+
+def bidirectional_loading_of(scene: Scene, dt: float):
+    """(gx, gy) ground motions on the solver grid, or an OrbitProgramme (test machine).
+
+    Records: each component read, scaled, baseline-corrected and integrated
+    onto the solver grid as a planar record is (each on its own sampling),
+    then the pair turned by loading.angle_deg (x towards y). The x record
+    (or solver.duration) sets the length; after a shorter y record ends the
+    ground stops accelerating in y."""
+    from fpd.mechanics import ground_motion as gmod
+
+    ld = scene["loading"]
+    duration = scene["solver"].get("duration")
+    if ld["kind"] == "displacement":
+        from fpd.mechanics.orbits import orbit_programme
+        return orbit_programme(ld["waveform"], ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt,
+                               duration, ld["direction_deg"])
+    if ld["kind"] != "record":
+        gx = loading_of(scene, dt)
+        return gx, None
+    gx = loading_of(scene, dt)
+    if ld.get("path_y"):
+        key = "record" if "record" in ld else "file_y"
+        try:
+            rec = gmod.read_record(ld["path_y"], ld.get("units"))
+        except gmod.RecordError as exc:
+            raise SceneError(f"{exc} (loading.{key})") from None
+        length = duration if duration is not None else float(gx.t[-1])
+        gy = gmod.ground_motion_from_samples(ld.get("record", ld.get("file_y")), rec.t, rec.a_g * G_ACC * ld["scale"],
+                                             dt, length, baseline=ld["baseline"])
+        gy.record = rec
+    else:
+        gy = None
+    ang = math.radians(ld["angle_deg"])
+    if ang != 0.0:
+        gx, gy = _turned(gx, gy, ang)
+    return gx, gy
+
+
+def _turned(gx, gy, ang):
+    """The pair (gx, gy) turned by ang in the plane (x towards y)."""
+    from fpd.mechanics.ground_motion import GroundMotion
+    import numpy as np
+    c, s = math.cos(ang), math.sin(ang)
+    fields = ("d", "v", "a", "a_step")
+    y = {f: getattr(gy, f) if gy is not None else np.zeros_like(getattr(gx, f)) for f in fields}
+    X = {f: c * getattr(gx, f) - s * y[f] for f in fields}
+    Y = {f: s * getattr(gx, f) + c * y[f] for f in fields}
+    out = []
+    for name, V, src in ((gx.name, X, gx), (gy.name if gy is not None else gx.name, Y, gy or gx)):
+        g = GroundMotion(name, gx.dt, gx.t, V["d"], V["v"], V["a"], V["a_step"])
+        for extra in ("record", "baseline"):
+            if hasattr(src, extra):
+                setattr(g, extra, getattr(src, extra))
+        out.append(g)
+    return out[0], out[1]
+
+
+def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> Simulation:
+    from fpd.mechanics.bidirectional import BidirectionalStepper, BidirectionalTestMachine
+
+    ld = scene["loading"]
+    loading = bidirectional_loading_of(scene, dt)
+    if ld["kind"] == "displacement":
+        mech = BidirectionalTestMachine(geom, loading)
+        n_steps = loading.n_steps
+    else:
+        gx, gy = loading
+        model = "seated" if scene["mechanics"]["model"] == "seated" else "two-phase"
+        mech = BidirectionalStepper(geom, gx, gy, normal_force=scene["mechanics"]["normal_force"], model=model)
+        n_steps = gx.n_steps
+        for comp, g in (("record", gx), ("record_y", gy)):
+            if g is not None and hasattr(g, "record"):
+                info[comp] = {"name": g.name, "points": len(g.record.t), "dt_s": g.record.dt,
+                              "pga_g": g.record.pga_g, "scale": ld["scale"],
+                              "baseline_b1_mps2": g.baseline[0], "baseline_b2_mps3": g.baseline[1]}
+        if ld["kind"] == "record":
+            info["record"]["angle_deg"] = ld["angle_deg"]
+    info["bidirectional"] = {"normal_force": mech.normal_force}
+    laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    plates = tuple(make_plate(p, dt / substeps) for p in pp)
+    return Simulation(scene, dt, n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)

@@ -203,6 +203,8 @@ def cmd_run(args) -> int:
         if scene["output"]["vtk_every"] > 0:
             if scene["device"]["kind"] == "TFP":
                 from .tfp_vtk import TFPVTKSeries as VTKSeries
+            elif hasattr(sim.mechanics, "centre1"):      # bidirectional runs: the device in 3D
+                from .vtk_bidirectional import VTKSeries3D as VTKSeries
             else:
                 from .vtk_output import VTKSeries
             vtk = VTKSeries(folder.subdir("vtk"), sim)

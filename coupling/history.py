@@ -37,7 +37,7 @@ CHUNK_ROWS = 1 << 14        # rows per block streamed (37 columns: 4.8 MB)
 PLOT_FULL_ROWS = 50_000     # up to this many rows the plots get every row
 PLOT_BINS = 2000            # beyond: this many bins (a few per pixel of a 770-px plot)
 PLOT_COLUMNS = ("u_m", "F_N", "xg_m", "W1_J", "W2_J", "E_input_J", "E_reseat_J", "T1_C", "T2_C",
-                "mu1", "mu2")
+                "mu1", "mu2", "ux_m", "uy_m", "Fx_N", "Fy_N")
 
 
 @contextlib.contextmanager
@@ -64,6 +64,12 @@ class Stats:
         self.columns = list(columns)
         self.rows = 0
         self.max = self.min = self.first = self.last = None
+        # the energy ledger over the whole history (largest |residual|, largest |input|)
+        terms = ("E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J")
+        self._ledger_cols = ([self.columns.index(c) for c in terms]
+                             + ([self.columns.index("E_reseat_J")] if "E_reseat_J" in self.columns else [])
+                             if all(c in self.columns for c in terms) else None)
+        self.ledger_worst = self.input_worst = 0.0
 
     def add(self, block: np.ndarray) -> None:
         if not len(block):
@@ -75,6 +81,11 @@ class Stats:
             self.max, self.min = np.maximum(self.max, mx), np.minimum(self.min, mn)
         self.last = block[-1].copy()
         self.rows += len(block)
+        if self._ledger_cols is not None:
+            j = self._ledger_cols
+            res = block[:, j[0]] - block[:, j[1:]].sum(axis=1)
+            self.ledger_worst = max(self.ledger_worst, float(np.max(np.abs(res))))
+            self.input_worst = max(self.input_worst, float(np.max(np.abs(block[:, j[0]]))))
 
     def _get(self, arr, name) -> float:
         return float(arr[self.columns.index(name)])

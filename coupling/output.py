@@ -191,7 +191,10 @@ def summary(scene: Scene, result, sim) -> dict:
             out += st.final("E_reseat_J")
             s["reseat_loss_J"] = _f(st.final("E_reseat_J"))
         s["input_work_J"] = _f(e_in)
-        s["energy_residual_rel"] = _f(abs(e_in - out) / abs(e_in)) if e_in else 0.0
+        # the largest residual over the recorded history, relative to the largest input
+        # (a ledger that closes only at the end would hide what went wrong on the way)
+        s["energy_residual_rel"] = _f(st.ledger_worst / st.input_worst) if st.input_worst else 0.0
+        s["energy_residual_final_rel"] = _f(abs(e_in - out) / abs(e_in)) if e_in else 0.0
     if "T1_C" in result:
         s["peak_T1_C"] = _f(st.peak("T1_C"))
         s["peak_T2_C"] = _f(st.peak("T2_C"))

@@ -50,6 +50,9 @@ def make_plots(folder: Path, result, scene) -> list[str]:
         fig.savefig(folder / "response.png", dpi=110)
         plt.close(fig)
         made.append("response.png")
+    if "uy_m" in result:                  # bidirectional runs (model.md 8)
+        from .plots_bidirectional import make_bidirectional_plots
+        made += make_bidirectional_plots(folder, result, scene)
     if "T1_C" in result:
         plt, fig, (ax,) = _fig()
         t = result["t_s"]

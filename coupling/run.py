@@ -209,10 +209,15 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     hot_every = max(1, N // 2000)          # ~2000 looks at the plate fields per run
     c1_old = c2_old = 0.0
     fast = mech is not None and not iterated and sub == 1
+    # bidirectional steppers (model.md 8): the plates get the 2D footprint centres
+    two_d = mech is not None and hasattr(mech, "centre1")
     mech_step = mech.step if mech else None
     p1_step, p2_step = (p1.step if p1 else None), (p2.step if p2 else None)
     # the common case compiled (coupling/fast_loop.py); the loop below takes over where it stops
     jit = compiled_loop(sim, every, n_rows, cols, inject_failure_at) if fast else None
+    if fast and jit is None and two_d:      # the bidirectional stepper's own compiled loop
+        from .bidirectional_loop import compiled_loop_2d
+        jit = compiled_loop_2d(sim, every, n_rows, cols, inject_failure_at)
     # the bar's clock starts after the kernels are loaded (or compiled): its ETA is the stepping's
     bar = _Progress(N, dt, progress)
     t_start = time.perf_counter()
@@ -239,7 +244,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 mu2 = law2(T2, mech.N2 / area, mech.slip_v2)
                 dW1, dW2 = mech_step(mu1, mu2)
                 if heat:
-                    c1, c2 = mech.s1, -mech.s2
+                    c1, c2 = (mech.centre1, mech.centre2) if two_d else (mech.s1, -mech.s2)
                     P1, P2 = eta1 * dW1 / dt, eta2 * dW2 / dt
                     if p1:
                         T1 = p1_step(P1, c1)
@@ -266,7 +271,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                     mu2 = law2(Tg2, mech.N2 / area, mech.slip_v2)
                     dW1, dW2 = mech.step(mu1, mu2)
                     if heat:
-                        c1, c2 = mech.s1, -mech.s2
+                        c1, c2 = (mech.centre1, mech.centre2) if two_d else (mech.s1, -mech.s2)
                         P1, P2 = eta1 * dW1 / dt, eta2 * dW2 / dt
                         if sub == 1:
                             T1n = p1.step(P1, c1) if p1 else T1

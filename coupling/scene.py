@@ -21,6 +21,10 @@ RECORDS = {
     "elcentro-1940": "IELC180.AT2",
     "northridge-1994": "Northridge_CDMG24278_090.dat",
 }
+# packaged two-component pairs (x, y): a bidirectional run (model.md 8)
+RECORD_PAIRS = {
+    "impvall-1979-e11": ("IMPVALL_H-E11140.txt", "IMPVALL_H-E11230.txt"),
+}
 
 
 class SceneError(ValueError):
@@ -107,11 +111,15 @@ THERMAL_KEYS = {name: (kind, _plate_default(name), check) for name, kind, check 
 LOADING_KEYS = {
     "record": {"record": ("str", None, None), "file": ("str", None, None),
                "scale": ("float", 1.0, lambda x: None if x != 0 and math.isfinite(x) else "must be a non-zero number"),
-               "units": (("g", "m/s2"), None, None), "baseline": ("bool", True, None)},
+               "units": (("g", "m/s2"), None, None), "baseline": ("bool", True, None),
+               # bidirectional (model.md 8): the y component, and the pair turned by angle_deg (x towards y)
+               "file_y": ("str", None, None), "angle_deg": ("float", 0.0, None)},
     "harmonic": {"amplitude_m": ("float", REQUIRED, _pos), "frequency_Hz": ("float", REQUIRED, _pos),
                  "cycles": ("float", REQUIRED, _pos)},
-    "displacement": {"waveform": (("sine",), "sine", None), "amplitude_m": ("float", REQUIRED, _pos),
-                     "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos)},
+    "displacement": {"waveform": (("sine", "circle", "figure-eight"), "sine", None),
+                     "amplitude_m": ("float", REQUIRED, _pos),
+                     "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos),
+                     "direction_deg": ("float", 0.0, None)},
     "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
               "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
@@ -143,7 +151,11 @@ TABLES = {
         "slider_mass": ("float", None, _pos),
     },
     "superstructure": {"mass": ("float", REQUIRED, _pos)},
-    "mechanics": {"model": (("two-phase", "seated"), "two-phase", None)},
+    "mechanics": {"model": (("two-phase", "seated"), "two-phase", None),
+                  # normal forces frozen at t_n with a projection every step (the paper's
+                  # section 3, the planar stepper) or at the step midpoint (second order);
+                  # default: "midpoint" for bidirectional runs, "start" otherwise
+                  "normal_force": (("midpoint", "start"), None, None)},
     "coupling": {"scheme": (("staggered", "iterated"), "staggered", None),
                  "tol_K": ("float", 1e-3, _pos), "max_iter": ("int", 20, _atleast(1)),
                  "substeps": ("int", 1, _atleast(1))},
@@ -371,23 +383,50 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
     res["kind"] = kind
     if kind == "record":
         has_r, has_f = "record" in res, "file" in res
+        names = ", ".join(f'"{r}"' for r in list(RECORDS) + list(RECORD_PAIRS))
         if has_r == has_f:
-            ctx.missing("loading.record", 'give exactly one of loading.record (packaged: '
-                        + ", ".join(f'"{r}"' for r in RECORDS) + ") or loading.file (a path)")
+            ctx.missing("loading.record", f"give exactly one of loading.record (packaged: {names}) "
+                        "or loading.file (a path)")
         if has_r:
-            if res["record"] not in RECORDS:
-                ctx.fail("loading.record", res["record"], "must be one of "
-                         + ", ".join(f'"{r}"' for r in RECORDS) + " (or give loading.file)")
-            res["path"] = str(SCENES_DIR / "records" / RECORDS[res["record"]])
+            if res["record"] in RECORD_PAIRS:
+                if "file_y" in res:
+                    ctx.fail("loading.file_y", res["file_y"], f'must not be given with the packaged pair '
+                             f'loading.record = "{res["record"]}" (it has both components)')
+                fx, fy = RECORD_PAIRS[res["record"]]
+                res["path"] = str(SCENES_DIR / "records" / fx)
+                res["path_y"] = str(SCENES_DIR / "records" / fy)
+            elif res["record"] not in RECORDS:
+                ctx.fail("loading.record", res["record"], f"must be one of {names} (or give loading.file)")
+            else:
+                res["path"] = str(SCENES_DIR / "records" / RECORDS[res["record"]])
         else:
-            p = Path(os.path.expanduser(res["file"]))
-            if not p.is_absolute():
-                cand = scene_dir / p
-                p = cand if cand.exists() or not p.exists() else p.resolve()
-            if not p.exists():
-                ctx.fail("loading.file", res["file"], f"file not found (looked in {p.parent})")
-            res["path"] = str(p.resolve())
+            res["path"] = _record_path(ctx, "loading.file", res["file"], scene_dir)
+        if "file_y" in res:
+            res["path_y"] = _record_path(ctx, "loading.file_y", res["file_y"], scene_dir)
+        if res["angle_deg"] != 0.0 and "path_y" not in res:
+            res["path_y"] = None          # one component turned in the plane: bidirectional too
     return res
+
+
+def _record_path(ctx: _Ctx, key: str, given: str, scene_dir: Path) -> str:
+    p = Path(os.path.expanduser(given))
+    if not p.is_absolute():
+        cand = scene_dir / p
+        p = cand if cand.exists() or not p.exists() else p.resolve()
+    if not p.exists():
+        ctx.fail(key, given, f"file not found (looked in {p.parent})")
+    return str(p.resolve())
+
+
+def is_bidirectional(data: dict) -> bool:
+    """Does the scene move the device in the plane (two components, a turned
+    record, an orbit or a turned sine on the test machine)? model.md 8."""
+    ld = data["loading"]
+    if ld["kind"] == "record":
+        return "path_y" in ld
+    if ld["kind"] == "displacement":
+        return ld["waveform"] != "sine" or ld["direction_deg"] != 0.0
+    return False
 
 
 def validate(raw: dict, path: str = "<scene>") -> Scene:
@@ -471,6 +510,7 @@ def _cross_checks(ctx: _Ctx, data: dict):
     if dev["kind"] == "SFP" and data["mechanics"]["model"] == "two-phase" and data["loading"]["kind"] != "heat":
         ctx.fail("mechanics.model", "two-phase", 'the SFP has the seated model only: use "seated"')
     ld, sol = data["loading"], data["solver"]
+    _bidirectional_checks(ctx, data)
     if ld["kind"] == "displacement":
         if ld["amplitude_m"] >= geom.L:
             ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"must be < L = {geom.L:.4g} m")
@@ -499,6 +539,30 @@ def _cross_checks(ctx: _Ctx, data: dict):
         if dev["pad_diameter"] / 2 > t["plate_radius"] and t["model"] != "none":
             ctx.fail("thermal.plate_radius", t["plate_radius"],
                      f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
+
+
+def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
+    """Bidirectional scenes (model.md 8): the normal-force scheme's default,
+    and what cannot take a 2D footprint path."""
+    mech = data["mechanics"]
+    two_d = is_bidirectional(data)
+    if "normal_force" not in mech:
+        mech["normal_force"] = "midpoint" if two_d else "start"
+    if not two_d:
+        return
+    if data["coupling"]["substeps"] > 1:
+        ctx.fail("coupling.substeps", data["coupling"]["substeps"],
+                 "must be 1 for a bidirectional run (thermal sub-steps interpolate a 1D footprint path)")
+    ld, sol = data["loading"], data["solver"]
+    if ld["kind"] == "displacement" and "duration" in sol and sol["duration"] > loading_length(ld) * (1 + 1e-12):
+        # the planar machine books the stopping impulse of a programme that ends early; the orbits do not
+        ctx.fail("solver.duration", sol["duration"], f"must not exceed the orbit's length {loading_length(ld):g} s "
+                 "(cycles / frequency_Hz) on the bidirectional test machine")
+    for side in ("lower", "upper"):
+        t = data["thermal"][side]
+        if t["model"] == "axisym":
+            ctx.fail("thermal.model", "axisym", "the axisymmetric plate cannot take the 2D footprint path "
+                     'of a bidirectional run: use "fe1d", "lumped" or "none"')
 
 
 def check_steps(path: str, dt: float, length: float) -> None:
@@ -668,5 +732,5 @@ def to_toml(scene: Scene) -> str:
                 lines += [f"{k} = {_toml_value(v)}" for k, v in body[side].items()]
             continue
         lines.append(f"\n[{table}]")
-        lines += [f"{k} = {_toml_value(v)}" for k, v in body.items() if k != "path"]
+        lines += [f"{k} = {_toml_value(v)}" for k, v in body.items() if k not in ("path", "path_y")]
     return "\n".join(lines) + "\n"

@@ -18,6 +18,8 @@ Source placement (params.source):
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.linalg import blas, lapack
 
@@ -340,6 +342,8 @@ class FE1DPlate:
         """Whether the footprint centred at centre_m covers this column."""
         if self.params.source == "follow-pad":
             return True
+        if isinstance(centre_m, tuple):     # a 2D footprint path (bidirectional runs): point at (r0, 0)
+            return math.hypot(centre_m[0] - self.params.radius_m, centre_m[1]) <= self.params.a_contact_m
         return abs(centre_m - self.params.radius_m) <= self.params.a_contact_m
 
     def step(self, power_W: float, centre_m: float = 0.0) -> float:

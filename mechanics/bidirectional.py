@@ -1,0 +1,292 @@
+"""Bidirectional DFP steppers (model.md section 8): thin classes over the
+kernel mechanics/bidirectional_kernel.py (the per-step physics, written once).
+
+BidirectionalStepper: ground motion with two horizontal components (the
+two-phase stepper in the paper's plane pi; ``normal_force`` = "midpoint"
+(second order, default) or "start" (the paper's section 3 scheme, which with
+a zero y component is today's planar TwoPhaseStepper to round-off)).
+
+BidirectionalTestMachine: the bearing-test machine with a prescribed orbit
+u(t) = (ux, uy) (circle, figure-eight, sine in a direction), seated model.
+
+Both follow the Stepper protocol of docs/architecture.md; the footprint
+centres are 2D: ``centre1`` (lower plate, R1 theta (cos phi, sin phi)) and
+``centre2`` (upper plate, -R2 theta (cos phi, sin phi)); ``s1``, ``s2`` are
+their distances from the plate centres.
+"""
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+from . import bidirectional_kernel as _pure
+from .geometry import DeviceGeometry
+from .ground_motion import float_array
+from .phases import DIAGONAL_AC, MechanicsFailure
+from .two_phase import pivot_chain
+
+K = _pure
+COLUMNS = (
+    "t_s", "xg_m", "yg_m", "ux_m", "uy_m", "u_m", "vx_mps", "vy_mps", "v_mps",
+    "Fx_N", "Fy_N", "F_N", "z_m", "theta_rad", "phi_rad", "beta_rad",
+    "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J", "phase",
+    "E_input_J", "E_kin_J", "E_pot_J", "E_reseat_J",
+    "beta1_rad", "beta2_rad", "pad_tilt_rad", "ds1_m", "ds2_m", "Ff1_N", "Ff2_N",
+    "slip1_m", "slip2_m", "c1x_m", "c1y_m", "c2x_m", "c2y_m",
+)
+NORMAL_FORCE = ("midpoint", "start")
+
+
+class PadRocks(MechanicsFailure):
+    """The stuck pad would rock (Eq. 7) where the stepper does not model it."""
+
+
+class PadOverturned(MechanicsFailure):
+    """The rocking pad passed the angle where gravity stops restoring it."""
+
+
+def _failure(flag, t):
+    if flag == K.FLAG_OVERTURN:
+        return PadOverturned(f"pad overturned at t = {t:.6g} s (rocking in the plane of the trial)")
+    return PadRocks(f"the stuck pad rocks on its rim at t = {t:.6g} s (Eq. 7)")
+
+
+def kernel(jit: bool | None = None):
+    """The kernel module: compiled when ``jit`` (or, for None, when numba is
+    already loaded and allowed), else the pure one."""
+    from fpd import kernels
+    if jit is None:
+        jit = "numba" in sys.modules and kernels.available()
+    if jit and kernels.available():
+        return kernels.compiled("fpd.mechanics.bidirectional_kernel")
+    return _pure
+
+
+def constants(geom: DeviceGeometry, midpoint: bool, seated: bool = False) -> list:
+    """The kernel's constants array C (a list; np.array of it for the compiled path)."""
+    C = [0.0] * K.N_C
+    C[K.C_L], C[K.C_RHO], C[K.C_I], C[K.C_S] = geom.L, geom.rho, geom.I, geom.S
+    C[K.C_M], C[K.C_MP], C[K.C_J], C[K.C_G] = geom.mass, geom.pad_mass, geom.pad_inertia, geom.g
+    C[K.C_R1], C[K.C_R2] = geom.R1, geom.friction_radius2
+    c = geom.pad_corners_body()
+    C[K.C_A], C[K.C_EB], C[K.C_ET], C[K.C_H] = geom.a, c["A"][1], c["C"][1], geom.pad_height
+    C[K.C_ITRANS] = geom.mass * geom.L ** 2 + geom.pad_mass * geom.rho ** 2
+    C[K.C_MID] = 1.0 if midpoint else 0.0
+    C[K.C_SEATED] = 1.0 if seated or geom.kind == "SFP" else 0.0
+    if geom.kind == "DFP":
+        # the A-C chain of Eq. (7) in the pad frame (mechanics.two_phase.pivot_chain at theta = 0)
+        I_P, X0, Z0, rGx, rGz, rQx, rQz = pivot_chain(geom, 0.0, DIAGONAL_AC)
+        C[K.C_XB], C[K.C_ZB], C[K.C_IP] = X0, Z0, I_P
+        C[K.C_RGX], C[K.C_RGZ], C[K.C_RQX], C[K.C_RQZ] = rGx, rGz, rQx, rQz
+        xa, R1, R2 = geom.a, geom.R1, geom.R2
+        C[K.C_N1X], C[K.C_N1Z] = xa / R1, math.sqrt(R1 * R1 - xa * xa) / R1
+        C[K.C_N2X], C[K.C_N2Z] = xa / R2, math.sqrt(R2 * R2 - xa * xa) / R2
+    else:                              # the SFP's articulated slider does not rock
+        C[K.C_XB], C[K.C_ZB], C[K.C_IP] = 1.0, 0.0, 1.0
+    return C
+
+
+class _Base:
+    columns = COLUMNS
+
+    def _setup(self, geom, dt, n_steps, midpoint, jit, u0=(0.0, 0.0), v0=(0.0, 0.0), seated=False):
+        self.geom = geom
+        self.dt = float(dt)
+        self.n_steps = int(n_steps)
+        self.n = 0
+        self.midpoint = bool(midpoint)
+        self._K = kernel(jit)
+        self.compiled = self._K is not _pure
+        C = constants(geom, midpoint, seated)
+        S = [0.0] * K.N_S
+        L = geom.L
+        nx, ny = u0[0] / L, u0[1] / L
+        nz = -math.sqrt(1.0 - nx * nx - ny * ny)
+        S[K.S_NX], S[K.S_NY], S[K.S_NZ] = nx, ny, nz
+        # rate of n from the horizontal velocity (tangent: n . w = 0)
+        wx, wy = v0[0] / L, v0[1] / L
+        S[K.S_WX], S[K.S_WY], S[K.S_WZ] = wx, wy, -(nx * wx + ny * wy) / nz
+        S[K.S_MODE] = K.STICK if (v0[0] == 0.0 and v0[1] == 0.0) else K.SLIP
+        if self.compiled:
+            self.C, self.S = np.array(C), np.array(S)
+        else:
+            self.C, self.S = C, S
+        Ek, Ep = _pure.energies(C, S)
+        self.S[K.S_EIN] = Ek + Ep           # an initial state is energy put in before t = 0
+        self.S[K.S_N1], self.S[K.S_N2] = _pure.normal_forces(C, nx, ny, nz, S[K.S_WX], S[K.S_WY], S[K.S_WZ],
+                                                            0.0, 0.0)
+        w = math.sqrt(wx * wx + wy * wy + S[K.S_WZ] ** 2)
+        self.S[K.S_SV1], self.S[K.S_SV2] = C[K.C_R1] * w, C[K.C_R2] * w
+
+    # -- protocol attributes ----------------------------------------------------
+    @property
+    def N1(self) -> float:
+        return float(self.S[K.S_N1])
+
+    @property
+    def N2(self) -> float:
+        return float(self.S[K.S_N2])
+
+    @property
+    def slip_v1(self) -> float:
+        return float(self.S[K.S_SV1])
+
+    @property
+    def slip_v2(self) -> float:
+        return float(self.S[K.S_SV2])
+
+    @property
+    def theta(self) -> float:
+        """Tilt of the pad axis from vertical (>= 0)."""
+        S = self.S
+        return math.atan2(math.hypot(S[K.S_NX], S[K.S_NY]), -S[K.S_NZ])
+
+    @property
+    def phi(self) -> float:
+        """Azimuth of the displacement, atan2(uy, ux)."""
+        return math.atan2(self.S[K.S_NY], self.S[K.S_NX])
+
+    @property
+    def s1(self) -> float:
+        """Distance of the lower footprint from the plate centre, R1 theta (m)."""
+        return self.C[K.C_R1] * self.theta
+
+    @property
+    def s2(self) -> float:
+        return self.C[K.C_R2] * self.theta
+
+    @property
+    def centre1(self) -> tuple:
+        """Footprint centre on the lower plate, R1 theta (cos phi, sin phi) (m)."""
+        c = _pure.centres(self.C, self.S)
+        return (float(c[0]), float(c[1]))
+
+    @property
+    def centre2(self) -> tuple:
+        """Footprint centre on the upper plate, -R2 theta (cos phi, sin phi) (m)."""
+        c = _pure.centres(self.C, self.S)
+        return (float(c[2]), float(c[3]))
+
+    @property
+    def u(self) -> tuple:
+        """Relative displacement (ux, uy) of the superstructure (m), rocking included."""
+        L = self.geom.L
+        dx, dy = _pure.rocking_offsets(self.C, self.S)[:2]
+        return (L * float(self.S[K.S_NX]) + float(dx), L * float(self.S[K.S_NY]) + float(dy))
+
+    def kinetic_energy(self) -> float:
+        return _pure.energies(self.C, self.S)[0]
+
+    def potential_energy(self) -> float:
+        return _pure.energies(self.C, self.S)[1]
+
+    def energy_residual(self) -> float:
+        S = self.S
+        Ek, Ep = _pure.energies(self.C, S)
+        return float(S[K.S_EIN] - (Ek + Ep + S[K.S_W1] + S[K.S_W2] + S[K.S_ERES]))
+
+    def save(self):
+        return (self.n, tuple(float(x) for x in self.S))
+
+    def restore(self, snap) -> None:
+        self.n = snap[0]
+        for i, x in enumerate(snap[1]):
+            self.S[i] = x
+
+    def values(self) -> tuple:
+        out = [0.0] * K.N_VALUES
+        xg, yg = self.ground_position()
+        _pure.values(self.C, [float(x) for x in self.S] if self.compiled else self.S,
+                     self.n * self.dt, xg, yg, out)
+        return tuple(out)
+
+    def use_compiled(self) -> None:
+        """Hold the state as float64 arrays and step with the compiled kernel."""
+        if not self.compiled:
+            self._K = kernel(True)
+            self.compiled = self._K is not _pure
+            if self.compiled:
+                self.C, self.S = np.array(self.C), np.array(self.S)
+
+
+class BidirectionalStepper(_Base):
+    """Two-phase DFP stepper in 3D under a two-component ground motion.
+
+    ``gx``, ``gy``: GroundMotion of the x and y components on the same grid
+    (gy None: unidirectional along x). ``normal_force``: "midpoint" or
+    "start". ``model``: "two-phase" or "seated" (the spherical pendulum of
+    model.md 2 in 3D: no re-seating phase; the SFP always). ``jit``: use the
+    compiled kernel (None: when numba is loaded)."""
+
+    def __init__(self, geom: DeviceGeometry, gx, gy=None, normal_force: str = "midpoint",
+                 jit: bool | None = None, model: str = "two-phase"):
+        if normal_force not in NORMAL_FORCE:
+            raise ValueError(f"normal_force = {normal_force!r}: must be one of {NORMAL_FORCE}")
+        if gy is not None and (gy.n_steps != gx.n_steps or gy.dt != gx.dt):
+            raise ValueError("the two ground-motion components must share the time grid")
+        self.ground, self.ground_y = gx, gy
+        self._setup(geom, gx.dt, gx.n_steps, normal_force == "midpoint", jit, seated=model == "seated")
+        self.normal_force = normal_force
+        self.model = "seated" if geom.kind == "SFP" else model
+        self._ax = float_array(gx.a_step)
+        self._ay = float_array(gy.a_step if gy is not None else np.zeros(gx.n_steps))
+        self._xg = gx.d
+        self._yg = gy.d if gy is not None else None
+
+    def ground_position(self):
+        return (float(self._xg[self.n]), float(self._yg[self.n]) if self._yg is not None else 0.0)
+
+    def step(self, mu1: float, mu2: float) -> tuple[float, float]:
+        if self.n >= self.n_steps:
+            raise IndexError(f"all {self.n_steps} steps of the loading are taken")
+        S = self.S
+        W1, W2 = S[K.S_W1], S[K.S_W2]
+        flag = self._K.step(self.C, S, self._ax[self.n], self._ay[self.n], self.dt, mu1, mu2)
+        if flag != K.FLAG_OK:
+            raise _failure(flag, self.n * self.dt)
+        self.n += 1
+        return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)
+
+    def run(self, mu1: float, mu2: float, n_steps: int | None = None) -> np.ndarray:
+        """Mechanics only, constant friction: (n, 3) array of ux, uy, W1 + W2
+        after each step (the kernel's own loop; compiled when this stepper is)."""
+        n1 = self.n_steps if n_steps is None else self.n + n_steps
+        out = np.zeros((n1 - self.n, 3))
+        AX, AY = np.asarray(self._ax), np.asarray(self._ay)
+        C, S = (self.C, self.S) if self.compiled else (self.C, self.S)
+        done = self._K.run_steps(C, S, AX, AY, self.dt, mu1, mu2, self.n, n1, out)
+        self.n += done
+        if self.n < n1:
+            raise _failure(K.FLAG_OVERTURN, self.n * self.dt)
+        return out
+
+
+class BidirectionalTestMachine(_Base):
+    """Seated DFP/SFP in a bearing-test machine driven along a planar orbit
+    (mechanics.orbits.OrbitProgramme). F_N components are the restraint's
+    horizontal force; the normal forces include its axial share."""
+
+    def __init__(self, geom: DeviceGeometry, programme, jit: bool | None = None):
+        u0, v0 = programme.u[0], programme.ud[0]
+        self._setup(geom, programme.dt, programme.n_steps, True, jit,
+                    u0=(float(u0[0]), float(u0[1])), v0=(float(v0[0]), float(v0[1])), seated=True)
+        self.prog = programme
+        self._U = np.ascontiguousarray(programme.u, dtype=float)
+        self._UD = np.ascontiguousarray(programme.ud, dtype=float)
+        self._UDD = np.ascontiguousarray(programme.udd, dtype=float)
+        self.normal_force = "seated"
+
+    def ground_position(self):
+        # the lower plate moves by -u
+        return (-float(self._U[self.n, 0]), -float(self._U[self.n, 1]))
+
+    def step(self, mu1: float, mu2: float) -> tuple[float, float]:
+        if self.n >= self.n_steps:
+            raise IndexError(f"all {self.n_steps} steps of the loading are taken")
+        S = self.S
+        W1, W2 = S[K.S_W1], S[K.S_W2]
+        self._K.machine_step(self.C, S, self._U, self._UD, self._UDD, self.n, mu1, mu2)
+        self.n += 1
+        return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)

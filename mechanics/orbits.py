@@ -1,0 +1,65 @@
+"""Test-machine orbits in the plane (bidirectional bearing tests): the
+prescribed relative displacement u(t) = (ux, uy) with its exact rates.
+
+- ``sine``: u = A sin(w t) (cos d, sin d), d = direction_deg;
+- ``circle``: u = A (cos(w t), sin(w t)), a circular orbit of radius A at
+  constant speed, starting at (A, 0) (the machine places the bearing there
+  and launches it: that energy is input at t = 0);
+- ``figure-eight``: u = A (sin(w t), sin(2 w t) / 2), through the centre.
+
+After ``cycles`` cycles the machine holds the last position (u' = u'' = 0).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+WAVEFORMS = ("sine", "circle", "figure-eight")
+
+
+@dataclass
+class OrbitProgramme:
+    name: str
+    dt: float
+    t: np.ndarray
+    u: np.ndarray       # (n+1, 2)
+    ud: np.ndarray
+    udd: np.ndarray
+
+    @property
+    def n_steps(self) -> int:
+        return len(self.t) - 1
+
+
+def orbit_programme(waveform: str, amplitude_m: float, frequency_Hz: float, cycles: float, dt: float,
+                    duration: float | None = None, direction_deg: float = 0.0) -> OrbitProgramme:
+    if waveform not in WAVEFORMS:
+        raise ValueError(f"waveform {waveform!r}: one of {WAVEFORMS}")
+    w = 2.0 * math.pi * frequency_Hz
+    t_end = cycles / frequency_Hz
+    n = max(1, int(round((t_end if duration is None else duration) / dt)))
+    t = np.arange(n + 1) * dt
+    tt = np.minimum(t, t_end)
+    on = (t <= t_end + 1e-12).astype(float)
+    A = amplitude_m
+    s, c = np.sin(w * tt), np.cos(w * tt)
+    if waveform == "sine":
+        d = math.radians(direction_deg)
+        e = np.array([math.cos(d), math.sin(d)])
+        u = np.outer(A * s, e)
+        ud = np.outer(on * A * w * c, e)
+        udd = np.outer(-on * A * w * w * s, e)
+    elif waveform == "circle":
+        u = A * np.column_stack([c, s])
+        ud = on[:, None] * A * w * np.column_stack([-s, c])
+        udd = on[:, None] * -A * w * w * np.column_stack([c, s])
+    else:
+        s2, c2 = np.sin(2 * w * tt), np.cos(2 * w * tt)
+        u = A * np.column_stack([s, 0.5 * s2])
+        ud = on[:, None] * A * w * np.column_stack([c, c2])
+        udd = on[:, None] * -A * w * w * np.column_stack([s, 2.0 * s2])
+    name = f"{waveform} {A:g} m {frequency_Hz:g} Hz x {cycles:g}"
+    return OrbitProgramme(name, dt, t, np.ascontiguousarray(u), np.ascontiguousarray(ud),
+                          np.ascontiguousarray(udd))
