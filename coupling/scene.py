@@ -81,7 +81,7 @@ def _plate_default(name):
 
 
 THERMAL_KEYS = {name: (kind, _plate_default(name), check) for name, kind, check in (
-    ("model", ("none", "lumped", "fe1d", "axisym"), None),
+    ("model", ("none", "lumped", "fe1d", "axisym", "fe3d"), None),
     ("source", ("follow-pad", "fixed-point"), None),
     ("radius_m", "float", _nonneg),
     ("T0_C", "float", _temp),
@@ -98,7 +98,9 @@ THERMAL_KEYS = {name: (kind, _plate_default(name), check) for name, kind, check 
     ("exchange_area_m2", "float", _nonneg),
     ("n_elements", "int", _atleast(2)),
     ("grading", "float", _atleast(1.0)),
-    ("nr", "int", _atleast(2)),
+    ("nr", "int", lambda x: None if x == 0 or x >= 2 else "must be 0 (automatic) or >= 2"),
+    ("per_radius", "int", _atleast(10)),
+    ("step_multiple", "int", _atleast(1)),
     ("nz", "int", _atleast(2)),
     ("scheme", ("bdf2", "cn", "be"), None),
     ("mesh_file", "str", None),
@@ -439,7 +441,7 @@ def _cross_checks(ctx: _Ctx, data: dict):
         check_steps(ctx.path, sol["dt"], length)
     for side in ("lower", "upper"):
         t = data["thermal"][side]
-        n_key = {"fe1d": "n_elements", "axisym": "nz"}.get(t["model"])
+        n_key = {"fe1d": "n_elements", "axisym": "nz", "fe3d": "nz"}.get(t["model"])
         if n_key and t["grading"] > 1.0:
             n, g = t[n_key], t["grading"]
             first = (g - 1.0) / (g ** min(n, 10000) - 1.0) if n * math.log(g) < 700 else 0.0

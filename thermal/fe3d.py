@@ -1,0 +1,410 @@
+"""Transient conduction in the 3D plate under the travelling footprint
+(model.md section 10, fe3d; docs/thermal.md section 8).
+
+The plate is a box: a square of the disk plate's area (side sqrt(pi) R, so
+the mass and the exposed face are the plate's), thickness t; the concave
+face's curvature is neglected (R1, R2 >> the footprint and the depth heat
+reaches). Plate-local coordinates: origin at the plate centre on the sliding
+face, x along the path (the arc position s the stepper reports: s1 on the
+lower plate, -s2 on the upper), y across it in the face, z the depth into
+the steel (positive into the plate).
+
+Weak form, trilinear hexahedra (Q1) on the tensor grid x_i y_j z_k:
+
+    int rho c u_t v + int k grad u . grad v + int_{exposed} h u v = int_top q chi v,
+
+u = T - T_air, exposed = the sliding face (the pad's cover neglected, as in
+axisym), the four sides, and the back face when params.back is "convection"
+("fixed" holds it at T_back_C, "adiabatic" leaves it free); chi is the
+footprint disk of radius a centred on the path point, q = P / (pi a^2).
+
+Fast stepping. On the tensor grid every matrix is a Kronecker product of 1D
+P1 matrices: M = rho c Mx (x) My (x) Mz, A = Ax (x) My (x) Mz + Mx (x) Ay (x) Mz
++ Mx (x) My (x) Az (A_d = k K_d + h on the convective end nodes). With the
+generalised eigenvectors of each pair (A_d, M_d) the change of variables
+u = (Wx (x) Wy (x) V) y makes M = rho c I and A = diag(theta_i + theta_j +
+theta_k): each mode is integrated exactly over a thermal step
+(thermal/_fe3d_kernel.py), the load and the footprint mean are small dense
+products (Wx^T P Wy for the footprint weights P on the surface nodes). The
+Kronecker structure is checked against scikit-fem's hexahedral assembly in
+tests/test_fe3d.py.
+
+Thermal step. One thermal step of h = step_multiple x dt: the friction heat of
+those mechanical steps, at their power-weighted mean footprint position, held
+over the step (exact in time for that load). Between thermal steps step()
+returns the footprint mean of the last thermal step (friction sees the
+temperature with a lag of at most h; docs/thermal.md gives the measured error).
+Heat received in a thermal step not yet taken is counted in heat_in and
+stored_heat (it is in the plate, not yet conducted), so the ledger closes at
+every mechanical step.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.linalg import eigh
+
+from fpd.meshes.box import box_nodes, hex_mesh
+from fpd.thermal.jit import OptionalKernels
+from fpd.thermal.params import PlateParams
+
+_KERNELS = OptionalKernels("fpd.thermal._fe3d_jit", warm=True)
+NG = 6                                   # Gauss points per footprint quadrature interval
+_GL = np.polynomial.legendre.leggauss(NG)
+
+
+def kernels(jit: bool | None = None):
+    """The compiled kernel module (numba), or the pure one."""
+    if jit is False:
+        from fpd.thermal import _fe3d_kernel
+        return _fe3d_kernel
+    k = _KERNELS()
+    if k:
+        return k[0].K
+    if jit:
+        raise ImportError("fe3d: jit=True needs numba")
+    from fpd.thermal import _fe3d_kernel
+    return _fe3d_kernel
+
+
+# -- 1D factors ---------------------------------------------------------------------
+def line_matrices(x: np.ndarray):
+    """Exact P1 mass and stiffness of the nodes x (tridiagonal, dense)."""
+    h = np.diff(x)
+    n = len(x)
+    M = np.zeros((n, n))
+    K = np.zeros((n, n))
+    i = np.arange(n - 1)
+    M[i, i] += h / 3
+    M[i + 1, i + 1] += h / 3
+    M[i, i + 1] = M[i + 1, i] = h / 6
+    K[i, i] += 1 / h
+    K[i + 1, i + 1] += 1 / h
+    K[i, i + 1] = K[i + 1, i] = -1 / h
+    return M, K
+
+
+def line_modes(M: np.ndarray, A: np.ndarray):
+    """Generalised eigenpairs A W = M W diag(theta), W^T M W = I, on the
+    diagonally scaled pencil; theta recomputed as Rayleigh quotients (the small
+    eigenvalues, which carry the heat, to round-off relative to themselves)."""
+    d = 1.0 / np.sqrt(np.diag(M))
+    _, X = eigh(d[:, None] * A * d, d[:, None] * M * d)
+    W = d[:, None] * X
+    theta = np.einsum("ij,ij->j", W, A @ W) / np.einsum("ij,ij->j", W, M @ W)
+    theta = np.maximum(theta, 0.0)
+    return theta, W
+
+
+# -- the footprint -------------------------------------------------------------------
+def _hat_integrals(nodes: np.ndarray, y: np.ndarray, j0: int, j1: int) -> np.ndarray:
+    """H[g, j] = int_{-inf}^{y_g} phi_j, for the hat functions phi_j (j0 <= j < j1)
+    of the nodes (y outside the nodes' range is clipped: nothing beyond the plate)."""
+    n = len(nodes)
+    h = np.diff(nodes)
+    hl = np.concatenate(([0.0], h))           # h_{j-1}
+    hr = np.concatenate((h, [0.0]))           # h_j
+    e = np.clip(np.searchsorted(nodes, y, side="right") - 1, 0, n - 2)
+    he = h[e]
+    xi = np.clip((y - nodes[e]) / he, 0.0, 1.0)
+    J = np.arange(j0, j1)[None, :]
+    E = e[:, None]
+    full = 0.5 * (hl + hr)[J]
+    H = np.where(J < E, full, 0.0)
+    H = H + np.where(J == E, 0.5 * hl[J] + (he * (xi - 0.5 * xi * xi))[:, None], 0.0)
+    H = H + np.where(J == E + 1, (0.5 * he * xi * xi)[:, None], 0.0)
+    return H
+
+
+def footprint_loads(xn: np.ndarray, yn: np.ndarray, cx: float, cy: float, a: float):
+    """int chi phi_i(x) phi_j(y) dx dy over the sliding face, for the disk chi of
+    radius a centred at (cx, cy), on the nodes of a local window.
+
+    Returns (i0, j0, P) with P[i - i0, j - j0] the load of node (i, j) per unit
+    flux (m2); P.sum() is the area of the disk on the plate. Exact up to
+    Gauss-Legendre round-off: x = cx + a sin(t), the chord |y - cy| <= a cos(t);
+    the inner integral over the chord is the exact integral of the hats, the
+    outer one in t is split wherever x crosses a node or a chord end crosses a
+    node, so each piece is a smooth trigonometric polynomial (docs/thermal.md)."""
+    t_lo = math.asin(min(1.0, max(-1.0, (xn[0] - cx) / a)))
+    t_hi = math.asin(min(1.0, max(-1.0, (xn[-1] - cx) / a)))
+    i0 = max(0, int(np.searchsorted(xn, cx - a, side="right")) - 1)
+    i1 = min(len(xn), int(np.searchsorted(xn, cx + a, side="left")) + 1)
+    j0 = max(0, int(np.searchsorted(yn, cy - a, side="right")) - 1)
+    j1 = min(len(yn), int(np.searchsorted(yn, cy + a, side="left")) + 1)
+    if t_hi <= t_lo or i1 - i0 < 2 or j1 - j0 < 2 or cy - a >= yn[-1] or cy + a <= yn[0]:
+        return 0, 0, np.zeros((0, 0))
+    xs = (xn[i0:i1] - cx) / a
+    ys = np.abs(yn[j0:j1] - cy) / a
+    tx = np.arcsin(xs[np.abs(xs) < 1.0])
+    ty = np.arccos(ys[ys < 1.0])
+    br = np.concatenate(([t_lo, t_hi], tx, ty, -ty))
+    br = np.unique(br[(br >= t_lo) & (br <= t_hi)])
+    lo, hi = br[:-1], br[1:]
+    keep = hi - lo > 1e-15
+    lo, hi = lo[keep], hi[keep]
+    x, w = _GL
+    t = (lo[:, None] + (hi - lo)[:, None] * (0.5 * (x + 1.0))).ravel()
+    wt = ((hi - lo)[:, None] * (0.5 * w)).ravel() * a * np.cos(t)
+    X = cx + a * np.sin(t)
+    half = a * np.cos(t)
+    G = _hat_integrals(yn, cy + half, j0, j1) - _hat_integrals(yn, cy - half, j0, j1)
+    # hats in x at X (two per point)
+    e = np.clip(np.searchsorted(xn, X, side="right") - 1, 0, len(xn) - 2)
+    xi = np.clip((X - xn[e]) / (xn[e + 1] - xn[e]), 0.0, 1.0)
+    N = np.zeros((len(X), i1 - i0))
+    r = np.arange(len(X))
+    np.add.at(N, (r, e - i0), 1.0 - xi)
+    np.add.at(N, (r, np.minimum(e + 1 - i0, i1 - i0 - 1)), np.where(e + 1 - i0 < i1 - i0, xi, 0.0))
+    P = (N * wt[:, None]).T @ G
+    return i0, j0, P
+
+
+def _centre_xy(centre):
+    """A float (arc position along x, planar runs) or a pair (x, y)."""
+    if isinstance(centre, (tuple, list, np.ndarray)):
+        return float(centre[0]), float(centre[1])
+    return float(centre), 0.0
+
+
+class FE3DPlate:
+    """PlateModel of docs/architecture.md on the 3D box (module docstring)."""
+
+    def __init__(self, params: PlateParams, dt: float, nodes=None, jit: bool | None = None):
+        """dt: the mechanical step; the thermal step is params.step_multiple * dt.
+        nodes: (x, y, z) to override the default box_nodes (tests).
+        jit: None uses the numba kernel when available, False never, True requires it."""
+        from fpd.thermal.fe1d import check_params
+
+        check_params(params)
+        self.params = p = params
+        self.dt = float(dt)
+        self.multiple = max(1, int(p.step_multiple))
+        self.h = self.dt * self.multiple
+        a = p.a_contact_m
+        if nodes is None:
+            band_y = (p.sweep_y_m + a) if p.sweep_y_m > 0 else None
+            nodes = box_nodes(p.plate_radius, p.plate_thickness, a, p.per_radius, p.nz, p.grading, band_y)
+        self.x, self.y, self.z = (np.asarray(v, dtype=float) for v in nodes)
+        rc, k, hc = p.rho * p.c, p.k, p.h_conv
+        self.rho_c = rc
+        self._K = kernels(jit)
+        # 1D factors: convection on both ends in x and y (the sides), on the
+        # sliding face (z = 0) and, with "convection", the back face
+        Mx, Kx = line_matrices(self.x)
+        My, Ky = line_matrices(self.y)
+        Mz, Kz = line_matrices(self.z)
+        Ax, Ay, Az = k * Kx, k * Ky, k * Kz
+        for A in (Ax, Ay):
+            A[0, 0] += hc
+            A[-1, -1] += hc
+        Az[0, 0] += hc
+        if p.back == "convection":
+            Az[-1, -1] += hc
+        nz = len(self.z)
+        self.fixed = p.back == "fixed"
+        f = np.arange(nz - 1) if self.fixed else np.arange(nz)
+        self.tx, self.Wx = line_modes(Mx, Ax)
+        self.ty, self.Wy = line_modes(My, Ay)
+        self.tz, self.V = line_modes(Mz[np.ix_(f, f)], Az[np.ix_(f, f)])
+        self.Wxi, self.Wyi, self.Vi = self.Wx.T @ Mx, self.Wy.T @ My, self.V.T @ Mz[np.ix_(f, f)]
+        self.nx, self.ny, self.nzf = len(self.x), len(self.y), len(f)
+        self.nxy = self.nx * self.ny
+        lam = (self.tx[:, None, None] + self.ty[None, :, None] + self.tz[None, None, :]).ravel()
+        self.lam = lam
+        # heat capacity functional m = rho c (Wx^T Mx 1) (x) (Wy^T My 1) (x) (V^T Mz_ff 1)
+        mx, my = self.Wx.T @ Mx.sum(axis=1), self.Wy.T @ My.sum(axis=1)
+        mz = self.V.T @ Mz[np.ix_(f, f)].sum(axis=1)
+        self.m = rc * (mx[:, None, None] * my[None, :, None] * mz[None, None, :]).ravel()
+        x_ = lam * self.h / rc
+        self.E = np.exp(-x_)
+        small = x_ < 1e-6
+        xs = np.where(small, 1.0, x_)
+        F = np.where(small, (self.h / rc) * (1 - 0.5 * x_ + x_ * x_ / 6), -np.expm1(-xs) / np.where(small, 1.0, lam))
+        self.F = F
+        self.mloss = self.m * (1.0 - self.E)
+        mF = self.m * (self.h / rc - F)
+        self.vt = self.V[0].copy()                         # depth modes at the sliding face
+        self.mfv = mF.reshape(self.nxy, self.nzf) @ self.vt
+        # the fixed back: steady no-load state ys (A_ff us = -A_fD uD) and the
+        # state as a deviation from it (the fixed face then drops out of the ledger)
+        self.ys = np.zeros(len(lam))
+        if self.fixed:
+            d = p.T_back_C - p.T_air_C
+            D = nz - 1
+            ax, ay = self.Wx.T @ Ax.sum(axis=1), self.Wy.T @ Ay.sum(axis=1)
+            mzD, azD = self.V.T @ Mz[f, D], self.V.T @ Az[f, D]
+            fhat = d * (np.einsum("i,j,k->ijk", ax, my, mzD) + np.einsum("i,j,k->ijk", mx, ay, mzD)
+                        + np.einsum("i,j,k->ijk", mx, my, azD)).ravel()
+            self.ys = -fhat / lam
+        self.ys_top = self.ys.reshape(self.nxy, self.nzf) @ self.vt
+        u0 = np.full((self.nx, self.ny, self.nzf), p.T0_C - p.T_air_C)
+        self.v = self.to_modal(u0) - self.ys
+        self.v0 = self.v.copy()
+        self.top = np.zeros(self.nxy)                      # surface modes of v
+        self._K.surface_modes(self.v, self.vt, self.nxy, self.top)
+        # the fixed material point: (radius_m, 0) on the sliding face
+        self.point_xy = (float(p.radius_m), 0.0)
+        self._wpoint = self._point_weights(*self.point_xy)
+        self._heat_in = 0.0
+        self._lost = 0.0
+        self._acc = [0.0, 0.0, 0.0, 0]                     # energy, energy-weighted x, y, steps
+        self._w = np.zeros(self.nxy)
+        self._pattern_key = None
+        self._on_plate = True
+        self.steps = 0                                     # thermal steps taken
+        self._stored, self._stored_at = 0.0, 0
+        self._T = self._mean_at(0.0, 0.0)
+
+    # -- changes of basis ------------------------------------------------------------
+    def to_modal(self, U: np.ndarray) -> np.ndarray:
+        """(Wx (x) Wy (x) V)^-1 of a nodal (nx, ny, nzf) field, flat."""
+        T = np.tensordot(self.Wxi, U, axes=(1, 0))
+        T = np.einsum("bj,ajk->abk", self.Wyi, T)
+        return (T @ self.Vi.T).ravel()
+
+    def to_nodal(self, y: np.ndarray) -> np.ndarray:
+        """(Wx (x) Wy (x) V) y as a nodal (nx, ny, nzf) field."""
+        Y = y.reshape(self.nx, self.ny, self.nzf)
+        T = np.tensordot(self.Wx, Y, axes=(1, 0))
+        T = np.einsum("bj,ajk->abk", self.Wy, T)
+        return T @ self.V.T
+
+    # -- footprint ----------------------------------------------------------------------
+    def footprint_weights(self, cx: float, cy: float):
+        """Modal footprint weights (nx*ny,), normalised to 1 (the heat of a
+        footprint partly over the edge goes to the plate), or None when the
+        footprint is wholly off the plate."""
+        i0, j0, P = footprint_loads(self.x, self.y, cx, cy, self.params.a_contact_m)
+        tot = P.sum()
+        if not tot > 0:
+            return None
+        P = P / tot
+        Wx = self.Wx[i0:i0 + P.shape[0]]
+        Wy = self.Wy[j0:j0 + P.shape[1]]
+        return (Wx.T @ P @ Wy).ravel()
+
+    def _point_weights(self, px: float, py: float) -> np.ndarray:
+        def hat(nodes, s):
+            w = np.zeros(len(nodes))
+            e = int(np.clip(np.searchsorted(nodes, s, side="right") - 1, 0, len(nodes) - 2))
+            xi = min(1.0, max(0.0, (s - nodes[e]) / (nodes[e + 1] - nodes[e])))
+            w[e], w[e + 1] = 1 - xi, xi
+            return w
+        return np.outer(self.Wx.T @ hat(self.x, px), self.Wy.T @ hat(self.y, py)).ravel()
+
+    def _mean_at(self, cx: float, cy: float) -> float:
+        w = self.footprint_weights(cx, cy)
+        if w is None:
+            return self._T
+        return float(w @ (self.top + self.ys_top) + self.params.T_air_C)
+
+    # -- PlateModel interface ----------------------------------------------------------
+    def step(self, power_W: float, centre=0.0) -> float:
+        """Receive power_W over one mechanical step with the footprint at
+        ``centre`` (a float: arc position along x; or a pair (x, y)). Every
+        step_multiple calls, one thermal step; returns the footprint-mean
+        surface temperature (degC) of the last thermal step."""
+        cx, cy = _centre_xy(centre)
+        acc = self._acc
+        e = float(power_W) * self.dt
+        acc[0] += e
+        acc[1] += e * cx
+        acc[2] += e * cy
+        acc[3] += 1
+        if acc[3] >= self.multiple:
+            self._thermal_step(cx, cy)
+        return self._T
+
+    def _thermal_step(self, cx: float, cy: float) -> None:
+        E_in, sx, sy, _ = self._acc
+        self._acc = [0.0, 0.0, 0.0, 0]
+        w = None
+        if E_in != 0.0:
+            gx, gy = sx / E_in, sy / E_in                  # power-weighted mean position
+            key = (gx, gy)
+            if key != self._pattern_key:
+                w = self.footprint_weights(gx, gy)
+                self._pattern_key = key
+                self._on_plate = w is not None
+                if w is not None:
+                    self._w = w
+            if not self._on_plate:
+                E_in = 0.0                                 # a footprint wholly off the plate delivers nothing
+        p = E_in / self.h
+        K = self._K
+        self._lost += K.exp_step(self.v, self.E, self.F, self.mloss, self._w, self.vt, p, self.mfv)
+        self._heat_in += E_in
+        K.surface_modes(self.v, self.vt, self.nxy, self.top)
+        self.steps += 1
+        self._T = self._mean_at(cx, cy)
+
+    def surface_temperature(self) -> float:
+        return self._T
+
+    def point_temperature(self) -> float:
+        """Temperature (degC) of the fixed material point (radius_m, 0) on the
+        sliding face, at the last thermal step."""
+        return float(self._wpoint @ (self.top + self.ys_top) + self.params.T_air_C)
+
+    def surface_field(self) -> np.ndarray:
+        """Nodal temperatures (degC) of the sliding face, (nx, ny)."""
+        Y = (self.top + self.ys_top).reshape(self.nx, self.ny)
+        return self.Wx @ Y @ self.Wy.T + self.params.T_air_C
+
+    def peak_temperature(self) -> float:
+        """Hottest nodal temperature (degC) of the sliding face (the hottest
+        point of the plate: heat enters there)."""
+        return float(self.surface_field().max())
+
+    def temperature(self, state=None) -> np.ndarray:
+        """Nodal temperatures (degC), (nx, ny, nz) (the fixed back layer
+        included), of the current state or of one kept by field_state()."""
+        p = self.params
+        U = self.to_nodal((self.v if state is None else state) + self.ys) + p.T_air_C
+        if self.fixed:
+            U = np.concatenate((U, np.full((self.nx, self.ny, 1), p.T_back_C)), axis=2)
+        return U
+
+    def stored_heat(self) -> float:
+        """rho c int (T - T_initial) (J), with the heat received in the thermal
+        step under way (in the plate, not yet conducted)."""
+        if self._stored_at != self.steps:          # m . (v - v0) changes only at thermal steps
+            self._stored = float(self.m @ (self.v - self.v0))
+            self._stored_at = self.steps
+        return self._stored + self._acc[0]
+
+    def heat_lost(self) -> float:
+        return self._lost
+
+    def heat_in(self) -> float:
+        return self._heat_in + self._acc[0]
+
+    def save(self):
+        return (self.v.copy(), self.top.copy(), self._w.copy(), self._pattern_key, self._on_plate,
+                self._heat_in, self._lost, list(self._acc), self.steps, self._T)
+
+    def restore(self, snap) -> None:
+        v, top, w, self._pattern_key, self._on_plate, self._heat_in, self._lost, acc, self.steps, self._T = snap
+        self.v[:] = v
+        self.top[:] = top
+        self._w = w.copy()
+        self._stored_at = -1
+        self._acc = list(acc)
+
+    def field_state(self):
+        """A copy of the state, for field(state) later (the hottest-field
+        tracker keeps this instead of building the field at every look)."""
+        return self.v.copy()
+
+    def field(self, state=None):
+        """(points, cells, T) of the plate in plate-local coordinates: origin at
+        the plate centre on the sliding face, x along the path, y across it in
+        the face, z the depth into the steel (positive into the plate); cells
+        are VTK hexahedra (nodes (i, j, k) of the x, y, z grid at index
+        (i ny + j) nz + k); T in degC at the last thermal step (or of a state
+        from field_state())."""
+        T = self.temperature(state)
+        pts, cells = hex_mesh(self.x, self.y, self.z)
+        return pts, [("hexahedron", cells)], T.ravel()
