@@ -219,14 +219,19 @@ class FE3DPlate:
         self.m = rc * (mx[:, None, None] * my[None, :, None] * mz[None, None, :]).ravel()
         x_ = lam * self.h / rc
         self.E = np.exp(-x_)
-        small = x_ < 1e-6
+        small = x_ < 1e-3
         xs = np.where(small, 1.0, x_)
-        F = np.where(small, (self.h / rc) * (1 - 0.5 * x_ + x_ * x_ / 6), -np.expm1(-xs) / np.where(small, 1.0, lam))
-        self.F = F
+        h = self.h
+        phi1 = np.where(small, h * (1 - x_ / 2 + x_ * x_ / 6 - x_ ** 3 / 24), h * -np.expm1(-xs) / xs)
+        phi2 = np.where(small, h * (0.5 - x_ / 6 + x_ * x_ / 24 - x_ ** 3 / 120),
+                        h * (np.expm1(-xs) + xs) / (xs * xs))
+        self.Fa = (phi1 - phi2) / rc
+        self.Fb = phi2 / rc
         self.mloss = self.m * (1.0 - self.E)
-        mF = self.m * (self.h / rc - F)
         self.vt = self.V[0].copy()                         # depth modes at the sliding face
-        self.mfv = mF.reshape(self.nxy, self.nzf) @ self.vt
+        red = lambda arr: arr.reshape(self.nxy, self.nzf) @ self.vt
+        self.mfv0 = red(self.m * (0.5 * h / rc - self.Fa))
+        self.mfv1 = red(self.m * (0.5 * h / rc - self.Fb))
         # the fixed back: steady no-load state ys (A_ff us = -A_fD uD) and the
         # state as a deviation from it (the fixed face then drops out of the ledger)
         self.ys = np.zeros(len(lam))
@@ -250,11 +255,12 @@ class FE3DPlate:
         self._heat_in = 0.0
         self._lost = 0.0
         self._acc = [0.0, 0.0, 0.0, 0]                     # energy, energy-weighted x, y, steps
-        self._w = np.zeros(self.nxy)
+        self._zero = np.zeros(self.nxy)
         self._pattern_key = None
-        self._on_plate = True
+        self._w_start = self._w_end = None                # modal footprint weights (None: off the plate)
         self.steps = 0                                     # thermal steps taken
         self._stored, self._stored_at = 0.0, 0
+        self._T = float(p.T0_C)
         self._T = self._mean_at(0.0, 0.0)
 
     # -- changes of basis ------------------------------------------------------------
@@ -318,27 +324,33 @@ class FE3DPlate:
         return self._T
 
     def _thermal_step(self, cx: float, cy: float) -> None:
-        E_in, sx, sy, _ = self._acc
+        """One thermal step: the heat received since the last one, delivered at
+        a constant power over the step, its footprint moving linearly from where
+        the last step ended to (cx, cy) (ETD2, thermal/_fe3d_kernel.py)."""
+        E_in = self._acc[0]
         self._acc = [0.0, 0.0, 0.0, 0]
-        w = None
-        if E_in != 0.0:
-            gx, gy = sx / E_in, sy / E_in                  # power-weighted mean position
-            key = (gx, gy)
-            if key != self._pattern_key:
-                w = self.footprint_weights(gx, gy)
-                self._pattern_key = key
-                self._on_plate = w is not None
-                if w is not None:
-                    self._w = w
-            if not self._on_plate:
-                E_in = 0.0                                 # a footprint wholly off the plate delivers nothing
+        key = (cx, cy)
+        if key != self._pattern_key:
+            self._w_end = self.footprint_weights(cx, cy)
+            self._pattern_key = key
+        w0, w1 = self._w_start, self._w_end
+        if w0 is None:
+            w0 = w1
+        if w1 is None:
+            w1 = w0
+        if w0 is None:                                     # wholly off the plate: nothing delivered
+            w0 = w1 = self._zero
+            E_in = 0.0
         p = E_in / self.h
         K = self._K
-        self._lost += K.exp_step(self.v, self.E, self.F, self.mloss, self._w, self.vt, p, self.mfv)
+        self._lost += K.exp_step(self.v, self.E, self.Fa, self.Fb, self.mloss, w0, w1, self.vt, p,
+                                 self.mfv0, self.mfv1)
         self._heat_in += E_in
         K.surface_modes(self.v, self.vt, self.nxy, self.top)
         self.steps += 1
-        self._T = self._mean_at(cx, cy)
+        self._w_start = self._w_end
+        if self._w_end is not None:
+            self._T = float(self._w_end @ (self.top + self.ys_top) + self.params.T_air_C)
 
     def surface_temperature(self) -> float:
         return self._T
@@ -382,14 +394,15 @@ class FE3DPlate:
         return self._heat_in + self._acc[0]
 
     def save(self):
-        return (self.v.copy(), self.top.copy(), self._w.copy(), self._pattern_key, self._on_plate,
+        # the weight arrays are never modified in place (new arrays per position): kept by reference
+        return (self.v.copy(), self.top.copy(), self._w_start, self._w_end, self._pattern_key,
                 self._heat_in, self._lost, list(self._acc), self.steps, self._T)
 
     def restore(self, snap) -> None:
-        v, top, w, self._pattern_key, self._on_plate, self._heat_in, self._lost, acc, self.steps, self._T = snap
+        (v, top, self._w_start, self._w_end, self._pattern_key, self._heat_in, self._lost, acc, self.steps,
+         self._T) = snap
         self.v[:] = v
         self.top[:] = top
-        self._w = w.copy()
         self._stored_at = -1
         self._acc = list(acc)
 
