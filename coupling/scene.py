@@ -448,6 +448,13 @@ def _cross_checks(ctx: _Ctx, data: dict):
             if first < 1e-9:
                 ctx.fail(f"thermal.{n_key}", n, f"with grading = {g:g} the first element is {first:.1e} of the "
                          "thickness (< 1e-9): lower the grading or the element count")
+        if t["model"] == "axisym" and t["nr"] and not t["mesh_file"]:
+            a = dev["pad_diameter"] / 2
+            per = t["nr"] * a / t["plate_radius"]           # uniform mesh of nr elements
+            if per < 10:
+                ctx.fail("thermal.nr", t["nr"], f"gives {per:.3g} elements per footprint radius a = {a:g} m on "
+                         f"a {t['plate_radius']:g} m plate; at least 10 needed (>= {math.ceil(10 * t['plate_radius'] / a)}, "
+                         "or 0: automatic, per_radius over the footprint's band)")
         if t["source"] == "fixed-point" and t["radius_m"] > t["plate_radius"]:
             ctx.fail("thermal.radius_m", t["radius_m"], f"must be <= plate_radius = {t['plate_radius']:g} m")
         if dev["pad_diameter"] / 2 > t["plate_radius"] and t["model"] != "none":

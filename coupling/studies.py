@@ -213,7 +213,7 @@ COMPARE_MODELS = (
     ("fe1d fixed-point", "fe1d", {"model": "fe1d", "source": "fixed-point", "radius_m": "a"}),
     ("axisym", "axisym", {"model": "axisym"}),
 )
-FAST_COMPARE = {"duration": 8.0, "n_elements": 40, "nr": 24, "nz": 12}
+FAST_COMPARE = {"duration": 8.0, "n_elements": 40, "nr": 0, "per_radius": 10, "nz": 12}
 
 
 def compare_cases(scene_arg, fast=False, log=lambda s: None) -> tuple[list[Case], dict]:
@@ -236,6 +236,7 @@ def compare_cases(scene_arg, fast=False, log=lambda s: None) -> tuple[list[Case]
             keys["n_elements"] = FAST_COMPARE["n_elements"]
         if fast and model == "axisym":
             keys["nr"], keys["nz"] = FAST_COMPARE["nr"], FAST_COMPARE["nz"]
+            keys["per_radius"] = FAST_COMPARE["per_radius"]
         c = run_case(scene_arg, extra + thermal_set(**keys), label)
         log(f"compare: {label}: {c.m['status']}, {c.runtime_s:.2f} s, peak T {c.m['peak_T1_C']:.2f} C")
         cases.append(c)
@@ -580,7 +581,7 @@ def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
     if has_exact and model == "fe1d":
         dt_mesh = thermal_set(n_elements=8 * t["n_elements"], grading=t["grading"] ** 0.125)
     if fast and model == "axisym":
-        dt_mesh = thermal_set(nr=max(8, t["nr"] // 4), nz=max(4, t["nz"] // 4))
+        dt_mesh = thermal_set(nr=0, per_radius=10, nz=max(4, t["nz"] // 4))
     sweeps = [Sweep("dt", "solver.dt", [(f"dt={d:.6g}", [f"solver.dt={d!r}"] + dt_mesh, d) for d in dts],
                     exact=has_exact and model != "axisym")]
     fine_dt = [f"solver.dt={dts[-1] / (4 if has_exact and model == 'fe1d' else 1)!r}"]
@@ -596,24 +597,26 @@ def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
             levels.append((f"n_elements={n}, grading={g:.5g}", fine_dt + thermal_set(n_elements=n, grading=g), h1))
         sweeps.append(Sweep("mesh", "thermal.n_elements", levels, exact=has_exact))
     elif model == "axisym":
-        nr0, nz0 = t["nr"], t["nz"]
-        if fast:
-            nr0, nz0 = max(8, nr0 // 4), max(4, nz0 // 4)
+        # r: the automatic footprint mesh (nr = 0) at 10, 20, 40 elements per
+        # footprint radius (fewer than 10 is refused at load)
+        a = 0.5 * scene["device"]["pad_diameter"]
+        nz0 = max(4, t["nz"] // 4) if fast else t["nz"]
+        per0 = 20
         r_lv, z_lv, b_lv = [], [], []
         for k in range(3):
-            nr = max(2, nr0 * 2 ** k // 2)
+            per = per0 * 2 ** k // 2
             nz = max(2, nz0 * 2 ** k // 2)
             g = t["grading"] ** (1.0 / 2 ** (k - 1))      # z is graded: keep the family nested
-            r_lv.append((f"nr={nr}", fine_dt + thermal_set(nr=nr, nz=nz0), t["plate_radius"] / nr))
-            z_lv.append((f"nz={nz}, grading={g:.5g}", fine_dt + thermal_set(nr=nr0, nz=nz, grading=g),
+            r_lv.append((f"per_radius={per}", fine_dt + thermal_set(nr=0, per_radius=per, nz=nz0), a / per))
+            z_lv.append((f"nz={nz}, grading={g:.5g}", fine_dt + thermal_set(nr=0, per_radius=per0, nz=nz, grading=g),
                          t["plate_thickness"] / nz))
-            b_lv.append((f"nr={nr}, nz={nz}", fine_dt + thermal_set(nr=nr, nz=nz, grading=g),
-                         t["plate_radius"] / nr))
+            b_lv.append((f"per_radius={per}, nz={nz}", fine_dt + thermal_set(nr=0, per_radius=per, nz=nz, grading=g),
+                         a / per))
         # one direction at a time keeps the other's error: Richardson removes
         # it; both together are measured against the closed form if any
-        sweeps += [Sweep("mesh-r", "thermal.nr", r_lv), Sweep("mesh-z", "thermal.nz", z_lv)]
+        sweeps += [Sweep("mesh-r", "thermal.per_radius", r_lv), Sweep("mesh-z", "thermal.nz", z_lv)]
         if has_exact:
-            sweeps.append(Sweep("mesh", "thermal.nr+nz", b_lv, exact=True))
+            sweeps.append(Sweep("mesh", "thermal.per_radius+nz", b_lv, exact=True))
     return sweeps, base
 
 
@@ -700,7 +703,7 @@ def _mesh_label(scene) -> str:
     if t["model"] == "fe1d":
         return f"n_elements={t['n_elements']} grading={t['grading']:.5g}"
     if t["model"] == "axisym":
-        return f"nr={t['nr']} nz={t['nz']}"
+        return (f"nr={t['nr']} nz={t['nz']}" if t["nr"] else f"per_radius={t['per_radius']} nz={t['nz']}")
     return t["model"]
 
 

@@ -19,7 +19,7 @@ def run(name, *over):
 def test_coupled_ledgers_close(mech, model):
     over = [f"mechanics.model={mech}", f"thermal.model={model}", "solver.duration=6", "loading.scale=1.5"]
     if model == "axisym":
-        over += ["thermal.nr=30", "thermal.nz=20"]
+        over += ["thermal.nr=0", "thermal.per_radius=10", "thermal.nz=20"]
     sim, res = run("default", *over)
     for i, plate in enumerate(res.plates, start=1):
         W = res[f"W{i}_J"][-1]
