@@ -136,8 +136,12 @@ def _check_compare(out, fast):
     assert rise(fx) < rise(fp)
     # errors against the reference are reported for the cheaper models
     s = json.loads((out / "summary.json").read_text())
-    ref = "axisym" if model_available("axisym") else "fe1d follow-pad"
+    ref = "fe3d" if model_available("fe3d") else "axisym" if model_available("axisym") else "fe1d follow-pad"
     assert s["reference"] == ref
+    # issue 13: every other model's error against the reference, mu at the peak included
+    others = [r for r in _rows(out / "compare.csv") if r["model"] != ref]
+    assert others and all(r["err_peak_T_K"] != "" and r["err_mu_at_peak_T"] != "" for r in others)
+    assert "Error of each model against" in (out / "compare.md").read_text()
     assert float(lump["err_peak_T_K"]) < 0
     # the thermal model changes mu by a few per cent: work and peak u follow
     assert abs(float(lump["err_friction_work_rel"])) < 0.05
