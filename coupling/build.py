@@ -127,7 +127,7 @@ def build(scene: Scene) -> Simulation:
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
         from fpd.mechanics.seated import SeatedTestMachine
-        mech = SeatedTestMachine(geom, loading)
+        mech = SeatedTestMachine(geom, loading, ld["vertical"])
     elif model == "seated":
         from fpd.mechanics.seated import SeatedStepper
         mech = SeatedStepper(geom, loading)

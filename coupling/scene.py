@@ -113,7 +113,9 @@ LOADING_KEYS = {
     "harmonic": {"amplitude_m": ("float", REQUIRED, _pos), "frequency_Hz": ("float", REQUIRED, _pos),
                  "cycles": ("float", REQUIRED, _pos)},
     "displacement": {"waveform": (("sine",), "sine", None), "amplitude_m": ("float", REQUIRED, _pos),
-                     "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos)},
+                     "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos),
+                     # the machine holds the vertical load (force control), or the mass rides on the bearing
+                     "vertical": (("constant", "riding-mass"), "constant", None)},
     "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
               "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
