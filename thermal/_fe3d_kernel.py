@@ -38,11 +38,13 @@ def exp_step(v, E, Fa, Fb, mloss, w0, w1, vt, p, mfv0, mfv1):
     return loss
 
 
-def surface_modes(v, vt, nxy, out):
-    """out[ij] = sum_k v[ij, k] vt[k]: the sliding face in the surface modal
-    basis (what the footprint mean and the surface field need)."""
-    nz = vt.shape[0]
-    out[:] = np.dot(v.reshape(nxy, nz), vt)
+def surface_modes(v, vt2, nxy, out):
+    """out[ij, :] = sum_k v[ij, k] vt2[k, :]: with vt2 = (the depth modes at
+    the sliding face, the depth heat-capacity functional), the sliding face in
+    the surface modal basis (for the footprint mean and the surface field) and
+    the depth-integrated heat, in one pass over v."""
+    nz = vt2.shape[0]
+    out[:, :] = np.dot(v.reshape(nxy, nz), vt2)
     return out
 
 
@@ -50,4 +52,4 @@ def warm_up():
     v = np.zeros(6)
     exp_step(v, np.ones(6), np.ones(6), np.ones(6), np.ones(6), np.ones(2), np.ones(2), np.ones(3), 1.0,
              np.ones(2), np.ones(2))
-    surface_modes(v, np.ones(3), 2, np.zeros(2))
+    surface_modes(v, np.ones((3, 2)), 2, np.zeros((2, 2)))

@@ -246,9 +246,14 @@ class FE3DPlate:
         self.ys_top = self.ys.reshape(self.nxy, self.nzf) @ self.vt
         u0 = np.full((self.nx, self.ny, self.nzf), p.T0_C - p.T_air_C)
         self.v = self.to_modal(u0) - self.ys
-        self.v0 = self.v.copy()
-        self.top = np.zeros(self.nxy)                      # surface modes of v
-        self._K.surface_modes(self.v, self.vt, self.nxy, self.top)
+        # one pass over v per thermal step gives the sliding face (column 0) and
+        # the heat content (column 1: rho c (mx (x) my) . this = m . v)
+        self._vt2 = np.ascontiguousarray(np.column_stack((self.vt, mz)))
+        self._mxy = rc * np.outer(mx, my).ravel()
+        self._proj = np.zeros((self.nxy, 2))
+        self._K.surface_modes(self.v, self._vt2, self.nxy, self._proj)
+        self.top = self._proj[:, 0].copy()                 # surface modes of v
+        self._m_v0 = float(self._mxy @ self._proj[:, 1])
         # the fixed material point: (radius_m, 0) on the sliding face
         self.point_xy = (float(p.radius_m), 0.0)
         self._wpoint = self._point_weights(*self.point_xy)
@@ -259,7 +264,7 @@ class FE3DPlate:
         self._pattern_key = None
         self._w_start = self._w_end = None                # modal footprint weights (None: off the plate)
         self.steps = 0                                     # thermal steps taken
-        self._stored, self._stored_at = 0.0, 0
+        self._stored = 0.0                                 # m . (v - v0), set at each thermal step
         self._T = float(p.T0_C)
         self._T = self._mean_at(0.0, 0.0)
 
@@ -346,7 +351,9 @@ class FE3DPlate:
         self._lost += K.exp_step(self.v, self.E, self.Fa, self.Fb, self.mloss, w0, w1, self.vt, p,
                                  self.mfv0, self.mfv1)
         self._heat_in += E_in
-        K.surface_modes(self.v, self.vt, self.nxy, self.top)
+        K.surface_modes(self.v, self._vt2, self.nxy, self._proj)
+        self.top[:] = self._proj[:, 0]
+        self._stored = float(self._mxy @ self._proj[:, 1]) - self._m_v0
         self.steps += 1
         self._w_start = self._w_end
         if self._w_end is not None:
@@ -382,9 +389,6 @@ class FE3DPlate:
     def stored_heat(self) -> float:
         """rho c int (T - T_initial) (J), with the heat received in the thermal
         step under way (in the plate, not yet conducted)."""
-        if self._stored_at != self.steps:          # m . (v - v0) changes only at thermal steps
-            self._stored = float(self.m @ (self.v - self.v0))
-            self._stored_at = self.steps
         return self._stored + self._acc[0]
 
     def heat_lost(self) -> float:
@@ -396,14 +400,13 @@ class FE3DPlate:
     def save(self):
         # the weight arrays are never modified in place (new arrays per position): kept by reference
         return (self.v.copy(), self.top.copy(), self._w_start, self._w_end, self._pattern_key,
-                self._heat_in, self._lost, list(self._acc), self.steps, self._T)
+                self._heat_in, self._lost, list(self._acc), self.steps, self._T, self._stored)
 
     def restore(self, snap) -> None:
         (v, top, self._w_start, self._w_end, self._pattern_key, self._heat_in, self._lost, acc, self.steps,
-         self._T) = snap
+         self._T, self._stored) = snap
         self.v[:] = v
         self.top[:] = top
-        self._stored_at = -1
         self._acc = list(acc)
 
     def field_state(self):
