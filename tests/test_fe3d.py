@@ -271,3 +271,28 @@ def test_field_coordinates_and_hot_track():
     hot = pts[np.argmax(T)]
     assert hot[2] == 0.0 and math.hypot(hot[0] - 0.01, hot[1] - 0.02) < 0.03
     assert plate.peak_temperature() == pytest.approx(T.max(), rel=1e-12)
+
+
+def test_fe3d_scene_runs_and_is_validated(tmp_path):
+    """`fpd run` with fe3d plates: the run closes its ledgers, the hottest-field
+    plot is drawn from the sliding face; bad fe3d keys are one line at load."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from fpd.coupling import scene as scn
+
+    root = Path(__file__).resolve().parent.parent
+    out = tmp_path / "run"
+    cmd = [sys.executable, "-m", "fpd", "run", "default", "--out", str(out), "--quiet",
+           "--set", 'thermal.model="fe3d"', "--set", "solver.duration=2", "--set", "thermal.per_radius=10",
+           "--set", "thermal.nz=8", "--set", "thermal.grading=1.4"]
+    env = {**__import__("os").environ, "PYTHONPATH": str(root)}
+    assert subprocess.run(cmd, env=env, cwd=tmp_path).returncode == 0
+    import json
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "ok" and s["heat_residual_rel"] < 1e-9
+    assert (out / "plots" / "lower_plate_hottest.png").is_file()
+    for key, val in (("thermal.step_multiple", "0"), ("thermal.per_radius", "9"), ("thermal.model", '"fe4d"')):
+        with pytest.raises(scn.SceneError, match=key.replace(".", r"\.")):
+            scn.load("default", [f"{key}={val}"])
