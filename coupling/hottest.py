@@ -92,7 +92,7 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
         conn = conn[np.all(np.abs(points[conn, 2]) <= 1e-12, axis=1)]
         cells = [("quad", conn)]
         kinds = {"quad"}
-        label = f"{label} (sliding face)"
+        label = f"{label} face"
     fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
     point_T = len(T) == len(points)
     if kinds <= {"line"} or not point_T:

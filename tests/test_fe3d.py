@@ -296,3 +296,28 @@ def test_fe3d_scene_runs_and_is_validated(tmp_path):
     for key, val in (("thermal.step_multiple", "0"), ("thermal.per_radius", "9"), ("thermal.model", '"fe4d"')):
         with pytest.raises(scn.SceneError, match=key.replace(".", r"\.")):
             scn.load("default", [f"{key}={val}"])
+
+
+@pytest.mark.parametrize("Pe,travel,steps", [(1.0, 10.0, 200),
+                                             pytest.param(0.1, 20.0, 400, marks=pytest.mark.slow)])
+def test_moving_disk_reaches_jaeger_quasi_steady(Pe, travel, steps):
+    """Travelled far enough for the quasi-steady state (10 radii at Pe 1, 20 at
+    Pe 0.1, where the moving-source solution is within 2e-4 / 3e-3 of it): the
+    footprint mean within 1 % of Jaeger's quasi-steady disk mean (measured
+    -0.19 % and -0.75 %)."""
+    T, t, V, _ = _moving(Pe, travel=travel, steps=steps)
+    assert abs(T / exact.moving_disk_mean(Q, A, K, KAPPA, V) - 1) < 1e-2
+
+
+def test_compiled_kernel_matches_numpy():
+    """The kernel module runs as numpy (FPD_NO_JIT) and compiled by numba: the
+    same source, the same numbers to round-off."""
+    pytest.importorskip("numba")
+    pa, pb = _ledger_plate("fixed", mult=2), None
+    pb = FE3DPlate(pa.params, pa.dt, jit=False)
+    assert pb._K.__name__.endswith("_fe3d_kernel")
+    for i in range(60):
+        c = 0.05 * math.sin(0.07 * i)
+        ta, tb = pa.step(3e3, (c, 0.01)), pb.step(3e3, (c, 0.01))
+        assert abs(ta - tb) <= 1e-12 * abs(ta)
+    assert abs(pa.heat_lost() - pb.heat_lost()) <= 1e-12 * abs(pa.heat_lost())
