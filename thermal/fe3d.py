@@ -212,26 +212,27 @@ class FE3DPlate:
         self.nx, self.ny, self.nzf = len(self.x), len(self.y), len(f)
         self.nxy = self.nx * self.ny
         lam = (self.tx[:, None, None] + self.ty[None, :, None] + self.tz[None, None, :]).ravel()
-        self.lam = lam
         # heat capacity functional m = rho c (Wx^T Mx 1) (x) (Wy^T My 1) (x) (V^T Mz_ff 1)
         mx, my = self.Wx.T @ Mx.sum(axis=1), self.Wy.T @ My.sum(axis=1)
         mz = self.V.T @ Mz[np.ix_(f, f)].sum(axis=1)
-        self.m = rc * (mx[:, None, None] * my[None, :, None] * mz[None, None, :]).ravel()
+        m = rc * (mx[:, None, None] * my[None, :, None] * mz[None, None, :]).ravel()
         x_ = lam * self.h / rc
-        self.E = np.exp(-x_)
+        h = self.h
+        # E = exp(-x) is separable: the kernel multiplies per-direction factors
+        self.ex, self.ey, self.ez = (np.exp(-t * h / rc) for t in (self.tx, self.ty, self.tz))
         small = x_ < 1e-3
         xs = np.where(small, 1.0, x_)
-        h = self.h
         phi1 = np.where(small, h * (1 - x_ / 2 + x_ * x_ / 6 - x_ ** 3 / 24), h * -np.expm1(-xs) / xs)
         phi2 = np.where(small, h * (0.5 - x_ / 6 + x_ * x_ / 24 - x_ ** 3 / 120),
                         h * (np.expm1(-xs) + xs) / (xs * xs))
         self.Fa = (phi1 - phi2) / rc
         self.Fb = phi2 / rc
-        self.mloss = self.m * (1.0 - self.E)
         self.vt = self.V[0].copy()                         # depth modes at the sliding face
         red = lambda arr: arr.reshape(self.nxy, self.nzf) @ self.vt
-        self.mfv0 = red(self.m * (0.5 * h / rc - self.Fa))
-        self.mfv1 = red(self.m * (0.5 * h / rc - self.Fb))
+        self.mfv0 = red(m * (0.5 * h / rc - self.Fa))
+        self.mfv1 = red(m * (0.5 * h / rc - self.Fb))
+        del m
+        self._mx, self._my, self._mz = rc * mx, my, mz    # m = (rho c mx) (x) my (x) mz
         # the fixed back: steady no-load state ys (A_ff us = -A_fD uD) and the
         # state as a deviation from it (the fixed face then drops out of the ledger)
         self.ys = np.zeros(len(lam))
@@ -248,10 +249,9 @@ class FE3DPlate:
         self.v = self.to_modal(u0) - self.ys
         # one pass over v per thermal step gives the sliding face (column 0) and
         # the heat content (column 1: rho c (mx (x) my) . this = m . v)
-        self._vt2 = np.ascontiguousarray(np.column_stack((self.vt, mz)))
         self._mxy = rc * np.outer(mx, my).ravel()
         self._proj = np.zeros((self.nxy, 2))
-        self._K.surface_modes(self.v, self._vt2, self.nxy, self._proj)
+        self._K.project(self.v, self.vt, self._mz, self.nxy, self._proj)
         self.top = self._proj[:, 0].copy()                 # surface modes of v
         self._m_v0 = float(self._mxy @ self._proj[:, 1])
         # the fixed material point: (radius_m, 0) on the sliding face
@@ -348,10 +348,10 @@ class FE3DPlate:
             E_in = 0.0
         p = E_in / self.h
         K = self._K
-        self._lost += K.exp_step(self.v, self.E, self.Fa, self.Fb, self.mloss, w0, w1, self.vt, p,
-                                 self.mfv0, self.mfv1)
+        loss = K.exp_step(self.v, self.ex, self.ey, self.ez, self._mx, self._my, self._mz, self.Fa, self.Fb,
+                          w0, w1, self.vt, p, self._proj)
+        self._lost += loss + p * (w0 @ self.mfv0 + w1 @ self.mfv1)
         self._heat_in += E_in
-        K.surface_modes(self.v, self._vt2, self.nxy, self._proj)
         self.top[:] = self._proj[:, 0]
         self._stored = float(self._mxy @ self._proj[:, 1]) - self._m_v0
         self.steps += 1
