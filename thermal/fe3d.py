@@ -40,7 +40,6 @@ every mechanical step.
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from scipy.linalg import eigh
@@ -98,67 +97,16 @@ def line_modes(M: np.ndarray, A: np.ndarray):
 
 
 # -- the footprint -------------------------------------------------------------------
-def _hat_integrals(nodes: np.ndarray, y: np.ndarray, j0: int, j1: int) -> np.ndarray:
-    """H[g, j] = int_{-inf}^{y_g} phi_j, for the hat functions phi_j (j0 <= j < j1)
-    of the nodes (y outside the nodes' range is clipped: nothing beyond the plate)."""
-    n = len(nodes)
-    h = np.diff(nodes)
-    hl = np.concatenate(([0.0], h))           # h_{j-1}
-    hr = np.concatenate((h, [0.0]))           # h_j
-    e = np.clip(np.searchsorted(nodes, y, side="right") - 1, 0, n - 2)
-    he = h[e]
-    xi = np.clip((y - nodes[e]) / he, 0.0, 1.0)
-    J = np.arange(j0, j1)[None, :]
-    E = e[:, None]
-    full = 0.5 * (hl + hr)[J]
-    H = np.where(J < E, full, 0.0)
-    H = H + np.where(J == E, 0.5 * hl[J] + (he * (xi - 0.5 * xi * xi))[:, None], 0.0)
-    H = H + np.where(J == E + 1, (0.5 * he * xi * xi)[:, None], 0.0)
-    return H
-
-
-def footprint_loads(xn: np.ndarray, yn: np.ndarray, cx: float, cy: float, a: float):
-    """int chi phi_i(x) phi_j(y) dx dy over the sliding face, for the disk chi of
-    radius a centred at (cx, cy), on the nodes of a local window.
-
-    Returns (i0, j0, P) with P[i - i0, j - j0] the load of node (i, j) per unit
-    flux (m2); P.sum() is the area of the disk on the plate. Exact up to
-    Gauss-Legendre round-off: x = cx + a sin(t), the chord |y - cy| <= a cos(t);
-    the inner integral over the chord is the exact integral of the hats, the
-    outer one in t is split wherever x crosses a node or a chord end crosses a
-    node, so each piece is a smooth trigonometric polynomial (docs/thermal.md)."""
-    t_lo = math.asin(min(1.0, max(-1.0, (xn[0] - cx) / a)))
-    t_hi = math.asin(min(1.0, max(-1.0, (xn[-1] - cx) / a)))
-    i0 = max(0, int(np.searchsorted(xn, cx - a, side="right")) - 1)
-    i1 = min(len(xn), int(np.searchsorted(xn, cx + a, side="left")) + 1)
-    j0 = max(0, int(np.searchsorted(yn, cy - a, side="right")) - 1)
-    j1 = min(len(yn), int(np.searchsorted(yn, cy + a, side="left")) + 1)
-    if t_hi <= t_lo or i1 - i0 < 2 or j1 - j0 < 2 or cy - a >= yn[-1] or cy + a <= yn[0]:
-        return 0, 0, np.zeros((0, 0))
-    xs = (xn[i0:i1] - cx) / a
-    ys = np.abs(yn[j0:j1] - cy) / a
-    tx = np.arcsin(xs[np.abs(xs) < 1.0])
-    ty = np.arccos(ys[ys < 1.0])
-    br = np.concatenate(([t_lo, t_hi], tx, ty, -ty))
-    br = np.unique(br[(br >= t_lo) & (br <= t_hi)])
-    lo, hi = br[:-1], br[1:]
-    keep = hi - lo > 1e-15
-    lo, hi = lo[keep], hi[keep]
-    x, w = _GL
-    t = (lo[:, None] + (hi - lo)[:, None] * (0.5 * (x + 1.0))).ravel()
-    wt = ((hi - lo)[:, None] * (0.5 * w)).ravel() * a * np.cos(t)
-    X = cx + a * np.sin(t)
-    half = a * np.cos(t)
-    G = _hat_integrals(yn, cy + half, j0, j1) - _hat_integrals(yn, cy - half, j0, j1)
-    # hats in x at X (two per point)
-    e = np.clip(np.searchsorted(xn, X, side="right") - 1, 0, len(xn) - 2)
-    xi = np.clip((X - xn[e]) / (xn[e + 1] - xn[e]), 0.0, 1.0)
-    N = np.zeros((len(X), i1 - i0))
-    r = np.arange(len(X))
-    np.add.at(N, (r, e - i0), 1.0 - xi)
-    np.add.at(N, (r, np.minimum(e + 1 - i0, i1 - i0 - 1)), np.where(e + 1 - i0 < i1 - i0, xi, 0.0))
-    P = (N * wt[:, None]).T @ G
-    return i0, j0, P
+def footprint_loads(xn: np.ndarray, yn: np.ndarray, cx: float, cy: float, a: float, jit: bool | None = None):
+    """int chi phi_i(x) phi_j(y) dx dy over the sliding face for the disk chi of
+    radius a centred at (cx, cy), on the nodes of the window it touches:
+    (i0, j0, P) with P[i - i0, j - j0] the load of node (i, j) per unit flux
+    (m2); P.sum() is the disk's area on the plate (thermal/_fe3d_kernel.py)."""
+    P = np.zeros((len(xn), len(yn)))
+    win = np.zeros(4, dtype=np.int64)
+    kernels(jit).footprint_loads(np.asarray(xn, float), np.asarray(yn, float), cx, cy, a, _GL[0], _GL[1], P, win)
+    i0, j0, ni, nj = (int(v) for v in win)
+    return i0, j0, P[:ni, :nj].copy() if ni else np.zeros((0, 0))
 
 
 def _centre_xy(centre):
@@ -261,6 +209,10 @@ class FE3DPlate:
         self._lost = 0.0
         self._acc = [0.0, 0.0, 0.0, 0]                     # energy, energy-weighted x, y, steps
         self._zero = np.zeros(self.nxy)
+        # the footprint's node window: at most 2 a / (smallest element) + 3 nodes a side
+        wmax = lambda nodes: min(len(nodes), int(2 * a / np.diff(nodes).min()) + 4)
+        self._Pbuf = np.zeros((wmax(self.x), wmax(self.y)))
+        self._win = np.zeros(4, dtype=np.int64)
         self._pattern_key = None
         self._w_start = self._w_end = None                # modal footprint weights (None: off the plate)
         self.steps = 0                                     # thermal steps taken
@@ -287,11 +239,12 @@ class FE3DPlate:
         """Modal footprint weights (nx*ny,), normalised to 1 (the heat of a
         footprint partly over the edge goes to the plate), or None when the
         footprint is wholly off the plate."""
-        i0, j0, P = footprint_loads(self.x, self.y, cx, cy, self.params.a_contact_m)
-        tot = P.sum()
+        tot = self._K.footprint_loads(self.x, self.y, cx, cy, self.params.a_contact_m, _GL[0], _GL[1],
+                                      self._Pbuf, self._win)
         if not tot > 0:
             return None
-        P = P / tot
+        i0, j0, ni, nj = (int(v) for v in self._win)
+        P = self._Pbuf[:ni, :nj] / tot
         Wx = self.Wx[i0:i0 + P.shape[0]]
         Wy = self.Wy[j0:j0 + P.shape[1]]
         return (Wx.T @ P @ Wy).ravel()
