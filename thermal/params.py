@@ -10,7 +10,8 @@ class PlateParams:
     """One steel plate and the thermal model chosen for it.
 
     Geometry: a disk of radius ``plate_radius`` and thickness
-    ``plate_thickness``; the sliding face is the top face (z = 0 in the FE
+    ``plate_thickness`` (fe3d: the square of the same area, side
+    sqrt(pi) R); the sliding face is the top face (z = 0 in the FE
     models, depth measured into the plate). The pad's contact footprint is a
     disk of radius ``a_contact_m`` (the pad radius, D / 2).
     """
