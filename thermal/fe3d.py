@@ -375,5 +375,7 @@ class FE3DPlate:
         (i ny + j) nz + k); T in degC at the last thermal step (or of a state
         from field_state())."""
         T = self.temperature(state)
-        pts, cells = hex_mesh(self.x, self.y, self.z)
+        if getattr(self, "_mesh", None) is None:         # the grid never changes: built once
+            self._mesh = hex_mesh(self.x, self.y, self.z)
+        pts, cells = self._mesh
         return pts, [("hexahedron", cells)], T.ravel()
