@@ -292,6 +292,9 @@ def test_fe3d_scene_runs_and_is_validated(tmp_path):
     import json
     s = json.loads((out / "summary.json").read_text())
     assert s["status"] == "ok" and s["heat_residual_rel"] < 1e-9
+    pt = s["heat"]["plates"]["lower"]                       # the fixed material point (radius_m = 0)
+    assert pt["point_radius_m"] == 0.0 and 20.0 < pt["point_T_peak_C"] < 200.0
+    assert pt["point_T_end_C"] <= pt["point_T_peak_C"]
     assert (out / "plots" / "lower_plate_hottest.png").is_file()
     for key, val in (("thermal.step_multiple", "0"), ("thermal.per_radius", "9"), ("thermal.model", '"fe4d"')):
         with pytest.raises(scn.SceneError, match=key.replace(".", r"\.")):

@@ -217,6 +217,7 @@ class FE3DPlate:
         self._w_start = self._w_end = None                # modal footprint weights (None: off the plate)
         self.steps = 0                                     # thermal steps taken
         self._stored = 0.0                                 # m . (v - v0), set at each thermal step
+        self.point_peak = (float(p.T0_C), 0.0)             # the material point's hottest (T degC, t s)
         self._T = float(p.T0_C)
         self._T = self._mean_at(0.0, 0.0)
 
@@ -309,6 +310,9 @@ class FE3DPlate:
         self._stored = float(self._mxy @ self._proj[:, 1]) - self._m_v0
         self.steps += 1
         self._w_start = self._w_end
+        Tp = self.point_temperature()
+        if Tp > self.point_peak[0]:
+            self.point_peak = (Tp, self.steps * self.h)
         if self._w_end is not None:
             self._T = float(self._w_end @ (self.top + self.ys_top) + self.params.T_air_C)
 
@@ -353,11 +357,11 @@ class FE3DPlate:
     def save(self):
         # the weight arrays are never modified in place (new arrays per position): kept by reference
         return (self.v.copy(), self.top.copy(), self._w_start, self._w_end, self._pattern_key,
-                self._heat_in, self._lost, list(self._acc), self.steps, self._T, self._stored)
+                self._heat_in, self._lost, list(self._acc), self.steps, self._T, self._stored, self.point_peak)
 
     def restore(self, snap) -> None:
         (v, top, self._w_start, self._w_end, self._pattern_key, self._heat_in, self._lost, acc, self.steps,
-         self._T, self._stored) = snap
+         self._T, self._stored, self.point_peak) = snap
         self.v[:] = v
         self.top[:] = top
         self._acc = list(acc)
