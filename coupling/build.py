@@ -74,7 +74,10 @@ def loading_of(scene: Scene, dt: float):
 
 def plate_params(scene: Scene, side: str) -> PlateParams:
     t = scene.thermal(side)
-    return PlateParams(**t, a_contact_m=0.5 * scene["device"]["pad_diameter"])
+    # a heat-only scene keeps the footprint at the plate centre: the meshes
+    # resolve it there and grade away (sweep_m); otherwise it may go anywhere
+    sweep = 0.0 if scene["loading"]["kind"] == "heat" else -1.0
+    return PlateParams(**t, a_contact_m=0.5 * scene["device"]["pad_diameter"], sweep_m=sweep)
 
 
 def make_plate(params: PlateParams, dt: float):
@@ -96,6 +99,12 @@ def make_plate(params: PlateParams, dt: float):
             return AxisymPlate(params, dt)
         except ValueError as exc:          # a user mesh without the named boundaries, a degenerate grading
             raise SceneError(f"{exc} (thermal.mesh_file / thermal.nz / thermal.grading)") from None
+    if params.model == "fe3d":
+        from fpd.thermal.fe3d import FE3DPlate
+        try:
+            return FE3DPlate(params, dt)
+        except ValueError as exc:
+            raise SceneError(f"{exc} (thermal.per_radius / thermal.nz / thermal.grading)") from None
     raise AssertionError(params.model)
 
 
@@ -128,7 +137,7 @@ def build(scene: Scene) -> Simulation:
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
         from fpd.mechanics.seated import SeatedTestMachine
-        mech = SeatedTestMachine(geom, loading)
+        mech = SeatedTestMachine(geom, loading, ld["vertical"])
     elif model == "seated":
         from fpd.mechanics.seated import SeatedStepper
         mech = SeatedStepper(geom, loading)

@@ -18,6 +18,7 @@ class HottestFields:
         self.best = {}
 
     def __getitem__(self, side):
+        self.resolve()
         return self.best[side]
 
     def __contains__(self, side) -> bool:
@@ -32,13 +33,31 @@ class HottestFields:
                                [(k, np.asarray(cc).copy()) for k, cc in cells], T.copy())
 
     def update(self, plates, t: float) -> None:
-        """Offer the current field of every plate that has one."""
+        """Offer the current field of every plate that has one. A plate with
+        peak_temperature() and field_state() (fe3d, whose field is dear to
+        build) is compared first and only its state kept; its field is built
+        when asked for (resolve)."""
         for side, plate in zip(("lower", "upper"), plates):
+            if plate is not None and hasattr(plate, "field_state"):
+                tmax = plate.peak_temperature()
+                best = self.best.get(side)
+                if best is None or tmax > best[0]:
+                    self.best[side] = (tmax, t, plate, plate.field_state())
+                continue
             fld = plate.field() if plate is not None else None
             if fld is not None:
                 self.consider(side, t, *fld)
 
+    def resolve(self) -> None:
+        """Build the fields kept as states (update)."""
+        for side, best in list(self.best.items()):
+            if len(best) == 4:
+                tmax, t, plate, state = best
+                pts, cells, T = plate.field(state)
+                self.best[side] = (tmax, t, pts, cells, np.asarray(T, dtype=float))
+
     def pictures(self, plots_dir) -> list[Path]:
+        self.resolve()
         out = []
         for side in ("lower", "upper"):
             if side in self.best:
@@ -67,6 +86,13 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
     if points.shape[1] == 2:
         points = np.column_stack((points, np.zeros(len(points))))
     kinds = {k for k, _ in cells}
+    if "hexahedron" in kinds and len(T) == len(points):
+        # a 3D plate (fe3d, depth z >= 0): draw its sliding face z = 0, where the heat enters
+        conn = np.vstack([np.asarray(cc)[:, :4] for k, cc in cells if k == "hexahedron"])
+        conn = conn[np.all(np.abs(points[conn, 2]) <= 1e-12, axis=1)]
+        cells = [("quad", conn)]
+        kinds = {"quad"}
+        label = f"{label} face"
     fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
     point_T = len(T) == len(points)
     if kinds <= {"line"} or not point_T:

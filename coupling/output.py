@@ -288,6 +288,10 @@ def heat_ledger(result, sim) -> dict:
         q_in, st, lo = plate.heat_in(), plate.stored_heat(), plate.heat_lost()
         res = abs(q_in - st - lo) / q_in if q_in else abs(st - lo)
         entry = {"heat_in_J": q_in, "stored_J": st, "lost_J": lo, "residual_rel": res}
+        if hasattr(plate, "point_peak"):            # fe3d: its fixed material point (radius_m, 0) on the face
+            entry["point_radius_m"] = plate.point_xy[0]
+            entry["point_T_end_C"] = plate.point_temperature()
+            entry["point_T_peak_C"], entry["point_t_peak_s"] = plate.point_peak
         fixed_point = sim.plate_params[i].model == "fe1d" and sim.plate_params[i].source == "fixed-point"
         if fixed_point:
             # the column at r0 receives the flux only while the footprint covers it

@@ -85,7 +85,7 @@ def _plate_default(name):
 
 
 THERMAL_KEYS = {name: (kind, _plate_default(name), check) for name, kind, check in (
-    ("model", ("none", "lumped", "fe1d", "axisym"), None),
+    ("model", ("none", "lumped", "fe1d", "axisym", "fe3d"), None),
     ("source", ("follow-pad", "fixed-point"), None),
     ("radius_m", "float", _nonneg),
     ("T0_C", "float", _temp),
@@ -102,7 +102,9 @@ THERMAL_KEYS = {name: (kind, _plate_default(name), check) for name, kind, check 
     ("exchange_area_m2", "float", _nonneg),
     ("n_elements", "int", _atleast(2)),
     ("grading", "float", _atleast(1.0)),
-    ("nr", "int", _atleast(2)),
+    ("nr", "int", lambda x: None if x == 0 or x >= 2 else "must be 0 (automatic) or >= 2"),
+    ("per_radius", "int", _atleast(10)),
+    ("step_multiple", "int", _atleast(1)),
     ("nz", "int", _atleast(2)),
     ("scheme", ("bdf2", "cn", "be"), None),
     ("mesh_file", "str", None),
@@ -119,7 +121,9 @@ LOADING_KEYS = {
     "displacement": {"waveform": (("sine", "circle", "figure-eight"), "sine", None),
                      "amplitude_m": ("float", REQUIRED, _pos),
                      "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos),
-                     "direction_deg": ("float", 0.0, None)},
+                     "direction_deg": ("float", 0.0, None),
+                     # the machine holds the vertical load (force control), or the mass rides on the bearing
+                     "vertical": (("constant", "riding-mass"), "constant", None)},
     "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
               "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
@@ -527,13 +531,20 @@ def _cross_checks(ctx: _Ctx, data: dict):
         check_steps(ctx.path, sol["dt"], length)
     for side in ("lower", "upper"):
         t = data["thermal"][side]
-        n_key = {"fe1d": "n_elements", "axisym": "nz"}.get(t["model"])
+        n_key = {"fe1d": "n_elements", "axisym": "nz", "fe3d": "nz"}.get(t["model"])
         if n_key and t["grading"] > 1.0:
             n, g = t[n_key], t["grading"]
             first = (g - 1.0) / (g ** min(n, 10000) - 1.0) if n * math.log(g) < 700 else 0.0
             if first < 1e-9:
                 ctx.fail(f"thermal.{n_key}", n, f"with grading = {g:g} the first element is {first:.1e} of the "
                          "thickness (< 1e-9): lower the grading or the element count")
+        if t["model"] == "axisym" and t["nr"] and not t["mesh_file"]:
+            a = dev["pad_diameter"] / 2
+            per = t["nr"] * a / t["plate_radius"]           # uniform mesh of nr elements
+            if per < 10:
+                ctx.fail("thermal.nr", t["nr"], f"gives {per:.3g} elements per footprint radius a = {a:g} m on "
+                         f"a {t['plate_radius']:g} m plate; at least 10 needed (>= {math.ceil(10 * t['plate_radius'] / a)}, "
+                         "or 0: automatic, per_radius over the footprint's band)")
         if t["source"] == "fixed-point" and t["radius_m"] > t["plate_radius"]:
             ctx.fail("thermal.radius_m", t["radius_m"], f"must be <= plate_radius = {t['plate_radius']:g} m")
         if dev["pad_diameter"] / 2 > t["plate_radius"] and t["model"] != "none":

@@ -49,7 +49,8 @@ class Case:
 
 
 def model_available(model: str) -> bool:
-    mod = {"fe1d": "fpd.thermal.fe1d", "axisym": "fpd.thermal.axisym", "two-phase": "fpd.mechanics.two_phase"}.get(model)
+    mod = {"fe1d": "fpd.thermal.fe1d", "axisym": "fpd.thermal.axisym", "fe3d": "fpd.thermal.fe3d",
+           "two-phase": "fpd.mechanics.two_phase"}.get(model)
     return mod is None or importlib.util.find_spec(mod) is not None
 
 
@@ -223,8 +224,11 @@ COMPARE_MODELS = (
     # only while the pad covers it, about half of the time
     ("fe1d fixed-point", "fe1d", {"model": "fe1d", "source": "fixed-point", "radius_m": "a"}),
     ("axisym", "axisym", {"model": "axisym"}),
+    # the reference where it runs: the footprint as it is, no ring average (issue 13)
+    ("fe3d", "fe3d", {"model": "fe3d"}),
 )
-FAST_COMPARE = {"duration": 8.0, "n_elements": 40, "nr": 24, "nz": 12}
+FAST_COMPARE = {"duration": 8.0, "n_elements": 40, "nr": 0, "per_radius": 10, "nz": 12}
+REFERENCES = ("fe3d", "axisym", "fe1d follow-pad")      # the first that ran is the reference
 
 
 def compare_cases(scene_arg, fast=False, log=lambda s: None) -> tuple[list[Case], dict]:
@@ -245,8 +249,9 @@ def compare_cases(scene_arg, fast=False, log=lambda s: None) -> tuple[list[Case]
             keys["radius_m"] = 0.5 * base["device"]["pad_diameter"]
         if fast and model == "fe1d":
             keys["n_elements"] = FAST_COMPARE["n_elements"]
-        if fast and model == "axisym":
+        if fast and model in ("axisym", "fe3d"):
             keys["nr"], keys["nz"] = FAST_COMPARE["nr"], FAST_COMPARE["nz"]
+            keys["per_radius"] = FAST_COMPARE["per_radius"]
         c = run_case(scene_arg, extra + thermal_set(**keys), label)
         log(f"compare: {label}: {c.m['status']}, {c.runtime_s:.2f} s, peak T {c.m['peak_T1_C']:.2f} C")
         cases.append(c)
@@ -255,7 +260,7 @@ def compare_cases(scene_arg, fast=False, log=lambda s: None) -> tuple[list[Case]
 
 def _reference(cases):
     by = {c.label: c for c in cases}
-    for label in ("axisym", "fe1d follow-pad"):
+    for label in REFERENCES:
         if label in by and by[label].ok:
             return by[label]
     return None
@@ -290,8 +295,8 @@ def cmd_compare(args) -> int:
     try:
         rows = compare_rows(cases)
         cols = ["model", "plate", "status", "peak_T_C", "end_T_C", "min_mu", "friction_work_J", "peak_u_m",
-                "residual_u_m", "runtime_s", "err_peak_T_K", "err_end_T_K", "err_peak_rise_rel",
-                "err_friction_work_rel", "err_peak_u_m"]
+                "residual_u_m", "runtime_s", "mu_at_peak_T", "err_peak_T_K", "err_end_T_K", "err_peak_rise_rel",
+                "err_mu_at_peak_T", "err_friction_work_rel", "err_peak_u_m"]
         write_rows(folder.path("compare.csv"), rows, cols)
         plots = compare_plots(folder.subdir("plots"), cases, name)
         ref = _reference(cases)
@@ -306,7 +311,14 @@ def cmd_compare(args) -> int:
         raise
     folder.commit()
     if not args.quiet:
-        print(f"compare {name}: {len(cases)} models; results in {out}/")
+        print(f"compare {name}: {len(cases)} models; reference {ref.label if ref else 'none'}; results in {out}/")
+        for r in rows:
+            if ref is not None and r["model"] != ref.label:
+                print(f"  {r['model']:17s} {r['plate']:5s} peak T {r['peak_T_C']:8.3f} C "
+                      f"(err {r.get('err_peak_T_K', float('nan')):+.3f} K), mu at peak "
+                      f"{r['mu_at_peak_T']:.5f} (err {r.get('err_mu_at_peak_T', float('nan')):+.5f}), "
+                      f"work err {100 * r.get('err_friction_work_rel', float('nan')):+.3f} %, "
+                      f"peak u err {1e3 * r.get('err_peak_u_m', float('nan')):+.3f} mm")
     return EXIT_OK if all(c.ok for c in cases) else EXIT_FAILED
 
 
@@ -326,8 +338,10 @@ def compare_rows(cases) -> list[dict]:
                    "peak_T_C": m[f"peak_T{i}_C"], "end_T_C": m[f"end_T{i}_C"], "min_mu": m[f"min_mu{i}"],
                    "friction_work_J": m[f"W{i}_J"], "peak_u_m": m["peak_u_m"],
                    "residual_u_m": m["residual_u_m"], "runtime_s": c.runtime_s}
+            row["mu_at_peak_T"] = _mu_at_peak(c, i)
             if ref is not None and c is not ref:
                 r = ref.m
+                row["err_mu_at_peak_T"] = row["mu_at_peak_T"] - _mu_at_peak(ref, i)
                 T0 = c.scene.thermal(plate)["T0_C"]
                 row["err_peak_T_K"] = m[f"peak_T{i}_C"] - r[f"peak_T{i}_C"]
                 row["err_end_T_K"] = m[f"end_T{i}_C"] - r[f"end_T{i}_C"]
@@ -340,10 +354,18 @@ def compare_rows(cases) -> list[dict]:
     return rows
 
 
+def _mu_at_peak(case, i) -> float:
+    """mu of interface i at the moment its surface temperature peaks."""
+    r = case.result
+    if r is None or not r.n_rows or f"T{i}_C" not in r or f"mu{i}" not in r:
+        return float("nan")
+    return float(r[f"mu{i}"][int(np.argmax(r[f"T{i}_C"]))])
+
+
 def compare_plots(folder: Path, cases, name) -> list[str]:
     plt = _plt()
     made = []
-    styles = {"lumped": "-", "fe1d follow-pad": "-", "fe1d fixed-point": "--", "axisym": "-."}
+    styles = {"lumped": "-", "fe1d follow-pad": "-", "fe1d fixed-point": "--", "axisym": "-.", "fe3d": ":"}
     ok = [c for c in cases if c.result is not None and c.result.n_rows > 1]
     fig, ax = plt.subplots(figsize=(7.5, 4))
     for c in ok:
@@ -395,9 +417,10 @@ def compare_report(name, cases, rows, missing, ref, val, fast, plots) -> str:
     if fast:
         L.append("Fast version (shortened duration, coarse meshes): numbers are indicative only.\n")
     L.append(f"Reference: **{ref.label if ref else 'none'}**"
-             + ("" if ref is None or ref.label == "axisym" else
-                " (axisym is not available in this checkout, so the fe1d follow-pad column, the "
-                "upper bound of conduction under the pad, stands in for it)") + ".\n")
+             + ("" if ref is None or ref.label == "fe3d" else
+                " (fe3d did not run, so the next model of " + ", ".join(REFERENCES)
+                + " stands in for it; axisym averages an off-centre footprint into a ring and "
+                "runs low, the fe1d follow-pad column is an upper bound)") + ".\n")
     for lab, why in missing.items():
         L.append(f"- `{lab}`: not run ({why}).")
     if missing:
@@ -413,6 +436,7 @@ def compare_report(name, cases, rows, missing, ref, val, fast, plots) -> str:
                      fmt(r.get("err_end_T_K", float("nan")), "+.2f"),
                      fmt(100 * r.get("err_friction_work_rel", float("nan")), "+.2f")])
     L.append(md_table(hdr, body))
+    L += _errors_vs_reference(rows, ref)
     lump = by.get("lumped")
     fp = by.get("fe1d follow-pad")
     L.append("## How far the paper's lumped plate is from conduction\n")
@@ -474,6 +498,23 @@ def compare_report(name, cases, rows, missing, ref, val, fast, plots) -> str:
     return "\n".join(L) + "\n"
 
 
+def _errors_vs_reference(rows, ref) -> list[str]:
+    """Each model's error against the reference: peak surface temperature, mu
+    at that moment, friction work, peak displacement (issue 13)."""
+    if ref is None:
+        return []
+    L = [f"## Error of each model against {ref.label}\n"]
+    hdr = ["model", "plate", "peak T err (K)", "peak rise err (%)", "mu at peak T", "mu err",
+           "friction work err (%)", "peak u err (mm)", "run time (s)"]
+    body = [[r["model"], r["plate"], fmt(r.get("err_peak_T_K", float("nan")), "+.3f"),
+             fmt(100 * r.get("err_peak_rise_rel", float("nan")), "+.2f"), fmt(r["mu_at_peak_T"], ".5f"),
+             fmt(r.get("err_mu_at_peak_T", float("nan")), "+.5f"),
+             fmt(100 * r.get("err_friction_work_rel", float("nan")), "+.3f"),
+             fmt(1e3 * r.get("err_peak_u_m", float("nan")), "+.3f"), fmt(r["runtime_s"], ".2f")]
+            for r in rows if r["model"] != ref.label]
+    return L + [md_table(hdr, body)]
+
+
 # ======================================================================================
 # fpd converge
 # ======================================================================================
@@ -512,7 +553,8 @@ def closed_form(scene):
             rise, what = float(exact.slab_flux(0.0, dur, q, t["k"], kappa, H)[0]), "slab, adiabatic back"
         else:
             return None
-    elif t["model"] == "axisym" and deep > 1.75 and t["plate_radius"] - a > 3.5 * math.sqrt(kappa * dur):
+    elif (t["model"] in ("axisym", "fe3d") and deep > 1.75
+          and (t["plate_radius"] * (0.886 if t["model"] == "fe3d" else 1.0) - a) > 3.5 * math.sqrt(kappa * dur)):
         rise, what = float(exact.disk_mean(dur, q, a, t["k"], kappa)), "disk source on a half-space"
     elif t["model"] == "lumped":
         from fpd.thermal.params import PlateParams
@@ -591,9 +633,11 @@ def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
     if has_exact and model == "fe1d":
         dt_mesh = thermal_set(n_elements=8 * t["n_elements"], grading=t["grading"] ** 0.125)
     if fast and model == "axisym":
-        dt_mesh = thermal_set(nr=max(8, t["nr"] // 4), nz=max(4, t["nz"] // 4))
+        dt_mesh = thermal_set(nr=0, per_radius=10, nz=max(4, t["nz"] // 4))
+    if fast and model == "fe3d":
+        dt_mesh = thermal_set(per_radius=10, nz=max(4, t["nz"] // 4))
     sweeps = [Sweep("dt", "solver.dt", [(f"dt={d:.6g}", [f"solver.dt={d!r}"] + dt_mesh, d) for d in dts],
-                    exact=has_exact and model != "axisym")]
+                    exact=has_exact and model not in ("axisym", "fe3d"))]
     fine_dt = [f"solver.dt={dts[-1] / (4 if has_exact and model == 'fe1d' else 1)!r}"]
     if model == "fe1d":
         n0, g0 = t["n_elements"], t["grading"]
@@ -607,25 +651,54 @@ def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
             levels.append((f"n_elements={n}, grading={g:.5g}", fine_dt + thermal_set(n_elements=n, grading=g), h1))
         sweeps.append(Sweep("mesh", "thermal.n_elements", levels, exact=has_exact))
     elif model == "axisym":
-        nr0, nz0 = t["nr"], t["nz"]
-        if fast:
-            nr0, nz0 = max(8, nr0 // 4), max(4, nz0 // 4)
+        # r: the automatic footprint mesh (nr = 0) at 10, 20, 40 elements per
+        # footprint radius (fewer than 10 is refused at load)
+        a = 0.5 * scene["device"]["pad_diameter"]
+        nz0 = max(4, t["nz"] // 4) if fast else t["nz"]
+        per0 = 20
         r_lv, z_lv, b_lv = [], [], []
         for k in range(3):
-            nr = max(2, nr0 * 2 ** k // 2)
+            per = per0 * 2 ** k // 2
             nz = max(2, nz0 * 2 ** k // 2)
             g = t["grading"] ** (1.0 / 2 ** (k - 1))      # z is graded: keep the family nested
-            r_lv.append((f"nr={nr}", fine_dt + thermal_set(nr=nr, nz=nz0), t["plate_radius"] / nr))
-            z_lv.append((f"nz={nz}, grading={g:.5g}", fine_dt + thermal_set(nr=nr0, nz=nz, grading=g),
+            r_lv.append((f"per_radius={per}", fine_dt + thermal_set(nr=0, per_radius=per, nz=nz0), a / per))
+            z_lv.append((f"nz={nz}, grading={g:.5g}", fine_dt + thermal_set(nr=0, per_radius=per0, nz=nz, grading=g),
                          t["plate_thickness"] / nz))
-            b_lv.append((f"nr={nr}, nz={nz}", fine_dt + thermal_set(nr=nr, nz=nz, grading=g),
-                         t["plate_radius"] / nr))
+            b_lv.append((f"per_radius={per}, nz={nz}", fine_dt + thermal_set(nr=0, per_radius=per, nz=nz, grading=g),
+                         a / per))
         # one direction at a time keeps the other's error: Richardson removes
         # it; both together are measured against the closed form if any
-        sweeps += [Sweep("mesh-r", "thermal.nr", r_lv), Sweep("mesh-z", "thermal.nz", z_lv)]
+        sweeps += [Sweep("mesh-r", "thermal.per_radius", r_lv), Sweep("mesh-z", "thermal.nz", z_lv)]
         if has_exact:
-            sweeps.append(Sweep("mesh", "thermal.nr+nz", b_lv, exact=True))
+            sweeps.append(Sweep("mesh", "thermal.per_radius+nz", b_lv, exact=True))
+    elif model == "fe3d":
+        sweeps += fe3d_sweeps(scene, t, fine_dt, fast, has_exact)
     return sweeps, base
+
+
+def fe3d_sweeps(scene, t, fine_dt, fast, has_exact) -> list:
+    """fe3d (issue 13): the face mesh (per_radius 10, 20, 40 elements per
+    footprint radius, nz held), the depth mesh (nz halved and doubled, the
+    grading kept nested) and the thermal step (step_multiple 40, 20, 10, 5
+    mechanical steps); each against its Richardson limit (a heat scene's
+    closed form is reported as closed_form_error_finest)."""
+    a = 0.5 * scene["device"]["pad_diameter"]
+    nz0 = max(4, t["nz"] // 4) if fast else t["nz"]
+    per0 = 10 if fast else t["per_radius"]
+    xy, zz = [], []
+    for k in range(3):
+        per = 10 * 2 ** k
+        nz = max(2, nz0 * 2 ** k // 2)
+        g = t["grading"] ** (1.0 / 2 ** (k - 1))
+        xy.append((f"per_radius={per}", fine_dt + thermal_set(per_radius=per, nz=nz0), a / per))
+        zz.append((f"nz={nz}, grading={g:.5g}", fine_dt + thermal_set(per_radius=per0, nz=nz, grading=g),
+                   t["plate_thickness"] / nz))
+    steps = [(f"step_multiple={m}", thermal_set(per_radius=per0, nz=nz0, step_multiple=m), float(m))
+             for m in (40, 20, 10, 5)]
+    # the face mesh against its Richardson limit: the held depth mesh leaves an
+    # error floor against a closed form (closed_form_error_finest reports it)
+    return [Sweep("mesh-xy", "thermal.per_radius", xy), Sweep("mesh-z", "thermal.nz", zz),
+            Sweep("thermal-step", "thermal.step_multiple", steps)]
 
 
 def cmd_converge(args) -> int:
@@ -711,7 +784,9 @@ def _mesh_label(scene) -> str:
     if t["model"] == "fe1d":
         return f"n_elements={t['n_elements']} grading={t['grading']:.5g}"
     if t["model"] == "axisym":
-        return f"nr={t['nr']} nz={t['nz']}"
+        return (f"nr={t['nr']} nz={t['nz']}" if t["nr"] else f"per_radius={t['per_radius']} nz={t['nz']}")
+    if t["model"] == "fe3d":
+        return f"per_radius={t['per_radius']} nz={t['nz']} step_multiple={t['step_multiple']}"
     return t["model"]
 
 

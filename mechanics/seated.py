@@ -175,10 +175,26 @@ class SeatedTestMachine(_SeatedBase):
         F L cos(theta) = I theta'' - S u'' cos(theta) + S g sin(theta) + cap sgn(theta')
 
     with the normal forces increased by the restraint's axial share F sin(theta).
+
+    ``vertical``: "constant" (default) - the machine's actuator holds the
+    vertical load at M g (force control, as a real rig): the riding mass has
+    no inertia, only its weight, so I and the inertial S lose M L^2 and M L and
+    N2 = M g cos(theta) + F sin(theta); "riding-mass" - the superstructure mass
+    M rides up and down under its weight (its vertical inertia adds to the
+    normal forces: M (g cos + u'' sin + L theta'^2)).
     """
 
-    def __init__(self, geom: DeviceGeometry, programme):
+    VERTICAL = ("constant", "riding-mass")
+
+    def __init__(self, geom: DeviceGeometry, programme, vertical: str = "constant"):
         super().__init__(geom, programme.dt, programme.n_steps)
+        if vertical not in self.VERTICAL:
+            raise ValueError(f"vertical must be one of {self.VERTICAL}, got {vertical!r}")
+        self.vertical = vertical
+        self._Sin, self._Mv = self._S, 1.0           # inertial S and the riding mass's inertia factor
+        if vertical == "constant":
+            self._I = self._I - self._M * self._L ** 2
+            self._Sin, self._Mv = self._S - self._M * self._L, 0.0
         self.prog = programme
         self._u = float_array(programme.u)
         self._ud = float_array(programme.ud)
@@ -208,11 +224,11 @@ class SeatedTestMachine(_SeatedBase):
         c, s = math.cos(th), math.sin(th)
         thd = ud / (L * c)
         thdd = (udd + L * s * thd * thd) / (L * c)
-        N2_0 = M * (g * c + udd * s + L * thd * thd)
+        N2_0 = M * (g * c + self._Mv * (udd * s + L * thd * thd))
         N1_0 = N2_0 + m * (g * c + udd * s + rho * thd * thd)
         cap0 = mu1 * N1_0 * self._R1 + mu2 * N2_0 * self._R2
         k = mu1 * self._R1 + mu2 * self._R2
-        A = I * thdd - S * udd * c + S * g * s
+        A = I * thdd - self._Sin * udd * c + S * g * s
         F = (A + sgn * cap0) / (L * c - sgn * s * k)
         return th, thd, thdd, F, N1_0 + F * s, N2_0 + F * s, c
 
@@ -230,17 +246,17 @@ class SeatedTestMachine(_SeatedBase):
         dW2 = mu2 * 0.5 * (N2a + N2) * self._R2 * adth
         # ground-frame input: the restraint's generalised force plus the
         # d'Alembert force of the moving lower plate (trapezoidal in theta)
-        Q0 = (Fa * self._L + self._S * self._udd[i0]) * ca
+        Q0 = (Fa * self._L + self._Sin * self._udd[i0]) * ca
         stop = self._smooth.get(i1) if i0 not in self._smooth else None
         if stop is None:
-            Q1 = (F * self._L + self._S * self._udd[i1]) * c
+            Q1 = (F * self._L + self._Sin * self._udd[i1]) * c
             self.E_in += 0.5 * (Q0 + Q1) * dth
         else:
             # the machine stops the bearing inside this step: the smooth
             # branch's input up to the stop, then the stopping impulse, whose
             # work is the kinetic energy it removes (at fixed position)
             _, thd_s, _, F_s, _, _, _ = self._state_at(i1, mu1, mu2, sgn, stop)
-            Q1 = (F_s * self._L + self._S * stop[1]) * c
+            Q1 = (F_s * self._L + self._Sin * stop[1]) * c
             self.E_in += 0.5 * (Q0 + Q1) * dth + 0.5 * self._I * (thd * thd - thd_s * thd_s)
         self.theta, self.thetad, self.F, self.N1, self.N2 = th, thd, F, N1, N2
         self.W1 += dW1

@@ -46,6 +46,21 @@ def radial_nodes(R: float, nr: int, band_r: float | None = None,
     return np.concatenate((np.linspace(0, band_r, n_in + 1), out))
 
 
+def footprint_radial_nodes(R: float, a: float, per_radius: int, sweep: float = -1.0) -> np.ndarray:
+    """The automatic radial mesh (thermal.nr = 0): elements of a / per_radius
+    over the band [0, sweep + a] the footprint covers (the whole radius when
+    sweep < 0: it may go anywhere), then growing by 10 % per element to R."""
+    from fpd.meshes.box import banded_nodes
+
+    band = R if sweep < 0 else min(R, sweep + a)
+    return banded_nodes(R, band, a / per_radius)
+
+
+def elements_per_radius(R: float, a: float, nr: int) -> float:
+    """Elements per footprint radius of the uniform mesh of nr elements."""
+    return nr * a / R
+
+
 def depth_nodes(thickness: float, nz: int, grading: float) -> np.ndarray:
     """z from -t to 0, graded toward the sliding face (as meshes.line)."""
     return -graded_nodes(thickness, nz, grading)[::-1].copy()
@@ -63,14 +78,16 @@ def _named(mesh, tol: float):
 
 
 def rz_mesh(R: float, thickness: float, nr: int, nz: int, grading: float = 1.0,
-            band_r: float | None = None, band_fraction: float = 0.75, triangles: bool = False):
+            band_r: float | None = None, band_fraction: float = 0.75, triangles: bool = False,
+            r_nodes: np.ndarray | None = None):
     """Structured quad (or triangle) mesh of the section, named boundaries.
+    ``r_nodes``: the radii to use (0..R) instead of radial_nodes(R, nr, ...).
 
     Nodes are numbered through the thickness first, so the matrix bandwidth
     is nz + 2 and a sparse LU has little fill."""
     from skfem import MeshQuad, MeshTri
 
-    r = radial_nodes(R, nr, band_r, band_fraction)
+    r = radial_nodes(R, nr, band_r, band_fraction) if r_nodes is None else np.asarray(r_nodes, dtype=float)
     z = depth_nodes(thickness, nz, grading)
     mesh = (MeshTri if triangles else MeshQuad).init_tensor(r, z)
     return _named(mesh, 1e-9 * max(R, thickness))

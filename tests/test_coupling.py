@@ -15,11 +15,13 @@ def run(name, *over):
 
 
 @pytest.mark.parametrize("mech", ["two-phase", "seated"])
-@pytest.mark.parametrize("model", ["lumped", "fe1d", "axisym"])
+@pytest.mark.parametrize("model", ["lumped", "fe1d", "axisym", "fe3d"])
 def test_coupled_ledgers_close(mech, model):
     over = [f"mechanics.model={mech}", f"thermal.model={model}", "solver.duration=6", "loading.scale=1.5"]
     if model == "axisym":
-        over += ["thermal.nr=30", "thermal.nz=20"]
+        over += ["thermal.nr=0", "thermal.per_radius=10", "thermal.nz=20"]
+    if model == "fe3d":
+        over += ["thermal.per_radius=10", "thermal.nz=10", "thermal.grading=1.3", "thermal.step_multiple=7"]
     sim, res = run("default", *over)
     for i, plate in enumerate(res.plates, start=1):
         W = res[f"W{i}_J"][-1]

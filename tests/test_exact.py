@@ -86,3 +86,31 @@ def test_lumped_newton():
 def test_halfspace_surface_alias():
     assert exact.halfspace_surface(Q, 10.0, K, RHO, C) == pytest.approx(
         exact.halfspace_flux_surface(10.0, Q, K, KAPPA), rel=1e-14)
+
+
+def test_moving_disk_closed_forms_limits():
+    """Jaeger's moving disk: at V = 0 the stationary disk's steady centre q a/k
+    and mean 8 q a/(3 pi k); the switched-on solution at V = 0 is the
+    stationary disk's (C&J 10.5 and the footprint mean) to 1e-12; moving, it
+    tends to the quasi-steady values once the disk has travelled far (the
+    tail behind it is the slow part at small Peclet numbers)."""
+    from fpd.thermal import exact
+    q, a, k, kap = 1e6, 0.01, 16.0, 4e-6
+    assert abs(exact.moving_disk_centre(q, a, k, kap, 0.0) / (q * a / k) - 1) < 1e-13
+    assert abs(exact.moving_disk_mean(q, a, k, kap, 0.0) / (8 * q * a / (3 * math.pi * k)) - 1) < 1e-12
+    for t in (0.3, 10.0):
+        assert abs(exact.moving_disk_transient(t, q, a, k, kap, 0.0, mean=False)
+                   / exact.disk_centre(t, q, a, k, kap) - 1) < 1e-12
+        assert abs(exact.moving_disk_transient(t, q, a, k, kap, 0.0, mean=True)
+                   / exact.disk_mean(t, q, a, k, kap) - 1) < 1e-12
+    for Pe in (0.1, 1.0, 10.0):
+        V = 2 * kap * Pe / a
+        t = 200 * a / V
+        assert abs(exact.moving_disk_transient(t, q, a, k, kap, V, mean=True)
+                   / exact.moving_disk_mean(q, a, k, kap, V) - 1) < 1e-4
+        assert abs(exact.moving_disk_transient(t, q, a, k, kap, V, mean=False)
+                   / exact.moving_disk_centre(q, a, k, kap, V) - 1) < 1e-4
+    # faster than the disk's own diffusion the mean tends to the 1D column's value
+    V = 2 * kap * 200 / a
+    ratio = exact.moving_disk_mean(q, a, k, kap, V) / (8 * q * a / (3 * math.pi * k))
+    assert ratio < 0.2

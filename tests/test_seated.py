@@ -33,22 +33,55 @@ def test_test_machine_loop_area_and_peak_force(mu1, mu2, R2):
     assert np.max(F) == pytest.approx(W * U / L + W * k_f / L, rel=0.01)
 
 
-def test_test_machine_ledger_closes():
+@pytest.mark.parametrize("vertical", ["constant", "riding-mass"])
+def test_test_machine_ledger_closes(vertical):
     geom = dfp()
-    _, _, tm = _loop(geom, 0.2, MU, MU, dt=1e-3)
+    prog = sine_programme(0.2, 0.2, 3, 1e-3)
+    tm = SeatedTestMachine(geom, prog, vertical)
+    run(tm, MU, MU)
     assert abs(tm.ledger_residual()) < 1e-6 * tm.E_in
+
+
+def test_test_machine_holds_the_vertical_load():
+    """Issue 13: by default the actuator holds the vertical load (force
+    control): N2 = M g cos(theta) + F sin(theta) exactly, at every step; with
+    the riding mass its vertical inertia adds M (u'' sin + L theta'^2), most
+    at peak velocity (+M L theta'^2)."""
+    geom = dfp()
+    prog = sine_programme(0.2, 0.4, 2, 1e-3)
+    tc, tr = SeatedTestMachine(geom, prog), SeatedTestMachine(geom, prog, "riding-mass")
+    assert tc.vertical == "constant"
+    worst, gain = 0.0, 0.0
+    for _ in range(prog.n_steps):
+        tc.step(MU, MU)
+        tr.step(MU, MU)
+        c, s = math.cos(tc.theta), math.sin(tc.theta)
+        worst = max(worst, abs(tc.N2 - (geom.mass * geom.g * c + tc.F * s)) / geom.weight)
+        gain = max(gain, (tr.N2 - tc.N2) / geom.weight)
+    assert worst < 1e-12
+    # peak velocity 2 pi f U = 0.50 m/s: M L theta'^2 / (M g) = v^2 / (g L) ~ 1.2 %
+    v = 2 * math.pi * 0.4 * 0.2
+    assert gain == pytest.approx(v * v / (geom.g * geom.L), rel=0.1)
+    with pytest.raises(ValueError):
+        SeatedTestMachine(geom, prog, "floating")
 
 
 @pytest.mark.parametrize("cycles", [3.0, 2.9, 2.9013])
 def test_test_machine_ledger_closes_when_the_machine_stops(cycles):
     """The run lasts past the programme: the machine stops the bearing (on the
     grid or between two grid points) and the stopping impulse takes the kinetic
-    energy out; the ledger counts it as (negative) input work."""
+    energy out; the ledger counts it as (negative) input work. With the
+    riding mass (its kinetic energy is large); with the held vertical load
+    the moving inertia is the pad's alone, and the ledger still closes."""
     geom = dfp()
     prog = sine_programme(0.2, 0.4, cycles, 1e-3, duration=8.0)
-    tm = SeatedTestMachine(geom, prog)
+    tm = SeatedTestMachine(geom, prog, "riding-mass")
     h = run(tm, MU, MU, record=("E_in", "E_kin"))
     assert tm.thetad == 0.0 and h["E_kin"].max() > 0.05 * tm.E_in      # it moved, then stopped
+    assert abs(tm.ledger_residual()) < 1e-6 * tm.E_in
+    tm = SeatedTestMachine(geom, prog)
+    h = run(tm, MU, MU, record=("E_in", "E_kin"))
+    assert tm.thetad == 0.0 and h["E_kin"].max() > 0
     assert abs(tm.ledger_residual()) < 1e-6 * tm.E_in
 
 

@@ -33,7 +33,7 @@ from scipy.linalg import eigh, lapack
 from scipy.sparse.linalg import splu
 
 from fpd.meshes.line import graded_nodes
-from fpd.meshes.rz import read_rz_mesh, rz_mesh
+from fpd.meshes.rz import footprint_radial_nodes, read_rz_mesh, rz_mesh
 from fpd.thermal.jit import OptionalKernels
 from fpd.thermal.params import PlateParams
 from fpd.thermal.stepping import Integrator
@@ -572,7 +572,11 @@ class AxisymPlate:
                 if dz.min() < 1e-9 * p.plate_thickness:
                     raise ValueError(f"thermal: nz={p.nz} with grading={p.grading} gives a first element "
                                      f"of {dz.min():.1e} m (< 1e-9 of the thickness); lower the grading")
-                mesh = rz_mesh(p.plate_radius, p.plate_thickness, p.nr, p.nz, p.grading, band_r)
+                r_nodes = None
+                if p.nr == 0 and band_r is None:      # automatic: resolve the footprint (docs/thermal.md, 5)
+                    r_nodes = footprint_radial_nodes(p.plate_radius, p.a_contact_m, p.per_radius, p.sweep_m)
+                mesh = rz_mesh(p.plate_radius, p.plate_thickness, max(p.nr, 1), p.nz, p.grading, band_r,
+                               r_nodes=r_nodes)
         self.mesh = mesh
         conv_faces = ("top", "outer") + (("bottom",) if p.back == "convection" else ())
         M, K, C = assemble_section(mesh, p.rho * p.c, p.k, p.h_conv, conv_faces)

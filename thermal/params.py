@@ -10,12 +10,13 @@ class PlateParams:
     """One steel plate and the thermal model chosen for it.
 
     Geometry: a disk of radius ``plate_radius`` and thickness
-    ``plate_thickness``; the sliding face is the top face (z = 0 in the FE
+    ``plate_thickness`` (fe3d: the square of the same area, side
+    sqrt(pi) R); the sliding face is the top face (z = 0 in the FE
     models, depth measured into the plate). The pad's contact footprint is a
     disk of radius ``a_contact_m`` (the pad radius, D / 2).
     """
 
-    model: str = "lumped"            # none | lumped | fe1d | axisym
+    model: str = "lumped"            # none | lumped | fe1d | axisym | fe3d
     source: str = "follow-pad"       # follow-pad | fixed-point
     radius_m: float = 0.0            # fixed-point: radius r0 of the material point
     T0_C: float = 20.0
@@ -32,11 +33,16 @@ class PlateParams:
     exchange_area_m2: float = 0.0    # lumped: area A_i of Eq. (10); 0 -> the plate's top face
     n_elements: int = 100            # fe1d: elements through the thickness
     grading: float = 1.05            # fe1d/axisym: geometric ratio of element sizes away from the sliding face
-    nr: int = 60                     # axisym: elements in r
+    nr: int = 0                      # axisym: elements in r; 0: automatic (per_radius over the swept band, graded beyond)
+    per_radius: int = 20             # axisym (nr = 0) and fe3d: elements per footprint radius where the footprint goes
+    step_multiple: int = 10          # fe3d: one thermal step every step_multiple mechanical steps
     nz: int = 60                     # axisym: elements in z (60 with grading 1.05: 0.06 K on the 1 MW/m2, 10 s check)
     scheme: str = "bdf2"             # bdf2 | cn | be
     mesh_file: str = ""              # axisym: a user's r-z mesh (any meshio format)
     a_contact_m: float = 0.125       # pad footprint radius (m), from [device]
+    # not scene keys: set by coupling/build.py from the loading
+    sweep_m: float = -1.0            # largest |centre| the footprint reaches (m); < 0: anywhere on the plate
+    sweep_y_m: float = 0.0           # fe3d: largest |y| of the path (bidirectional runs); 0: a planar path
 
     @property
     def contact_area(self) -> float:
