@@ -15,7 +15,7 @@ the table's ``law`` / ``kind`` may be described per variant as
 ``"friction.<law>.<key>"`` / ``"loading.<kind>.<key>"``, which takes
 precedence over ``"friction.<key>"`` / ``"loading.<key>"``. Summary fields are
 dotted paths into summary.json, ``*`` standing for a plate (``lower`` /
-``upper``).
+``upper``; a TFP also ``slider_lower`` / ``slider_upper``).
 """
 from __future__ import annotations
 
@@ -36,19 +36,45 @@ KEYS: dict[str, tuple[str, str]] = {
     "description": ("", "One line shown by `fpd scenes`."),
 
     # [device]
-    "device.kind": ("", '"DFP": planar double friction pendulum (two concave plates, one rigid pad); '
+    "device.kind": ("", '"DFP": double friction pendulum (two concave plates, one rigid pad); '
                         '"SFP": single friction pendulum (seated model only; R1 is its concave radius, '
-                        'pad_height its pivot height).'),
-    "device.R1": ("m", "Radius of the lower concave sliding surface."),
-    "device.R2": ("m", "Radius of the upper concave sliding surface (required for a DFP; an SFP takes R1)."),
-    "device.pad_height": ("m", "Pad height h, apex to apex along the pad axis."),
+                        'pad_height its pivot height); "TFP": triple friction pendulum (four concave '
+                        'surfaces S1..S4, two slider plates and a pad; rigid seated model, docs/model.md '
+                        'section 6; [friction.S1]..[friction.S4] and [thermal.slider_lower] / '
+                        '[thermal.slider_upper] override per surface and part); "flat": the flat double '
+                        'friction bearing of the paper\'s Fig. 2 (a cylinder between flat plates, no R1 / '
+                        'R2; docs/model.md section 7).'),
+    "device.R1": ("m", "Radius of the lower concave sliding surface (a TFP: S1, the lower plate's outer "
+                       "surface; not a key of the flat bearing)."),
+    "device.R2": ("m", "Radius of the upper concave sliding surface (required for a DFP; an SFP takes R1; a TFP: "
+                       "S2, the lower slider plate's inner concave surface under the pad)."),
+    "device.R3": ("m", "TFP: radius of S3, the upper slider plate's inner concave surface over the pad."),
+    "device.R4": ("m", "TFP: radius of S4, the upper plate's outer concave surface."),
+    "device.slider_height": ("m", "TFP: height of each slider plate, apex to apex along its axis (used for "
+                                  "the side whose slider_height_lower / slider_height_upper is not given)."),
+    "device.slider_height_lower": ("m", "TFP: height t_l of the lower slider plate, apex to apex; default "
+                                        "slider_height."),
+    "device.slider_height_upper": ("m", "TFP: height t_u of the upper slider plate, apex to apex; default "
+                                        "slider_height."),
+    "device.slider_diameter": ("m", "TFP: diameter of the slider plates; their footprint on S1 and S4 is a "
+                                    "disk of radius slider_diameter / 2."),
+    "device.d1": ("m", "TFP: slide capacity of S1 before its rim (arc from the surface centre): |R1 phi| <= d1."),
+    "device.d2": ("m", "TFP: slide capacity of S2 before its rim (arc): |R2 alpha| <= d2."),
+    "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
+    "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
+    "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "
+                                 "slider_diameter x slider_height_lower (7850 kg/m3)."),
+    "device.pad_height": ("m", "Pad height h, apex to apex along the pad axis (the flat bearing: the "
+                               "cylinder's height H)."),
     "device.pad_diameter": ("m", "Pad diameter D = 2a; the contact footprint is a disk of radius a on each plate."),
-    "device.pad_mass": ("kg", "Pad mass; default: a solid steel cylinder of the pad's size (7850 kg/m3)."),
+    "device.pad_mass": ("kg", "Pad mass (the flat bearing: the cylinder's mass m); default: a solid steel "
+                              "cylinder of the pad's size (7850 kg/m3)."),
     "superstructure.mass": ("kg", "Mass carried by the bearing (its weight is the vertical load)."),
 
     # [friction] (both interfaces; [friction.lower] / [friction.upper] override per interface)
     "friction.law": ("", 'The friction law mu(T, p, v) of the interface; each law has its own keys below. '
-                         'Default "constant".'),
+                         'Default "constant". A TFP has four interfaces: [friction] applies to S1..S4, '
+                         '[friction.S1]..[friction.S4] override it per surface.'),
     "friction.constant.mu": ("", "Friction coefficient."),
     "friction.linear.mu0": ("", "mu at T0_C."),
     "friction.linear.T0_C": ("degC", "Reference temperature of the linear law."),
@@ -76,13 +102,29 @@ KEYS: dict[str, tuple[str, str]] = {
     "loading.record.units": ("", "Acceleration units of a two-column text record (.AT2 files say g)."),
     "loading.record.baseline": ("", "Quadratic-velocity baseline correction of the integrated record "
                                     "(docs/model.md, Loading)."),
+    "loading.record.file_y": ("", "Bidirectional run (DFP, SFP): a record file of the y component (path relative to "
+                                  "the scene file, the formats of file), scaled by scale and baseline-corrected "
+                                  "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
+                                  "components). The x record sets the length; after a shorter y record the "
+                                  "ground stops accelerating in y (docs/bidirectional.md, section 4)."),
+    "loading.record.angle_deg": ("deg", "DFP, SFP: turns the ground-motion pair (x towards y) by this angle before the "
+                                        "run; non-zero with a single component makes the run bidirectional "
+                                        "(the record along the turned direction)."),
     "loading.amplitude_m": ("m", "Amplitude of the sine."),
     "loading.harmonic.amplitude_m": ("m", "Amplitude of the ground displacement."),
     "loading.displacement.amplitude_m": ("m", "Amplitude of the imposed relative displacement (< L, the pad's "
                                               "reach)."),
     "loading.frequency_Hz": ("Hz", "Frequency of the sine."),
     "loading.cycles": ("", "Number of cycles; the loading lasts cycles / frequency_Hz."),
-    "loading.displacement.waveform": ("", "Shape of the imposed relative displacement."),
+    "loading.displacement.waveform": ("", '"sine": u = A sin(w t) along direction_deg; "circle": '
+                                          'u = A (cos w t, sin w t), starting at (A, 0) (placing and launching '
+                                          'the bearing there is input at t = 0); "figure-eight": '
+                                          'u = A (sin w t, sin(2 w t) / 2); A = amplitude_m, w = 2 pi '
+                                          'frequency_Hz. circle and figure-eight are bidirectional orbits '
+                                          '(DFP, SFP; docs/bidirectional.md, section 3).'),
+    "loading.displacement.direction_deg": ("deg", "DFP, SFP: direction of the sine in the plane, from x towards y; "
+                                                  "non-zero makes the run bidirectional. Not used by circle "
+                                                  "and figure-eight."),
     "loading.pulse.shape": ("", '"step": the ground velocity jumps to velocity_mps at t0_s and stays; "cosine": '
                                 'one-sided fling V/2 (1 - cos(2 pi tau / Tp)) for one period; "sine": '
                                 'forward-directivity cycle V sin(2 pi tau / Tp).'),
@@ -99,20 +141,29 @@ KEYS: dict[str, tuple[str, str]] = {
     # [mechanics]
     "mechanics.model": ("", '"two-phase": the paper\'s rigid-body stepper (stick/slip/tilt, pad rocking); '
                             '"seated": the classical seated model (the pad never tilts). A displacement loading '
-                            'always uses the seated test machine.'),
+                            'always uses the seated test machine. A TFP and the flat bearing have their '
+                            'seated model only ("two-phase" is refused).'),
+    "mechanics.normal_force": ("", 'The normal forces of a step: "start": frozen at the start of the step, '
+                                   'the velocity projected on re-seating (the paper\'s section-3 scheme, '
+                                   'first order); "midpoint": at the step midpoint, inside the fixed point '
+                                   '(second order; runs the bidirectional steppers, with a zero y component on '
+                                   'a planar scene). Default: "midpoint" for a bidirectional scene, "start" '
+                                   'otherwise (docs/bidirectional.md, section 2). DFP and SFP only.'),
 
     # [thermal] (both plates; [thermal.lower] / [thermal.upper] override per plate)
     "thermal.model": ("", '"none": no heat; "lumped": the paper\'s lumped plate (Eq. 9-10); "fe1d": conduction '
                           'through the thickness under the pad (scikit-fem); "axisym": r-z conduction in the '
-                          'whole plate.'),
+                          'whole plate. A TFP has four heated parts, [thermal.lower], [thermal.slider_lower], '
+                          '[thermal.slider_upper], [thermal.upper] (heated by S1..S4).'),
     "thermal.source": ("", '"follow-pad": the heated column/footprint moves with the pad; "fixed-point": the '
                            'material point at radius_m, heated only while the footprint covers it (fe1d).'),
     "thermal.radius_m": ("m", "fixed-point source: radius r0 of the material point (<= plate_radius)."),
     "thermal.T0_C": ("degC", "Initial plate temperature."),
     "thermal.T_air_C": ("degC", "Ambient air temperature (convection)."),
     "thermal.heat_share": ("", "Share eta of the interface's friction heat that enters this plate."),
-    "thermal.plate_thickness": ("m", "Plate thickness."),
-    "thermal.plate_radius": ("m", "Plate radius (>= the pad radius)."),
+    "thermal.plate_thickness": ("m", "Plate thickness (a TFP's slider plate: default its height)."),
+    "thermal.plate_radius": ("m", "Plate radius (>= the footprint's radius; a TFP's slider plate: default "
+                                  "slider_diameter / 2)."),
     "thermal.k": ("W/m/K", "Thermal conductivity of the steel."),
     "thermal.rho": ("kg/m3", "Density."),
     "thermal.c": ("J/kg/K", "Specific heat."),
@@ -145,34 +196,95 @@ KEYS: dict[str, tuple[str, str]] = {
     "output.csv_every": ("", "Steps between rows of timeseries.csv (the last step is always written)."),
 }
 
-# -- timeseries.csv columns (1 = lower interface / plate, 2 = upper) ------------------------
+# -- timeseries.csv columns (1 = lower interface / plate, 2 = upper; a TFP: 1..4 = S1..S4) ----
+# A bidirectional run (docs/bidirectional.md) writes the x and y components and the resultants;
+# a TFP (docs/model.md section 6) four surfaces and its two coordinates phi, alpha; the flat
+# bearing (docs/model.md section 7) two slips and tip_ratio.
 COLUMNS: dict[str, tuple[str, str]] = {
     "t_s": ("s", "Time."),
-    "xg_m": ("m", "Ground displacement (test machine: the fixed base, 0)."),
-    "u_m": ("m", "Displacement of the superstructure relative to the ground."),
-    "v_mps": ("m/s", "Velocity of the superstructure relative to the ground."),
+    "xg_m": ("m", "Ground displacement (test machine: the fixed base, 0; bidirectional: its x component)."),
+    "yg_m": ("m", "Bidirectional: y component of the ground displacement."),
+    "u_m": ("m", "Displacement of the superstructure relative to the ground (bidirectional: the resultant "
+                 "|(ux_m, uy_m)|, >= 0)."),
+    "ux_m": ("m", "Bidirectional: x component of the superstructure's displacement relative to the ground "
+                  "(the rocking pad's offset included)."),
+    "uy_m": ("m", "Bidirectional: y component of the superstructure's displacement relative to the ground."),
+    "v_mps": ("m/s", "Velocity of the superstructure relative to the ground (bidirectional: the resultant "
+                     "speed, >= 0)."),
+    "vx_mps": ("m/s", "Bidirectional: x component of the superstructure's velocity relative to the ground."),
+    "vy_mps": ("m/s", "Bidirectional: y component of the superstructure's velocity relative to the ground."),
     "F_N": ("N", "Horizontal force the bearing exerts against the relative displacement (the F-u loop runs "
-                 "clockwise; its area is the dissipated energy)."),
+                 "clockwise; its area is the dissipated energy; bidirectional: the resultant |(Fx_N, Fy_N)|, "
+                 ">= 0)."),
+    "Fx_N": ("N", "Bidirectional: x component of the bearing's horizontal force (same sign convention as F_N)."),
+    "Fy_N": ("N", "Bidirectional: y component of the bearing's horizontal force."),
     "z_m": ("m", "Uplift of the superstructure."),
-    "theta_rad": ("rad", "Seated angle of the line joining the centres of the two surfaces."),
+    "theta_rad": ("rad", "Seated angle of the line joining the centres of the two surfaces (bidirectional: "
+                         "the tilt of that line from the vertical, >= 0, in the direction phi_rad; a TFP: the "
+                         "pad axis C2C3, psi = phi_rad + alpha_rad)."),
+    "phi_rad": ("rad", "Bidirectional: azimuth of the tilt, atan2 of the axis C1C2's horizontal components "
+                       "(the direction of u_m without the rocking offset, from x towards y). A TFP: the outer coordinate phi, the angle both slider plates have turned about "
+                       "the outer centres (S1 slides R1 phi, S4 R4 phi)."),
+    "alpha_rad": ("rad", "TFP: the inner coordinate alpha, the pad's rotation relative to the slider plates "
+                         "(S2 slides R2 alpha, S3 R3 alpha)."),
     "beta_rad": ("rad", "Pad rotation about its pivot (rocking), = beta1_rad."),
-    "s1_m": ("m", "Footprint centre on the lower plate (arc from the plate centre)."),
-    "s2_m": ("m", "Footprint centre on the upper plate (arc from the plate centre)."),
-    "N1_N": ("N", "Normal force on the lower interface."),
-    "N2_N": ("N", "Normal force on the upper interface."),
-    "mu1": ("", "Friction coefficient of the lower interface in the step."),
-    "mu2": ("", "Friction coefficient of the upper interface in the step."),
-    "T1_C": ("degC", "Sliding-surface temperature of the lower plate (under the pad)."),
-    "T2_C": ("degC", "Sliding-surface temperature of the upper plate (under the pad)."),
-    "W1_J": ("J", "Cumulative friction work on the lower interface."),
-    "W2_J": ("J", "Cumulative friction work on the upper interface."),
-    "phase": ("", "State at the end of the step: stick, slip or tilt (the pad rocks or lands)."),
+    "s1_m": ("m", "Footprint centre on the lower plate (arc from the plate centre; bidirectional: its distance "
+                  "R1 theta from the centre, >= 0; a TFP: R1 phi, the slider on S1; the flat bearing: the "
+                  "pad's slip on the lower plate since the start)."),
+    "s2_m": ("m", "Footprint centre on the upper plate (arc from the plate centre; bidirectional: its distance "
+                  "R2 theta, >= 0; a TFP: R2 alpha, the pad on S2 of the lower slider plate; the flat bearing: "
+                  "the superstructure's slip on the pad, u_m = s1_m + s2_m)."),
+    "s3_m": ("m", "TFP: R3 alpha, the pad's position on S3 of the upper slider plate (arc from its centre)."),
+    "s4_m": ("m", "TFP: R4 phi, the upper slider plate's position on S4 of the upper plate (arc from its "
+                  "centre)."),
+    "c1x_m": ("m", "Bidirectional: x of the footprint centre on the lower plate, R1 theta cos(phi) from the "
+                   "plate centre."),
+    "c1y_m": ("m", "Bidirectional: y of the footprint centre on the lower plate, R1 theta sin(phi)."),
+    "c2x_m": ("m", "Bidirectional: x of the footprint centre on the upper plate, -R2 theta cos(phi)."),
+    "c2y_m": ("m", "Bidirectional: y of the footprint centre on the upper plate, -R2 theta sin(phi)."),
+    "N1_N": ("N", "Normal force on the lower interface (a TFP: on S1, along the axis through its centre, at the "
+                  "start of the step)."),
+    "N2_N": ("N", "Normal force on the upper interface (a TFP: on S2)."),
+    "N3_N": ("N", "TFP: normal force on S3 (the pad on the upper slider plate), at the start of the step."),
+    "N4_N": ("N", "TFP: normal force on S4 (the upper slider plate on the upper plate), at the start of the step."),
+    "mu1": ("", "Friction coefficient of the lower interface in the step (a TFP: S1)."),
+    "mu2": ("", "Friction coefficient of the upper interface in the step (a TFP: S2)."),
+    "mu3": ("", "TFP: friction coefficient of S3 in the step."),
+    "mu4": ("", "TFP: friction coefficient of S4 in the step."),
+    "T1_C": ("degC", "Sliding-surface temperature of the lower plate (under the pad; a TFP: S1's face under "
+                     "the lower slider plate)."),
+    "T2_C": ("degC", "Sliding-surface temperature of the upper plate (under the pad; a TFP: the lower slider "
+                     "plate's S2 face under the pad)."),
+    "T3_C": ("degC", "TFP: sliding-surface temperature of the upper slider plate (its S3 face over the pad)."),
+    "T4_C": ("degC", "TFP: sliding-surface temperature of the upper plate (S4, over the upper slider plate)."),
+    "W1_J": ("J", "Cumulative friction work on the lower interface (a TFP: S1)."),
+    "W2_J": ("J", "Cumulative friction work on the upper interface (a TFP: S2)."),
+    "W3_J": ("J", "TFP: cumulative friction work on S3 (an arrest loss of the inner coordinate shared with S2 "
+                  "in proportion to their caps)."),
+    "W4_J": ("J", "TFP: cumulative friction work on S4 (an arrest loss of the outer coordinate shared with S1 "
+                  "in proportion to their caps)."),
+    "phase": ("", "State at the end of the step: stick, slip or tilt (the pad rocks or lands); a TFP: stick, "
+                  "inner (S2 + S3 slide), outer (S1 + S4) or inner+outer (all four)."),
+    "regime": ("", "TFP: sliding regime of the step as a code (Fenz-Constantinou numbering): 0 stick, 1 = I "
+                   "(S2 + S3), 3 = III (S1 + S4), 5 = V (S2 + S3 with the outer surfaces at their rims), "
+                   "6 = I + III (all four)."),
+    "slide1": ("", "TFP: 1 when S1 slid in the step, else 0 (S1 and S4 slide together)."),
+    "slide2": ("", "TFP: 1 when S2 slid in the step, else 0 (S2 and S3 slide together)."),
+    "slide3": ("", "TFP: 1 when S3 slid in the step, else 0."),
+    "slide4": ("", "TFP: 1 when S4 slid in the step, else 0."),
+    "rim1": ("", "TFP: 1 when S1 is at its rim (|s1_m| >= d1), else 0."),
+    "rim2": ("", "TFP: 1 when S2 is at its rim (|s2_m| >= d2), else 0."),
+    "rim3": ("", "TFP: 1 when S3 is at its rim (|s3_m| >= d3), else 0."),
+    "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
     "E_input_J": ("J", "Cumulative work of the ground (or machine) on the device: "
-                       "E_input_J = E_kin_J + E_pot_J + W1_J + W2_J [+ E_reseat_J]."),
+                       "E_input_J = E_kin_J + E_pot_J + W1_J + W2_J [+ E_reseat_J] (a TFP: "
+                       "+ W3_J + W4_J + E_rim_J)."),
     "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground."),
-    "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad)."),
+    "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad; a TFP: and the slider plates; "
+                     "the flat bearing: 0)."),
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase)."),
-    "E_stored_J": ("J", "Heat stored in the plates (above the initial temperature)."),
+    "E_rim_J": ("J", "TFP: cumulative kinetic energy lost in the (inelastic) impacts on the rims."),
+    "E_stored_J": ("J", "Heat stored in the plates (above the initial temperature; a TFP: its four parts)."),
     "E_air_J": ("J", "Cumulative heat lost to the air (and through the back face)."),
     # two-phase diagnostics (docs/two_phase.md, section 5)
     "beta1_rad": ("rad", "Phase-1 rotation of the pad about its pivot."),
@@ -186,7 +298,9 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "theta_dot_radps": ("rad/s", "Rate of the seated angle theta."),
     "slip1_m": ("m", "Cumulative sliding path on the lower interface."),
     "slip2_m": ("m", "Cumulative sliding path on the upper interface."),
-    "tip_ratio": ("", "Forward-tipping ratio |F_t| h' / (N2 2a) of the step (> 1 is outside the model)."),
+    "tip_ratio": ("", "Forward-tipping ratio of the step: two-phase, |F_t| h' / (N2 2a) (> 1 is outside the "
+                      "model); the flat bearing, the friction couple over the resisting moment, "
+                      "|f_top H - m a H / 2| / (N D + m g D / 2) (> 1: the pad tips and the run stops)."),
 }
 
 # -- summary.json fields (dotted paths; * = lower | upper) ------------------------------------
@@ -194,29 +308,61 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "status": ("", '"ok", "failed" (numerical failure; the history up to it is kept) or "interrupted".'),
     "message": ("", "Why the run failed or stopped (empty when ok)."),
     "scene": ("", "Scene name."),
+    "models.device": ("", 'TFP: "TFP".'),
     "models.mechanics": ("", 'Mechanics model that ran ("two-phase", "seated", "none" for thermal-only).'),
     "models.thermal_lower": ("", "Thermal model of the lower plate."),
+    "models.thermal_slider_lower": ("", "TFP: thermal model of the lower slider plate."),
+    "models.thermal_slider_upper": ("", "TFP: thermal model of the upper slider plate."),
     "models.thermal_upper": ("", "Thermal model of the upper plate."),
     "models.friction_lower": ("", "Friction law of the lower interface."),
     "models.friction_upper": ("", "Friction law of the upper interface."),
+    "models.friction_S1": ("", "TFP: friction law of S1."),
+    "models.friction_S2": ("", "TFP: friction law of S2."),
+    "models.friction_S3": ("", "TFP: friction law of S3."),
+    "models.friction_S4": ("", "TFP: friction law of S4."),
     "models.coupling": ("", "Coupling scheme."),
     "steps": ("", "Time steps computed."),
     "dt_s": ("s", "Time step."),
     "runtime_s": ("s", "Time spent stepping (not writing)."),
     "version": ("", "fpd version that wrote the results."),
-    "peak_u_m": ("m", "Peak |u_m|."),
+    "device": ("", 'The TFP and the flat bearing: "TFP" or "flat".'),
+    "capacity_m": ("m", "TFP: displacement capacity, u with all four surfaces at their rims, "
+                        "A sin(phi_max) + L_i sin(phi_max + alpha_max) (docs/model.md 6.1)."),
+    "mu_tip_closed_form": ("", "Flat bearing: closed-form tipping threshold of the top face's mu, "
+                               "(D / H) (1 + m g / (2 N)) (docs/model.md section 7)."),
+    "peak_u_m": ("m", "Peak |u_m| (bidirectional: the peak resultant)."),
     "residual_u_m": ("m", "u_m at the end of the run."),
-    "peak_F_N": ("N", "Peak |F_N|."),
+    "peak_F_N": ("N", "Peak |F_N| (bidirectional: the peak resultant)."),
     "friction_work_J.lower": ("J", "Friction work on the lower interface (final W1_J)."),
     "friction_work_J.upper": ("J", "Friction work on the upper interface (final W2_J)."),
+    "friction_work_J.S1": ("J", "TFP: friction work on S1 (final W1_J)."),
+    "friction_work_J.S2": ("J", "TFP: friction work on S2 (final W2_J)."),
+    "friction_work_J.S3": ("J", "TFP: friction work on S3 (final W3_J)."),
+    "friction_work_J.S4": ("J", "TFP: friction work on S4 (final W4_J)."),
+    "peak_slide_m.S1": ("m", "TFP: peak |s1_m|, the farthest the slider went on S1."),
+    "peak_slide_m.S2": ("m", "TFP: peak |s2_m|, the farthest the pad went on S2."),
+    "peak_slide_m.S3": ("m", "TFP: peak |s3_m|, the farthest the pad went on S3."),
+    "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
+    "rim_loss_J": ("J", "TFP: rim impact loss (final E_rim_J)."),
     "input_work_J": ("J", "Work of the ground or machine (final E_input_J)."),
-    "energy_residual_rel": ("", "Mechanical ledger |input - (kinetic + potential + friction + re-seating)| / input."),
+    "energy_residual_rel": ("", "Mechanical ledger: the largest |input - (kinetic + potential + friction "
+                                "[+ re-seating])| over the recorded history / the largest |input| (a TFP: at the "
+                                "end of the run, |E_input_J - (E_kin_J + E_pot_J + W1_J..W4_J + E_rim_J)| / "
+                                "|E_input_J|)."),
+    "energy_residual_final_rel": ("", "The same ledger at the end of the run only: |E_input_J - (E_kin_J + "
+                                      "E_pot_J + W1_J + W2_J [+ E_reseat_J])| / |E_input_J| (not a TFP: its "
+                                      "energy_residual_rel is the final one)."),
     "peak_T1_C": ("degC", "Peak T1_C."),
     "peak_T2_C": ("degC", "Peak T2_C."),
+    "peak_T3_C": ("degC", "TFP: peak T3_C."),
+    "peak_T4_C": ("degC", "TFP: peak T4_C."),
     "min_mu1": ("", "Lowest mu1."),
     "min_mu2": ("", "Lowest mu2."),
-    "heat.plates.*.heat_in_J": ("J", "Heat delivered to the plate."),
+    "min_mu3": ("", "TFP: lowest mu3."),
+    "min_mu4": ("", "TFP: lowest mu4."),
+    "heat.plates.*.heat_in_J": ("J", "Heat delivered to the plate (a TFP: * also slider_lower, "
+                                     "slider_upper)."),
     "heat.plates.*.stored_J": ("J", "Heat stored in the plate at the end."),
     "heat.plates.*.lost_J": ("J", "Heat lost to air and through the back face."),
     "heat.plates.*.residual_rel": ("", "Thermal ledger |in - stored - lost| / in."),
@@ -242,5 +388,18 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "record.baseline_b1_mps2": ("m/s2", "Baseline correction: b1 of the velocity drift b1 t + b2 t^2 removed "
                                         "(the acceleration b1 + 2 b2 t is subtracted)."),
     "record.baseline_b2_mps3": ("m/s3", "Baseline correction: b2 of the velocity drift b1 t + b2 t^2 removed."),
+    "record.angle_deg": ("deg", "Bidirectional record: loading.angle_deg the pair was turned by."),
+    "record_y.name": ("", "Bidirectional record: the y component's record (packaged pair name or file_y; a "
+                          "single turned record: the same record)."),
+    "record_y.points": ("", "Bidirectional record: samples in the y record."),
+    "record_y.dt_s": ("s", "Bidirectional record: sampling interval of the y record."),
+    "record_y.pga_g": ("g", "Bidirectional record: peak ground acceleration of the y record (unscaled, before "
+                            "the turn)."),
+    "record_y.scale": ("", "Bidirectional record: loading.scale applied to the y record."),
+    "record_y.baseline_b1_mps2": ("m/s2", "Bidirectional record: b1 of the y record's baseline correction."),
+    "record_y.baseline_b2_mps3": ("m/s3", "Bidirectional record: b2 of the y record's baseline correction."),
+    "bidirectional.normal_force": ("", 'Bidirectional stepper: the normal-force scheme that ran ("midpoint", '
+                                       '"start"; the bidirectional test machine: "seated", step-averaged normal '
+                                       'forces).'),
     "plots": ("", "PNG files written in plots/ (fpd run only)."),
 }

@@ -212,7 +212,7 @@ def summary(scene: Scene, result, sim) -> dict:
 
 
 def tfp_summary(scene: Scene, result, sim) -> dict:
-    """summary.json of a TFP run: per surface S1..S4 (interface.md, wave 2)."""
+    """summary.json of a TFP run: per surface S1..S4 (the TFP's wave-2 keys)."""
     d = scene.data
     s = {"status": result.status, "message": result.message, "scene": scene.name,
          "models": {"device": "TFP", "mechanics": d["mechanics"]["model"],

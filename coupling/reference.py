@@ -86,6 +86,10 @@ COLUMN_SOURCES = (
     "fpd.coupling.run:CANONICAL",
     "fpd.mechanics.seated:SEATED_COLUMNS",
     "fpd.mechanics.two_phase:COLUMNS",
+    "fpd.mechanics.bidirectional:COLUMNS",
+    "fpd.coupling.tfp_loop:ORDER",
+    "fpd.mechanics.tfp:COLUMNS",
+    "fpd.mechanics.flat:COLUMNS",
 )
 
 

@@ -107,8 +107,9 @@ def _summary_paths(d, pre=""):
 
 def test_every_column_and_summary_field_is_in_the_reference(tmp_path):
     """The default run's timeseries.csv columns and summary.json fields, and those
-    of scenes that write the others, are described; every described summary field
-    is written by one of these runs (no stale entries)."""
+    of scenes that write the others (a thermal-only check, iterated coupling, a
+    bidirectional record pair, a TFP, the flat bearing), are described; every
+    described summary field is written by one of these runs (no stale entries)."""
     text = REFERENCE.read_text()
     out = tmp_path / "default"
     r = _fpd("run", "default", "--out", str(out), "--quiet", "--set", "solver.duration=1.0", cwd=tmp_path)
@@ -121,6 +122,13 @@ def test_every_column_and_summary_field_is_in_the_reference(tmp_path):
     summaries = [json.loads((out / "summary.json").read_text())]
     summaries.append(fpd.run("heat-halfspace", solver={"duration": 1.0}).summary)
     summaries.append(fpd.run("lab-sine", solver={"duration": 0.5}, coupling={"scheme": "iterated"}).summary)
+    # the other steppers' own columns and fields: bidirectional (a record pair), TFP, flat
+    for name in ("impvall-bidirectional", "tfp-lab", "flat-lab"):
+        r = fpd.run(name, solver={"duration": 0.2}, output={"plots": False})
+        assert r.ok, (name, r.summary["message"])
+        for c in r.history:
+            assert f"| `{c}` |" in text, f"{name}: column {c} is not in docs/reference.md"
+        summaries.append(r.summary)
     seen = set()
     for s in summaries:
         for path in _summary_paths(s):
