@@ -47,7 +47,31 @@ def tfp_device(ctx, data, raw) -> None:
         ctx.fail("loading.kind", "heat", 'a thermal-only scene ignores the device: use kind = "DFP" for it')
 
 
+def planar_only(ctx, data, device: str) -> None:
+    """The TFP and the flat bearing move in one plane in this version: the
+    bidirectional inputs of a DFP (model.md 8) are refused, not ignored."""
+    from .scene import RECORD_PAIRS
+
+    ld, mech = data["loading"], data["mechanics"]
+    why = f"the {device} is planar in this version (bidirectional motion: a DFP or an SFP)"
+    if ld["kind"] == "record":
+        if ld.get("file_y") is not None:
+            ctx.fail("loading.file_y", ld["file_y"], f"is not allowed: {why}")
+        if ld.get("record") in RECORD_PAIRS:
+            ctx.fail("loading.record", ld["record"], f"must be a single-component record: {why}")
+        if ld.get("angle_deg", 0.0) != 0.0:
+            ctx.fail("loading.angle_deg", ld["angle_deg"], f"must be 0: {why}")
+    if ld["kind"] == "displacement":
+        if ld.get("waveform", "sine") != "sine":
+            ctx.fail("loading.waveform", ld["waveform"], f'must be "sine": {why}')
+        if ld.get("direction_deg", 0.0) != 0.0:
+            ctx.fail("loading.direction_deg", ld["direction_deg"], f"must be 0: {why}")
+    if mech.get("normal_force") not in (None, "start"):
+        ctx.fail("mechanics.normal_force", mech["normal_force"], f'is a key of the DFP steppers: {why}')
+
+
 def tfp_cross_checks(ctx, data) -> None:
+    planar_only(ctx, data, "TFP")
     from fpd.mechanics.tfp import tfp_geometry_errors
     from .scene import check_steps, loading_length
 
@@ -99,6 +123,7 @@ def flat_device(ctx, data, raw) -> None:
 
 
 def flat_cross_checks(ctx, data) -> None:
+    planar_only(ctx, data, "flat bearing")
     from .scene import check_steps, loading_length
 
     ld, sol, dev = data["loading"], data["solver"], data["device"]

@@ -348,3 +348,28 @@ def test_backbone_slow_three_cycles(mus):
     a, b = (abs(np.trapezoid(x[last], u[last])) for x in (F, Fb))
     assert abs(a / b - 1) < 0.02
     assert np.max(np.abs(np.diff(res))) <= 1e-9 * s.E_in
+
+
+@pytest.mark.parametrize("scene_name", ["tfp-lab", "flat-lab"])
+@pytest.mark.parametrize("override,key", [
+    ('loading.waveform="circle"', "loading.waveform"),
+    ("loading.direction_deg=30.0", "loading.direction_deg"),
+    ('mechanics.normal_force="midpoint"', "mechanics.normal_force"),
+])
+def test_planar_devices_refuse_bidirectional_inputs(scene_name, override, key):
+    """The TFP and the flat bearing are planar: a bidirectional input is
+    refused at load with one line naming the key, never silently ignored."""
+    from fpd.coupling import scene as scn
+    with pytest.raises(scn.SceneError) as err:
+        scn.load(scene_name, [override])
+    msg = str(err.value)
+    assert key in msg and "planar" in msg and "\n" not in msg
+
+
+@pytest.mark.parametrize("override,key", [("loading.angle_deg=10.0", "loading.angle_deg"),
+                                          ('loading.record="impvall-1979-e11"', "loading.record")])
+def test_tfp_refuses_a_record_pair(override, key):
+    from fpd.coupling import scene as scn
+    with pytest.raises(scn.SceneError) as err:
+        scn.load("tfp-elcentro", [override])
+    assert key in str(err.value)
