@@ -53,6 +53,14 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--fast", action="store_true")
     d = sub.add_parser("render", help="PNG frames and a GIF from a run's VTK series")
     d.add_argument("dir")
+    # coupling/sweep.py: many runs on Dask, one table (docs/sweeps.md)
+    w = sub.add_parser("sweep", help="run a scene over axes of values on Dask workers; one table")
+    w.add_argument("sweep", metavar="SWEEP.toml")
+    w.add_argument("--out")
+    w.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
+    w.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
+    w.add_argument("--force", action="store_true", help="start afresh (default: resume a sweep in --out)")
+    w.add_argument("--quiet", action="store_true")
     return p
 
 
@@ -195,7 +203,8 @@ def main(argv=None) -> int:
             # coupling/studies.py: cmd_compare, cmd_converge, cmd_stability;
             # coupling/render.py: cmd_render (imported only when asked for)
             import importlib
-            module = importlib.import_module(".render" if args.cmd == "render" else ".studies", __package__)
+            module = importlib.import_module({"render": ".render", "sweep": ".sweep"}.get(args.cmd, ".studies"),
+                                             __package__)
             handler = getattr(module, f"cmd_{args.cmd}")
         return handler(args)
     except (SceneError, RecordError) as exc:
