@@ -457,8 +457,15 @@ def _cluster(workers: int | None, scheduler: str | None):
         except (OSError, TimeoutError, ValueError) as exc:
             raise SceneError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
     n = workers or (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count())
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.CRITICAL, memory_limit=0)
+    # Ctrl-C on a terminal reaches the whole process group: the workers ignore
+    # it (inherited from here while they start), the client stops the sweep
+    import signal
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.CRITICAL, memory_limit=0)
+    finally:
+        signal.signal(signal.SIGINT, old)
     return Client(cluster), cluster
 
 
@@ -517,6 +524,24 @@ def run_sweep(sw: Sweep, out: Path, workers=None, scheduler=None, force=False, q
     return EXIT_OK
 
 
+def _ignore_sigint():
+    import signal
+    import threading
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+try:
+    from distributed.diagnostics.plugin import WorkerPlugin as _WorkerPlugin
+except ImportError:          # dask absent: fpd sweep says what to install
+    _WorkerPlugin = object
+
+
+class _IgnoreSigint(_WorkerPlugin):
+    def setup(self, worker):
+        _ignore_sigint()
+
+
 def _dispatch(sw, todo, store, workers, scheduler, quiet, results, done):
     """Run the members on Dask; store each one as it finishes. Returns (ran, interrupted)."""
     from dask.distributed import as_completed
@@ -528,6 +553,8 @@ def _dispatch(sw, todo, store, workers, scheduler, quiet, results, done):
     by_hash = {m.hash: m for m in todo}
     futures = []
     try:
+        client.run(_ignore_sigint)       # also a worker restarted after the start (a nanny's new process)
+        client.register_plugin(_IgnoreSigint(), name="fpd-ignore-sigint")
         client.run(warm, todo[0].raw, todo[0].path)
         specs = [{"id": m.id, "hash": m.hash, "raw": m.raw, "path": m.path, "keep": sw.keep,
                   "folder": str(store / f"{m.hash}.d")} for m in todo]
