@@ -44,9 +44,9 @@ def _plate_kind(plate):
         return "none"
     name = type(plate).__name__
     mod = type(plate).__module__
-    if mod == "thermal.lumped" and name == "LumpedPlate":
+    if mod == "fpd.thermal.lumped" and name == "LumpedPlate":
         return "lumped"
-    if mod == "thermal.fe1d" and name == "FE1DPlate":
+    if mod == "fpd.thermal.fe1d" and name == "FE1DPlate":
         integ = plate.integ
         if (integ._kern is not None and integ.scheme == "bdf2" and integ.rannacher
                 and "step" not in vars(plate) and "step_surface" not in vars(integ)):
