@@ -61,6 +61,13 @@ def _parser() -> argparse.ArgumentParser:
     w.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
     w.add_argument("--force", action="store_true", help="start afresh (default: resume a sweep in --out)")
     w.add_argument("--quiet", action="store_true")
+    m = sub.add_parser("map", help="the regime map: where each model choice changes the answer (a packaged sweep)")
+    m.add_argument("--quick", action="store_true", help="a coarse map (a few minutes on 2 cores)")
+    m.add_argument("--out")
+    m.add_argument("--workers", type=int)
+    m.add_argument("--scheduler", metavar="ADDRESS")
+    m.add_argument("--force", action="store_true")
+    m.add_argument("--quiet", action="store_true")
     return p
 
 
@@ -203,7 +210,7 @@ def main(argv=None) -> int:
             # coupling/studies.py: cmd_compare, cmd_converge, cmd_stability;
             # coupling/render.py: cmd_render (imported only when asked for)
             import importlib
-            module = importlib.import_module({"render": ".render", "sweep": ".sweep"}.get(args.cmd, ".studies"),
+            module = importlib.import_module({"render": ".render", "sweep": ".sweep", "map": ".regime_map"}.get(args.cmd, ".studies"),
                                              __package__)
             handler = getattr(module, f"cmd_{args.cmd}")
         return handler(args)

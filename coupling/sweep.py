@@ -214,6 +214,11 @@ def expand(sw: Sweep) -> list[Member]:
                 members.append(Member("", ax, r, str(sw.scene_path)))
         else:
             members.append(Member("", dict(combo), raw, str(sw.scene_path)))
+    return finalize(sw, members)
+
+
+def finalize(sw: Sweep, members: list[Member]) -> list[Member]:
+    """Number the members, validate each scene, hash it."""
     width = max(4, len(str(len(members) - 1)))
     for i, m in enumerate(members):
         m.id = f"{i:0{width}d}"
