@@ -183,7 +183,7 @@ def _metrics(runs: dict, T0: float) -> dict:
         m[name + "_beta_mrad"] = 1e3 * tb
     for name, (p, q), key in (("u_2p_vs_seated", ("A", "C"), "peak_u_m"),
                               ("W_2p_vs_seated", ("A", "C"), "friction_work_total_J"),
-                              ("u_lumped_vs_fe1d", ("A", "D"), "peak_u_m")):
+                              ("u_lumped_vs_fe1d", ("D", "A"), "peak_u_m")):
         m[name] = _rel(g(p, key), g(q, key))
         fine = {"A": "B", "C": "E", "D": "F"}
         m[name + "_fine"] = _rel(g(fine[p], key), g(fine[q], key))
@@ -370,7 +370,10 @@ def report(cells, grid, kind, wall, figs, sw, res) -> str:
     L = [f"# Regime map ({kind})", "",
          f"Default device (DFP R1 = R2 = 2.2 m, pad diameter D = 0.25 m, 100 t, kumar2015 mu_ref = 0.06), "
          f"pad aspect h/D in {grid['h_over_D']} (steel pad mass following h); "
-         f"{len(sw.members)} runs ({n_bad} not ok) in {wall:.0f} s.",
+         f"{len(sw.members)} runs ({n_bad} not ok: "
+         f"{', '.join(sorted({str(r.get('message', ''))[:90] for r in res.values() if r.get('status') != 'ok'})) or 'none'}); "
+         f"their own wall time summed {sum(r.get('wall_s', 0.0) for r in res.values()):.0f} s; this invocation "
+         f"{wall:.0f} s.",
          f"Intensity: 1 s cosine velocity pulses V = {grid['pulse_V']} m/s ({grid['pulse_s']:g} s runs)"
          + (f"; FEMA P695 far-field components "
             f"{'all 44' if not grid['components'] else ', '.join(f'{r}{c}' for r, c in grid['components'])} "
