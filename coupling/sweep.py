@@ -547,12 +547,18 @@ class _IgnoreSigint(_WorkerPlugin):
         _ignore_sigint()
 
 
+PHASES: dict = {}     # where this invocation's time went (sweep.md)
+
+
 def _dispatch(sw, todo, store, workers, scheduler, quiet, results, done):
     """Run the members on Dask; store each one as it finishes. Returns (ran, interrupted)."""
+    t0 = time.perf_counter()
+    client, cluster = _cluster(workers, scheduler)       # a one-line error when dask is missing
     from dask.distributed import as_completed
     from distributed.scheduler import KilledWorker
 
-    client, cluster = _cluster(workers, scheduler)
+    PHASES["cluster_s"] = time.perf_counter() - t0
+    PHASES["workers"] = len(client.scheduler_info().get("workers", {}))
     bar = _Bar(len(todo), not quiet and sys.stderr.isatty())
     ran, interrupted = 0, False
     by_hash = {m.hash: m for m in todo}
@@ -560,7 +566,10 @@ def _dispatch(sw, todo, store, workers, scheduler, quiet, results, done):
     try:
         client.run(_ignore_sigint)       # also a worker restarted after the start (a nanny's new process)
         client.register_plugin(_IgnoreSigint(), name="fpd-ignore-sigint")
+        t0 = time.perf_counter()
         client.run(warm, todo[0].raw, todo[0].path)
+        PHASES["warm_s"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
         specs = [{"id": m.id, "hash": m.hash, "raw": m.raw, "path": m.path, "keep": sw.keep,
                   "folder": str(store / f"{m.hash}.d")} for m in todo]
         futures = client.map(run_member, specs, key=[f"fpd-member-{m.hash}" for m in todo], pure=False)
@@ -580,6 +589,7 @@ def _dispatch(sw, todo, store, workers, scheduler, quiet, results, done):
             done[m.hash] = res
             ran += 1
             bar.update(res["status"])
+            PHASES["members_s"] = time.perf_counter() - t0
     except KeyboardInterrupt:
         interrupted = True
         for f in futures:
@@ -666,7 +676,9 @@ def report(sw: Sweep, rows: list[dict], wall_s: float, ran: int) -> str:
         lines += [sw.description, ""]
     lines += [f"Base scene `{sw.scene_path.name}`, mode {sw.mode}, {len(rows)} members "
               f"({', '.join(f'{n} {s}' for s, n in counts.most_common())}); {ran} run now, "
-              f"{wall_s:.1f} s wall.", ""]
+              f"{wall_s:.1f} s wall" + (f" (cluster start {PHASES['cluster_s']:.1f} s with {PHASES['workers']} "
+                                        f"workers, warm-up {PHASES.get('warm_s', 0):.1f} s, members "
+                                        f"{PHASES.get('members_s', 0):.1f} s)" if PHASES else "") + ".", ""]
     if sw.axes:
         lines += ["Axes:", ""] + [f"- `{k}`: {', '.join(scn._fmt(v) for v in vals)}" for k, vals in sw.axes.items()]
         lines.append("")
