@@ -140,8 +140,7 @@ mode = "zip"
 "coupling.tol_K" = [1e-3, 1e-3, 1e-12]
 "coupling.max_iter" = [20, 20, 1]
 ''')
-    r = _fpd(["sweep", str(s), "--out", str(lite / "out"), "--workers", "2", "--quiet"])
-    assert r.returncode == 0, r.stderr
+    assert cli.main(["sweep", str(s), "--out", str(lite / "out"), "--workers", "2", "--quiet"]) == 0
     rows = _rows(lite / "out")
     assert [x["status"] for x in rows] == ["ok", "error", "failed"]
     assert "zap" in rows[1]["message"] and "\n" not in rows[1]["message"]
@@ -151,14 +150,13 @@ mode = "zip"
     assert "Members not ok" in md and "0001 | error" in md
 
 
-def test_killed_worker_members_are_rerun(lite, tmp_path):
+def test_killed_worker_members_are_rerun(lite, tmp_path, monkeypatch):
     """A member kills its own worker process (SIGKILL) the first time it runs:
     the nanny restarts the worker, Dask reruns the member, every row is ok."""
     marker = tmp_path / "killed"
     s = _write(lite, 'scene = "lite.toml"\n[axes]\n"loading.velocity_mps" = [0.2, 0.3, 0.4, 0.5, 0.6, 0.7]\n')
-    r = _fpd(["sweep", str(s), "--out", str(lite / "out"), "--workers", "2", "--quiet"],
-             FPD_SWEEP_TEST=f"kill:0002:{marker}")
-    assert r.returncode == 0, r.stderr
+    monkeypatch.setenv("FPD_SWEEP_TEST", f"kill:0002:{marker}")     # the workers inherit it
+    assert cli.main(["sweep", str(s), "--out", str(lite / "out"), "--workers", "2", "--quiet"]) == 0
     killed_pid = int(marker.read_text())
     rows = _rows(lite / "out")
     assert [x["status"] for x in rows] == ["ok"] * 6
@@ -166,7 +164,7 @@ def test_killed_worker_members_are_rerun(lite, tmp_path):
     assert rec["worker_pid"] != killed_pid          # it ran again, on a live worker
 
 
-def test_interrupted_sweep_keeps_finished_members_and_resumes(lite):
+def test_interrupted_sweep_keeps_finished_members_and_resumes(lite, capsys):
     """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) after
     two members: exit 130, the table lists them ok and the rest 'not run'; a
     rerun runs only the rest and leaves the stored ones untouched."""
@@ -188,9 +186,8 @@ def test_interrupted_sweep_keeps_finished_members_and_resumes(lite):
     assert 2 <= len(done) < 8
     assert all(x["status"] == "not run" for x in rows if x["status"] != "ok")
     before = {x["hash"]: os.stat(out / ".members" / f"{x['hash']}.json") for x in done}
-    r = _fpd(["sweep", str(s), "--out", str(out), "--workers", "2"])
-    assert r.returncode == 0, r.stderr
-    assert f"{len(done)} already done, {8 - len(done)} to run" in r.stdout
+    assert cli.main(["sweep", str(s), "--out", str(out), "--workers", "2"]) == 0
+    assert f"{len(done)} already done, {8 - len(done)} to run" in capsys.readouterr().out
     rows = _rows(out)
     assert [x["status"] for x in rows] == ["ok"] * 8
     for h, st in before.items():             # the same file, not rewritten
@@ -207,10 +204,8 @@ def test_keep_timeseries_and_force(lite):
     out = lite / "out"
     (out).mkdir()
     (out / "other.txt").write_text("not a sweep")
-    r = _fpd(["sweep", str(s), "--out", str(out), "--workers", "2", "--quiet"])
-    assert r.returncode == 2 and "--force" in r.stderr
-    r = _fpd(["sweep", str(s), "--out", str(out), "--workers", "2", "--quiet", "--force"])
-    assert r.returncode == 0, r.stderr
+    assert cli.main(["sweep", str(s), "--out", str(out), "--workers", "2", "--quiet"]) == 2
+    assert cli.main(["sweep", str(s), "--out", str(out), "--workers", "2", "--quiet", "--force"]) == 0
     assert not (out / "other.txt").exists()
     rows = _rows(out)
     for x in rows:
