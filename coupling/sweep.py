@@ -403,6 +403,29 @@ def _link_tree(src: Path, dst: Path) -> None:
     shutil.copytree(src, dst, copy_function=link, dirs_exist_ok=True)
 
 
+def _adopt_stale(out: Path, store: Path) -> None:
+    """Members finished by a sweep whose process was killed outright (SIGKILL,
+    a crash: no Ctrl-C handling) are in its temporary folder beside DIR; take
+    them over (that process is gone, so nobody writes there any more)."""
+    for tmp in out.parent.glob(f".{out.name}.partial-*"):
+        try:
+            pid = int(tmp.name.rsplit("-", 1)[1])
+            os.kill(pid, 0)
+            continue                     # alive: another sweep's, leave it alone
+        except ProcessLookupError:
+            pass
+        except (ValueError, PermissionError, IndexError):
+            continue
+        old = tmp / STORE
+        if old.is_dir() and old.resolve() != store.resolve():
+            for f in old.glob("*.json"):
+                if not (store / f.name).exists():
+                    try:
+                        os.link(f, store / f.name)
+                    except OSError:
+                        shutil.copy2(f, store / f.name)
+
+
 def read_store(store: Path) -> dict:
     """hash -> stored result; unreadable files are ignored (the member reruns)."""
     done = {}
@@ -454,8 +477,7 @@ def _cluster(workers: int | None, scheduler: str | None):
     import dask
     logging.getLogger("distributed").setLevel(logging.CRITICAL)
     # a member is CPU-bound for seconds: do not let the scheduler move queued work around
-    dask.config.set({"distributed.scheduler.work-stealing": False,
-                     "distributed.worker.daemon": False})
+    dask.config.set({"distributed.scheduler.work-stealing": False})
     if scheduler:
         try:
             return Client(scheduler, timeout="20s"), None
@@ -492,6 +514,8 @@ def run_sweep(sw: Sweep, out: Path, workers=None, scheduler=None, force=False, q
     try:
         if resume:
             _link_tree(out / STORE, store)
+        if not force:
+            _adopt_stale(out, store)
         done = read_store(store)
         todo = [m for m in sw.members if m.hash not in done]
         unique = list({m.hash: m for m in todo}.values())       # identical members run once

@@ -215,3 +215,21 @@ def test_keep_timeseries_and_force(lite):
         assert (d / "timeseries.csv").stat().st_size > 0 and (d / "scene.toml").is_file()
     # more friction, less displacement: the table is the members' own numbers
     assert float(rows[1]["peak_u_m"]) < float(rows[0]["peak_u_m"])
+
+
+def test_members_of_a_killed_client_are_adopted(lite, capsys):
+    """A sweep whose own process died outright (SIGKILL: no Ctrl-C handling)
+    leaves its finished members in its temporary folder: the next run takes
+    them over and runs only the rest (here: nothing, so no cluster starts)."""
+    s = _write(lite, 'scene = "lite.toml"\n[axes]\n"friction.mu" = [0.05, 0.07]\n')
+    sw = swp.load_sweep(str(s))
+    dead = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
+                          text=True).stdout.strip()                 # a pid that no longer runs
+    stale = lite / f".out.partial-{dead}" / ".members"
+    stale.mkdir(parents=True)
+    for m in sw.members:
+        res = swp.run_member({"id": m.id, "hash": m.hash, "raw": m.raw, "path": m.path, "keep": "summary"})
+        (stale / f"{m.hash}.json").write_text(json.dumps(res))
+    assert cli.main(["sweep", str(s), "--out", str(lite / "out")]) == 0
+    assert "2 already done, 0 to run" in capsys.readouterr().out
+    assert [x["status"] for x in _rows(lite / "out")] == ["ok", "ok"]
