@@ -505,6 +505,7 @@ def run_sweep(sw: Sweep, out: Path, workers=None, scheduler=None, force=False, q
     if out.is_dir() and any(out.iterdir()) and not resume and not force:
         raise SceneError(f"{out}: results folder exists and is not a sweep's; use --force to replace it")
     t_start = time.perf_counter()
+    PHASES.clear()
     try:
         folder = ResultsFolder(out)
     except OSError as exc:
