@@ -621,12 +621,14 @@ def _dispatch(sw, todo, store, workers, scheduler, quiet, results, done):
             f.cancel()
     finally:
         bar.close()
+        t0 = time.perf_counter()
         try:
             client.close(timeout=5)
             if cluster is not None:
                 cluster.close(timeout=5)
         except Exception:
             pass
+        PHASES["close_s"] = time.perf_counter() - t0
     return ran, interrupted
 
 
@@ -703,7 +705,8 @@ def report(sw: Sweep, rows: list[dict], wall_s: float, ran: int) -> str:
               f"({', '.join(f'{n} {s}' for s, n in counts.most_common())}); {ran} run now, "
               f"{wall_s:.1f} s wall" + (f" (cluster start {PHASES['cluster_s']:.1f} s with {PHASES['workers']} "
                                         f"workers, warm-up {PHASES.get('warm_s', 0):.1f} s, members "
-                                        f"{PHASES.get('members_s', 0):.1f} s)" if PHASES else "") + ".", ""]
+                                        f"{PHASES.get('members_s', 0):.1f} s, shutdown {PHASES.get('close_s', 0):.1f} s)"
+                                        if PHASES else "") + ".", ""]
     if sw.axes:
         lines += ["Axes:", ""] + [f"- `{k}`: {', '.join(scn._fmt(v) for v in vals)}" for k, vals in sw.axes.items()]
         lines.append("")
