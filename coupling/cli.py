@@ -210,8 +210,9 @@ def main(argv=None) -> int:
             # coupling/studies.py: cmd_compare, cmd_converge, cmd_stability;
             # coupling/render.py: cmd_render (imported only when asked for)
             import importlib
-            module = importlib.import_module({"render": ".render", "sweep": ".sweep", "map": ".regime_map"}.get(args.cmd, ".studies"),
-                                             __package__)
+            # coupling/sweep.py: cmd_sweep; coupling/regime_map.py: cmd_map
+            name = {"render": ".render", "sweep": ".sweep", "map": ".regime_map"}.get(args.cmd, ".studies")
+            module = importlib.import_module(name, __package__)
             handler = getattr(module, f"cmd_{args.cmd}")
         return handler(args)
     except (SceneError, RecordError) as exc:

@@ -98,6 +98,8 @@ def _members(grid: dict, base: dict, base_path: str) -> list[Member]:
 
 
 def cmd_map(args) -> int:
+    if args.workers is not None and args.workers < 1:
+        raise SceneError(f"--workers {args.workers}: must be >= 1")
     kind = "quick" if args.quick else "full"
     grid = GRIDS[kind]
     out = Path(args.out) if args.out else Path("results") / f"map-{kind}"
