@@ -47,9 +47,10 @@ def loading_of(scene: Scene, dt: float):
     duration = scene["solver"].get("duration")
     if ld["kind"] == "record":
         try:
-            rec = gmod.read_record(ld["path"], ld.get("units"))
+            rec = _read_record(ld)
         except gmod.RecordError as exc:
             raise SceneError(f"{exc} (loading.{'record' if 'record' in ld else 'file'})") from None
+        factor = ld["scale"] * _target_factor(ld, rec)
         if duration is not None and dt > duration:
             raise SceneError(f"{scene.path}: solver.dt = {dt:g}: must not exceed solver.duration")
         if dt > rec.t[-1]:
@@ -57,7 +58,7 @@ def loading_of(scene: Scene, dt: float):
         from .scene import check_steps
         check_steps(scene.path, dt, duration or float(rec.t[-1]))
         gm = gmod.ground_motion_from_samples(
-            ld.get("record", ld.get("file")), rec.t, rec.a_g * G_ACC * ld["scale"], dt, duration,
+            ld.get("record", ld.get("file", rec.name)), rec.t, rec.a_g * G_ACC * factor, dt, duration,
             baseline=ld["baseline"])
         gm.record = rec
         return gm
@@ -70,6 +71,31 @@ def loading_of(scene: Scene, dt: float):
         return gmod.pulse_ground_motion(ld["shape"], ld["velocity_mps"], ld["period_s"], ld["t0_s"],
                                         duration or loading_length(ld), dt)
     raise AssertionError(ld["kind"])
+
+
+def _read_record(ld: dict):
+    """The record a [loading] names: a file (packaged or given) or a member of a P695 set."""
+    from fpd.mechanics import ground_motion as gmod
+    if "record_set" in ld:
+        from fpd.mechanics import p695
+        return p695.read(ld["record_set"], ld["record_id"], ld["component"], ld["normalize"])
+    return gmod.read_record(ld["path"], ld.get("units"))
+
+
+def _target_factor(ld: dict, rec) -> float:
+    """loading.target_pga_g: a set member is scaled by the factor that brings
+    the set's median PGA to the target (one factor for the whole set, as P695
+    scales a set; the records keep their spread); a single record by the one
+    that brings its own PGA there."""
+    target = ld.get("target_pga_g")
+    if not target:
+        return 1.0
+    if "record_set" in ld:
+        from fpd.mechanics import p695
+        return target / p695.median_pga_g(ld["record_set"], ld["normalize"])
+    if rec.pga_g <= 0:
+        raise SceneError(f"{rec.name}: PGA is 0, cannot scale to loading.target_pga_g = {target:g}")
+    return target / rec.pga_g
 
 
 def plate_params(scene: Scene, side: str) -> PlateParams:
@@ -147,6 +173,7 @@ def build(scene: Scene) -> Simulation:
     if hasattr(loading, "record"):
         info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
                           "pga_g": loading.record.pga_g, "scale": ld["scale"],
+                          "scaled_pga_g": loading.record.pga_g * ld["scale"] * _target_factor(ld, loading.record),
                           "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
     plates = tuple(make_plate(p, dt / substeps) for p in pp)

@@ -145,6 +145,41 @@ def _parser() -> argparse.ArgumentParser:
                     "scene key (type, unit, default, allowed values, meaning), output column and summary.json "
                     "field. docs/reference.md is this output."),
         epilog="examples:\n  fpd reference > docs/reference.md\n  fpd reference | grep flux\n")
+
+    # coupling/sweep.py: many runs on Dask, one table (docs/sweeps.md)
+    w = sub.add_parser(
+        "sweep", formatter_class=_FMT, help="run a scene over axes of values on Dask workers; one table",
+        description=_wrap("Run a base scene over axes of values (any dotted scene key with a list of values, "
+                    "record sets, scale factors; their product or zip) on dask.distributed workers and write "
+                    "one tidy table: sweep.csv (and sweep.parquet with pyarrow), one row per member with its "
+                    "axis values, status, message and every scalar of its summary.json, and sweep.md. "
+                    "Finished members are stored as they finish: a rerun skips them (docs/sweeps.md)."),
+        epilog="""examples:
+  fpd sweep my-sweep.toml --out sw              one worker per core on a local cluster
+  fpd sweep my-sweep.toml --out sw --workers 1  one local worker
+  fpd sweep my-sweep.toml --out sw --scheduler tcp://head:8786   an existing Dask cluster
+""")
+    w.add_argument("sweep", metavar="SWEEP.toml", help="the sweep file (TOML: scene, mode, [axes], [set], [run])")
+    w.add_argument("--out", metavar="DIR", help="results folder (default: results/<sweep name>/)")
+    w.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
+    w.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
+    w.add_argument("--force", action="store_true", help="start afresh (default: resume a sweep in --out)")
+    w.add_argument("--quiet", action="store_true", help="print nothing but errors (no progress, no report)")
+
+    m = sub.add_parser(
+        "map", formatter_class=_FMT,
+        help="the regime map: where each model choice changes the answer (a packaged sweep)",
+        description=_wrap("The regime map: the default device over pad aspect h/D and intensity (pulses and "
+                    "FEMA P695 records scaled), each cell run with two-phase / seated, fe1d / lumped plates "
+                    "and two friction levels at dt and dt/2; heat maps with the 1, 5 and 20 % contours and "
+                    "map.md stating where each model choice changes the answer (docs/sweeps.md)."),
+        epilog="examples:\n  fpd map --quick --out map\n  fpd map --out map --workers 2\n")
+    m.add_argument("--quick", action="store_true", help="a coarse map (a few minutes on 2 cores)")
+    m.add_argument("--out", metavar="DIR", help="results folder (default: results/map/)")
+    m.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
+    m.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
+    m.add_argument("--force", action="store_true", help="start afresh (default: resume the map's sweep in --out)")
+    m.add_argument("--quiet", action="store_true", help="print nothing but errors (no progress, no report)")
     return p
 
 
@@ -305,8 +340,9 @@ def main(argv=None) -> int:
             # coupling/studies.py: cmd_compare, cmd_converge, cmd_stability;
             # coupling/render.py: cmd_render (imported only when asked for)
             import importlib
-            module = importlib.import_module({"render": ".render", "reference": ".reference"}.get(
-                args.cmd, ".studies"), __package__)
+            # coupling/sweep.py: cmd_sweep; coupling/regime_map.py: cmd_map
+            module = importlib.import_module({"render": ".render", "reference": ".reference", "sweep": ".sweep",
+                                              "map": ".regime_map"}.get(args.cmd, ".studies"), __package__)
             handler = getattr(module, f"cmd_{args.cmd}")
         with args.claims:
             return handler(args)

