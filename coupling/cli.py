@@ -153,8 +153,11 @@ def _report(s: dict, out: Path) -> None:
         parts.append(f"friction work {(s['friction_work_J']['lower'] + s['friction_work_J']['upper']) / 1e3:.2f} kJ")
         parts.append(f"energy residual {s['energy_residual_rel']:.1e}")
     if "peak_T1_C" in s:
-        parts.append(f"peak T {s['peak_T1_C']:.1f} / {s['peak_T2_C']:.1f} C")
+        parts.append(f"peak T {s['peak_T1_C']:.1f} / {s['peak_T2_C']:.1f} \N{DEGREE SIGN}C")
     print("; ".join(parts))
+    if s.get("test_machine", {}).get("cycles"):        # coupling/cycles.py
+        print("per cycle: " + "; ".join(f"{c['cycle']}: EDC {c['EDC_J'] / 1e3:.1f} kJ, K_eff {c['K_eff_N_m'] / 1e3:.0f} kN/m, "
+                                        f"mu_eff {c['mu_eff']:.4f}" for c in s["test_machine"]["cycles"]))
     print(f"results in {out}/")
 
 

@@ -175,8 +175,12 @@ class StreamHistory:
     streamed = True
 
     def __init__(self, csv_path, spill_path=None, chunk_rows: int | None = None, plots: bool = True,
-                 plot_full_rows: int = PLOT_FULL_ROWS, plot_bins: int = PLOT_BINS):
+                 plot_full_rows: int = PLOT_FULL_ROWS, plot_bins: int = PLOT_BINS, meters=()):
         self.csv_path = Path(csv_path)
+        # meters: callables columns -> an object with add(rows) (or None), fed
+        # every block (e.g. coupling/cycles.CycleMeter: per-cycle loop areas)
+        self._meter_makers = tuple(meters)
+        self.meters = []
         self.spill_path = Path(spill_path) if spill_path is not None else None
         self.chunk_rows = chunk_rows
         self.keep_plot = plots
@@ -191,6 +195,7 @@ class StreamHistory:
         self.idx = [list(loop_columns).index(c) for c in columns]
         self.stats = Stats(columns)
         self.plot = PlotSampler(columns, n_rows_max, *self._plot_args)
+        self.meters = [m for m in (make(self.columns) for make in self._meter_makers) if m is not None]
         self._fh = open(self.csv_path, "w", newline="")
         self._csv = CsvWriter(self._fh, columns)
         if self.spill_path is not None:
@@ -212,6 +217,8 @@ class StreamHistory:
         if self._spill is not None:
             self._spill.write(rows.tobytes())
         self.stats.add(rows)
+        for m in self.meters:
+            m.add(rows)
         if self.keep_plot:
             self.plot.add(rows)
         self.rows += len(rows)

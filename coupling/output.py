@@ -154,10 +154,26 @@ def summary(scene: Scene, result, sim) -> dict:
     if "mu1" in result:
         s["min_mu1"] = _f(st.low("mu1"))
         s["min_mu2"] = _f(st.low("mu2"))
+    meter = _cycle_meter(scene, result)
+    if meter is not None:
+        from .cycles import summary_block
+        s["test_machine"] = summary_block(meter, scene)
     if d["coupling"]["scheme"] == "iterated":
         s["coupling_iterations"] = {"total": int(result.iterations), "max_per_step": int(result.max_iterations)}
     s.update(result.info)
     return s
+
+
+def _cycle_meter(scene: Scene, result):
+    """The per-cycle meter of a test-machine run: the streamed history's (fed
+    every block), or one fed the rows held in memory; None for other scenes."""
+    from .cycles import CycleMeter, meter_for
+    if result.streamed:
+        return next((m for m in getattr(result.history, "meters", ()) if isinstance(m, CycleMeter)), None)
+    meter = meter_for(scene, result.columns)
+    if meter is not None:
+        meter.add(result.data)
+    return meter
 
 
 def closed_form_check(result, sim) -> dict:
@@ -228,6 +244,8 @@ def stream_history(folder: ResultsFolder, scene: Scene, **kw):
     from .history import StreamHistory
     spill = folder.path(".history.f64") if needs_rows(scene) else None
     kw.setdefault("plots", bool(scene["output"]["plots"]))
+    from .cycles import meter_for
+    kw.setdefault("meters", (lambda columns: meter_for(scene, columns),))
     return StreamHistory(folder.path("timeseries.csv"), spill_path=spill, **kw)
 
 
@@ -240,8 +258,14 @@ def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = Tr
     s = summary(scene, result, sim)
     if result.streamed:
         result.history.discard_spill()
+    if "test_machine" in s:
+        from .cycles import plot_cycles, write_cycles_csv
+        write_cycles_csv(folder.path("cycles.csv"), s["test_machine"]["cycles"])
     if plots and result.n_rows > 1:
         from .plots import make_plots
         s["plots"] = make_plots(folder.subdir("plots"), result.plot_view(), scene)
+        if s.get("test_machine", {}).get("cycles"):
+            plot_cycles(folder.path("plots", "cycles.png"), s["test_machine"]["cycles"], scene.name)
+            s["plots"].append("cycles.png")
     folder.path("summary.json").write_text(json.dumps(s, indent=2) + "\n")
     return s
