@@ -53,6 +53,8 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--fast", action="store_true")
     d = sub.add_parser("render", help="PNG frames and a GIF from a run's VTK series")
     d.add_argument("dir")
+    d.add_argument("--force", action="store_true", help="replace an existing DIR/render")
+    d.add_argument("--quiet", action="store_true")
     return p
 
 

@@ -23,18 +23,10 @@ DEG = "\N{DEGREE SIGN}C"     # the one spelling of the unit in every figure
 
 
 def plate_quantity(scene, side: str) -> str:
-    """What a plate model's temperature column is (T1_C / T2_C), in words."""
+    """What a plate model's temperature column (T1_C / T2_C) is, in words."""
+    from .hottest import quantity_of
     t = scene.thermal(side)
-    model = t["model"]
-    if model == "lumped":
-        return "plate mean (lumped)"
-    if model == "fe1d":
-        if t.get("source") == "fixed-point":
-            return f"material point at r = {t['radius_m']:g} m, surface (fe1d)"
-        return "surface under the pad, 1-D column (fe1d)"
-    if model == "axisym":
-        return "footprint mean, surface (axisym)"
-    return f"surface under the pad ({model})"
+    return quantity_of(t["model"], t.get("source", "follow-pad"), t.get("radius_m", 0.0))
 
 
 def sides(scene) -> tuple[str, ...]:
