@@ -48,13 +48,22 @@ def _array(a) -> np.ndarray:
     return np.ascontiguousarray(a.astype(a.dtype.newbyteorder("<")))
 
 
-def write_vtu(path, points, cells, point_data=None, cell_data=None) -> Path:
-    """One VTK XML UnstructuredGrid file, arrays appended raw (little endian,
-    UInt64 block sizes). cells: [(meshio cell type name, connectivity (m, k)), ...];
-    point_data {name: (n,) or (n, c)}; cell_data {name: [one array per cell block]}."""
-    points = np.asarray(points, dtype=float)
-    if points.shape[1] == 2:
-        points = np.column_stack((points, np.zeros(len(points))))
+_CELLS: dict = {}      # the Cells XML of a topology already written (a series repeats its topology)
+
+
+def _data_array(name, arr) -> str:
+    """One <DataArray> element, its bytes inline: base64 of (UInt64 size, data)."""
+    arr = _array(arr)
+    comps = "" if arr.ndim == 1 else f' NumberOfComponents="{arr.shape[1]}"'
+    label = f' Name={quoteattr(name)}' if name is not None else ""
+    raw = arr.tobytes()
+    data = b2a_base64(np.uint64(len(raw)).tobytes() + raw, newline=False).decode()
+    return (f'        <DataArray type="{_DTYPES[arr.dtype.newbyteorder("=")]}"{label}{comps}'
+            f' format="binary">{data}</DataArray>\n')
+
+
+def _cells_xml(cells) -> tuple[int, str]:
+    """(number of cells, the connectivity, offsets and types arrays as XML)."""
     conn, offs, types = [], [], []
     end = 0
     for kind, c in cells:
@@ -66,17 +75,31 @@ def write_vtu(path, points, cells, point_data=None, cell_data=None) -> Path:
         offs.append(end + k * np.arange(1, m + 1, dtype=np.int64))
         end += m * k
         types.append(np.full(m, VTK_TYPES[kind], dtype=np.uint8))
-    n_cells = sum(len(t) for t in types)
+    n = sum(len(t) for t in types)
+    return n, (_data_array("connectivity", np.concatenate(conn) if conn else np.zeros(0, np.int64))
+               + _data_array("offsets", np.concatenate(offs) if offs else np.zeros(0, np.int64))
+               + _data_array("types", np.concatenate(types) if types else np.zeros(0, np.uint8)))
+
+
+def write_vtu(path, points, cells, point_data=None, cell_data=None):
+    """One VTK XML UnstructuredGrid file, each array inline as base64 of
+    (UInt64 byte count, little-endian data); returns ``path`` as given. cells: [(meshio cell type name, connectivity (m, k)), ...];
+    point_data {name: (n,) or (n, c)}; cell_data {name: [one array per cell block]}."""
+    points = np.asarray(points, dtype=float)
+    if points.shape[1] == 2:
+        points = np.column_stack((points, np.zeros(len(points))))
+    key = tuple((kind, np.shape(c), np.asarray(c).tobytes()) for kind, c in cells)
+    cached = _CELLS.get(key)
+    if cached is None:
+        cached = _cells_xml(cells)
+        if len(_CELLS) > 64:
+            _CELLS.clear()
+        _CELLS[key] = cached
+    n_cells, cells_xml = cached
     xml = []
 
     def entry(name, arr):
-        arr = _array(arr)
-        comps = "" if arr.ndim == 1 else f' NumberOfComponents="{arr.shape[1]}"'
-        label = f' Name={quoteattr(name)}' if name is not None else ""
-        raw = arr.tobytes()
-        data = b2a_base64(np.uint64(len(raw)).tobytes() + raw, newline=False).decode()
-        xml.append(f'        <DataArray type="{_DTYPES[arr.dtype.newbyteorder("=")]}"{label}{comps}'
-                   f' format="binary">{data}</DataArray>\n')
+        xml.append(_data_array(name, arr))
 
     xml.append('      <PointData>\n')
     for name, a in (point_data or {}).items():
@@ -87,17 +110,14 @@ def write_vtu(path, points, cells, point_data=None, cell_data=None) -> Path:
     xml.append('      </CellData>\n      <Points>\n')
     entry(None, points)
     xml.append('      </Points>\n      <Cells>\n')
-    entry("connectivity", np.concatenate(conn) if conn else np.zeros(0, np.int64))
-    entry("offsets", np.concatenate(offs) if offs else np.zeros(0, np.int64))
-    entry("types", np.concatenate(types) if types else np.zeros(0, np.uint8))
+    xml.append(cells_xml)
     xml.append('      </Cells>\n')
     text = ('<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" '
             'byte_order="LittleEndian" header_type="UInt64">\n  <UnstructuredGrid>\n'
             f'    <Piece NumberOfPoints="{len(points)}" NumberOfCells="{n_cells}">\n'
             + "".join(xml) + '    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n')
-    path = Path(path)
-    with open(path, "w") as fh:
-        fh.write(text)
+    with open(path, "wb") as fh:
+        fh.write(text.encode())
     return path
 
 
@@ -115,6 +135,8 @@ class VTKSeries:
             raise ValueError(f"{self.pvd}: a VTK series index must end in .pvd")
         self.pvd.parent.mkdir(parents=True, exist_ok=True)
         self.frames: list[tuple[float, str]] = []
+        self._dir = str(self.pvd.parent)
+        self._fh = None
         self._body_end = None          # byte offset of the closing tags in the index
 
     def add(self, time: float, points, cells, point_data: dict | None = None,
@@ -123,7 +145,7 @@ class VTKSeries:
         if points.ndim != 2 or points.shape[1] not in (2, 3):
             raise ValueError(f"points must be (n, 2) or (n, 3), got {points.shape}")
         name = f"{self.pvd.stem}_{len(self.frames):06d}.vtu"
-        path = write_vtu(self.pvd.parent / name, points, cells, point_data, cell_data)
+        path = Path(write_vtu(os.path.join(self._dir, name), points, cells, point_data, cell_data))
         self.frames.append((float(time), name))
         self._append([(float(time), 0, None, name)])
         return path
@@ -136,7 +158,7 @@ class VTKSeries:
         entries, paths = [], []
         for i, (pname, points, cells, pdata, cdata) in enumerate(parts):
             f = f"{self.pvd.stem}_{pname}_{k:06d}.vtu"
-            paths.append(write_vtu(self.pvd.parent / f, points, cells, pdata, cdata))
+            paths.append(write_vtu(os.path.join(self._dir, f), points, cells, pdata, cdata))
             entries.append((float(time), i, pname, f))
         self.frames.append((float(time), entries[0][3] if entries else ""))
         self._append(entries)
@@ -152,19 +174,30 @@ class VTKSeries:
                        for t, p, n, f in entries).encode()
         if self._body_end is None:
             self._start()
-        with open(self.pvd, "r+b") as fh:
-            fh.seek(self._body_end)
-            fh.write(text + _TAIL)
-            fh.truncate()
+        fh = self._fh
+        fh.seek(self._body_end)
+        fh.write(text + _TAIL)      # longer than the tags it overwrites: nothing to truncate
+        fh.flush()                  # in the OS's hands: a crash of the process leaves a valid index
         self._body_end += len(text)
 
     def _start(self) -> None:
-        """A fresh index with no frames (written to a temporary file, renamed)."""
+        """A fresh index with no frames (written to a temporary file, renamed),
+        kept open for the frames to come."""
         tmp = self.pvd.with_suffix(".pvd.tmp")
         head = _HEAD.encode()
         tmp.write_bytes(head + _TAIL)
         os.replace(tmp, self.pvd)
         self._body_end = len(head)
+        self._fh = open(self.pvd, "r+b")
+
+    def _close_index(self) -> None:
+        fh = getattr(self, "_fh", None)
+        if fh is not None:
+            fh.close()
+            self._fh = None
+
+    def __del__(self):
+        self._close_index()
 
 
 class PVDWriter(VTKSeries):
@@ -190,6 +223,7 @@ class PVDWriter(VTKSeries):
 
     def close(self) -> None:
         self.closed = True
+        self._close_index()
 
     def __enter__(self):
         return self

@@ -1,0 +1,132 @@
+"""Plate fields in device coordinates (coupling/placement.py): they overlay
+device.pvd (the hot column under the pad, on the concave surfaces), and
+every cell array of the series is finite (issue 18)."""
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _fpd(*args, cwd=ROOT):
+    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, "-m", "fpd", *map(str, args)], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=300)
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("place") / "dfp"
+    r = _fpd("run", "--set", "solver.duration=6.0", "--set", "output.vtk_every=500", "--set", "output.plots=false",
+             "--out", out, "--quiet")
+    assert r.returncode == 0, r.stderr
+    return out
+
+
+def _polys(g):
+    off, conn = g.cell_offsets, g.cell_connectivity
+    return [g.points[conn[off[c]:off[c + 1]]][:, [0, 2]] for c in range(g.n_cells)]
+
+
+def test_plate_columns_sit_under_the_pad_on_the_sliding_surfaces(run):
+    import pyvista
+
+    R1 = R2 = 2.2
+    h, a = 0.10, 0.125
+    dev = pyvista.PVDReader(str(run / "vtk" / "device.pvd"))
+    low = pyvista.PVDReader(str(run / "vtk" / "lower_plate.pvd"))
+    up = pyvista.PVDReader(str(run / "vtk" / "upper_plate.pvd"))
+    assert dev.time_values == low.time_values == up.time_values
+    moved = 0
+    for t in dev.time_values:
+        for r in (dev, low, up):
+            r.set_active_time_value(t)
+        plates, bodies = dev.read()
+        lower_poly, upper_poly = _polys(plates)
+        pad = _polys(bodies)[0]
+        gl, gu = low.read()[0], up.read()[0]
+        # the lower plate's arc is centred at C1 = (xg, R1): its polygon's mean x is xg
+        xg = lower_poly[:, 0].mean()
+        top_l = gl.points[np.argmax(gl.points[:, 2])][[0, 2]]       # the column's sliding-face node
+        assert math.hypot(top_l[0] - xg, top_l[1] - R1) == pytest.approx(R1, abs=1e-9)
+        # ... under the pad's bottom arc (the fe1d column follows the footprint)
+        bottom = pad[:32]
+        assert bottom[:, 0].min() - 1e-9 <= top_l[0] <= bottom[:, 0].max() + 1e-9
+        assert abs(top_l[0] - bottom[:, 0].mean()) < 0.1 * a
+        # the rest of the column goes down into the steel, along the radius
+        d = np.hypot(gl.points[:, 0] - xg, gl.points[:, 2] - R1) - R1
+        assert d.min() >= -1e-9 and d.max() == pytest.approx(0.05, rel=1e-6)
+        # the upper plate: its column's face node on the upper arc, above the pad's top arc
+        apex_x = upper_poly[:, 0].mean()
+        face_u = gu.points[np.argmin(gu.points[:, 2])][[0, 2]]
+        top = pad[32:]
+        # the upper plate polygon's first arc is its sliding surface, about C2 = (apex_x, C2z)
+        x0, z0 = upper_poly[0]
+        C2z = z0 - math.sqrt(R2 ** 2 - (x0 - apex_x) ** 2)
+        assert top[:, 0].min() - 1e-9 <= face_u[0] <= top[:, 0].max() + 1e-9
+        assert math.hypot(face_u[0] - apex_x, face_u[1] - C2z) == pytest.approx(R2, abs=1e-9)
+        du = np.hypot(gu.points[:, 0] - apex_x, gu.points[:, 2] - C2z) - R2
+        assert du.min() >= -1e-9 and du.max() == pytest.approx(0.05, rel=1e-6)
+        moved += abs(top_l[0]) > 0.01
+        for g in (plates, bodies, gl, gu):
+            for name in list(g.cell_data) + list(g.point_data):
+                assert np.isfinite(np.asarray(g[name], dtype=float)).all(), name
+    assert moved >= 3          # the pad moved: the placement was tested off-centre too
+
+
+def test_place_field_conventions():
+    """Depth below or above z = 0 (fe1d/axisym vs fe3d) lands at the same place;
+    an axisym section is mirrored; a 3-D point on the face wraps onto the sphere."""
+    from types import SimpleNamespace
+
+    from fpd.coupling.placement import place_field
+    from fpd.mechanics.geometry import DeviceGeometry
+
+    geom = DeviceGeometry("DFP", 2.0, 3.0, 0.1, 0.2, 10.0, 1e4)
+    vals = {"xg_m": 0.3, "u_m": 0.1, "z_m": 0.002, "s1_m": 0.05, "s2_m": 0.07}
+    p = SimpleNamespace(model="fe1d", source="follow-pad", radius_m=0.0)
+    col_down = (np.array([[0, 0, 0.0], [0, 0, -0.01]]), [("line", np.array([[0, 1]]))], np.array([30.0, 20.0]))
+    col_up = (np.array([[0, 0, 0.0], [0, 0, 0.01]]), col_down[1], col_down[2])
+    a = place_field("lower", col_down, geom, p, vals)[0]
+    b = place_field("lower", col_up, geom, SimpleNamespace(model="fe3d", source="follow-pad", radius_m=0.0), vals)[0]
+    np.testing.assert_allclose(a, b)
+    ang = 0.05 / 2.0
+    np.testing.assert_allclose(a[0], [0.3 + 2.0 * math.sin(ang), 0.0, 2.0 - 2.0 * math.cos(ang)], atol=1e-12)
+    np.testing.assert_allclose(a[1], [0.3 + 2.01 * math.sin(ang), 0.0, 2.0 - 2.01 * math.cos(ang)], atol=1e-12)
+    up = place_field("upper", col_down, geom, p, vals)[0]
+    apex = (0.3 + 0.1, 0.1 + 0.002)
+    ang2 = -0.07 / 3.0
+    np.testing.assert_allclose(up[0], [apex[0] + 3.0 * math.sin(ang2), 0.0, apex[1] - 3.0 + 3.0 * math.cos(ang2)],
+                               atol=1e-12)
+    assert up[1, 2] > up[0, 2]                               # the steel is above the upper face
+    sec = (np.array([[0, 0, 0.0], [0.1, 0, 0.0], [0.1, 0, -0.01], [0, 0, -0.01]]), [("quad", np.array([[0, 1, 2, 3]]))],
+           np.arange(4.0))
+    w, cells, T = place_field("lower", sec, geom, SimpleNamespace(model="axisym", source="follow-pad", radius_m=0.0),
+                              vals)
+    assert len(w) == 8 and sum(len(c) for _, c in cells) == 2 and len(T) == 8
+    np.testing.assert_allclose(w[5, 0] - 0.3, -(w[1, 0] - 0.3), atol=1e-12)    # mirrored about the plate centre
+    cube = (np.array([[0.05, 0.02, 0.0], [0.05, 0.02, 0.01]]), [("line", np.array([[0, 1]]))], np.zeros(2))
+    c3 = place_field("lower", cube, geom, SimpleNamespace(model="fe3d", source="follow-pad", radius_m=0.0), vals)[0]
+    assert math.dist(c3[0], (0.3, 0.0, 2.0)) == pytest.approx(2.0, abs=1e-12)
+    assert math.dist(c3[1], (0.3, 0.0, 2.0)) == pytest.approx(2.01, abs=1e-12)
+    assert c3[0, 1] > 0                                      # y kept off the device's plane
+
+
+def test_render_refuses_to_overwrite_without_force(run):
+    r = _fpd("render", run, "--quiet")
+    assert r.returncode == 0, r.stderr
+    first = sorted(p.name for p in (run / "render" / "frames").iterdir())
+    assert len(first) == 13 and (run / "render" / "device.gif").is_file()
+    r = _fpd("render", run)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "--force" in r.stderr
+    r = _fpd("render", run, "--force", "--quiet")
+    assert r.returncode == 0, r.stderr
+    assert sorted(p.name for p in (run / "render" / "frames").iterdir()) == first
+    assert not list(run.glob(".render*"))
