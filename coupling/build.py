@@ -46,7 +46,7 @@ def loading_of(scene: Scene, dt: float):
     duration = scene["solver"].get("duration")
     if ld["kind"] == "record":
         try:
-            rec = gmod.read_record(ld["path"], ld.get("units"))
+            rec = gmod.read_record(ld["path"], ld.get("units"), ld.get("dt"))
         except gmod.RecordError as exc:
             raise SceneError(f"{exc} (loading.{'record' if 'record' in ld else 'file'})") from None
         if duration is not None and dt > duration:

@@ -107,7 +107,9 @@ THERMAL_KEYS = {name: (kind, _plate_default(name), check) for name, kind, check 
 LOADING_KEYS = {
     "record": {"record": ("str", None, None), "file": ("str", None, None),
                "scale": ("float", 1.0, lambda x: None if x != 0 and math.isfinite(x) else "must be a non-zero number"),
-               "units": (("g", "m/s2"), None, None), "baseline": ("bool", True, None)},
+               "units": (("g", "m/s2"), None, None), "baseline": ("bool", True, None),
+               # sampling interval of a record file without times (one or several values per line)
+               "dt": ("float", None, _pos)},
     "harmonic": {"amplitude_m": ("float", REQUIRED, _pos), "frequency_Hz": ("float", REQUIRED, _pos),
                  "cycles": ("float", REQUIRED, _pos)},
     "displacement": {"waveform": (("sine",), "sine", None), "amplitude_m": ("float", REQUIRED, _pos),
