@@ -175,8 +175,11 @@ class StreamHistory:
     streamed = True
 
     def __init__(self, csv_path, spill_path=None, chunk_rows: int | None = None, plots: bool = True,
-                 plot_full_rows: int = PLOT_FULL_ROWS, plot_bins: int = PLOT_BINS, meters=()):
+                 plot_full_rows: int = PLOT_FULL_ROWS, plot_bins: int = PLOT_BINS, meters=(), writer=None):
         self.csv_path = Path(csv_path)
+        # writer: a class (path, columns) -> format(rows) / write / close, e.g.
+        # output.ParquetWriter; None: the CSV text on an open file (CsvWriter)
+        self._writer_cls = writer
         # meters: callables columns -> an object with add(rows) (or None), fed
         # every block (e.g. coupling/cycles.CycleMeter: per-cycle loop areas)
         self._meter_makers = tuple(meters)
@@ -196,8 +199,12 @@ class StreamHistory:
         self.stats = Stats(columns)
         self.plot = PlotSampler(columns, n_rows_max, *self._plot_args)
         self.meters = [m for m in (make(self.columns) for make in self._meter_makers) if m is not None]
-        self._fh = open(self.csv_path, "w", newline="")
-        self._csv = CsvWriter(self._fh, columns)
+        if self._writer_cls is None:
+            self._fh = open(self.csv_path, "w", newline="")
+            self._csv = CsvWriter(self._fh, columns)
+        else:
+            self._csv = self._writer_cls(self.csv_path, columns)
+            self._fh = None
         if self.spill_path is not None:
             self._spill = open(self.spill_path, "wb")
         self.rows = 0
@@ -212,8 +219,12 @@ class StreamHistory:
         rows, texts = prepared
         if not len(rows):
             return
-        for text in texts:
-            self._fh.write(text)
+        if self._fh is None:
+            for table in texts:
+                self._csv.w.write_table(table)
+        else:
+            for text in texts:
+                self._fh.write(text)
         if self._spill is not None:
             self._spill.write(rows.tobytes())
         self.stats.add(rows)
@@ -227,6 +238,8 @@ class StreamHistory:
         for f in (self._fh, self._spill):
             if f is not None:
                 f.close()
+        if self._fh is None and self._writer_cls is not None:
+            self._csv.close()
 
     def plot_data(self) -> np.ndarray:
         """The bounded copy of the rows for the plots (PlotSampler)."""

@@ -139,7 +139,9 @@ TABLES = {
                  "substeps": ("int", 1, _atleast(1))},
     "solver": {"dt": ("float", 1e-3, _pos), "duration": ("float", None, _pos)},
     "output": {"vtk_every": ("int", 0, _nonneg), "plots": ("bool", True, None),
-               "csv_every": ("int", 1, _atleast(1))},
+               "csv_every": ("int", 1, _atleast(1)),
+               # the history file: timeseries.csv, or timeseries.parquet (pyarrow) for long runs
+               "history": (("csv", "parquet"), "csv", None)},
 }
 TOP_KEYS = {"name": "str", "description": "str"}
 ALL_TABLES = set(TABLES) | {"friction", "loading", "thermal"}
