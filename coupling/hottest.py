@@ -50,7 +50,9 @@ class HottestFields:
     def pictures(self, plots_dir) -> list[Path]:
         out = []
         for side in ("lower", "upper"):
-            if side in self.best:
+            # a plate that never heated (an SFP's housing: its articulation
+            # carries no friction) gets no picture of its uniform field
+            if side in self.best and np.nanmax(self.best[side][4]) > np.nanmin(self.best[side][4]):
                 out.append(plot_plate_field(Path(plots_dir) / f"{side}_plate_hottest.png",
                                             f"{side} plate", *self.best[side],
                                             surface=self.surface.get(side), params=self.params.get(side),
@@ -141,7 +143,7 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
         dmax = min(float(d.max()), max(3.0 * hi, 2e-3))
         ax.plot(1e3 * d, y, "-", color="tab:red", lw=1.6)
         ax.set_xlim(0.0, 1e3 * dmax)
-        ax.set_xlabel("depth into the plate below the sliding face (mm)"
+        ax.set_xlabel("depth into the steel from the sliding face (mm)"
                       + (f"; plate {1e3 * float(d.max()):.0f} mm thick" if dmax < d.max() else ""))
         ax.set_ylabel(f"T ({DEG})")
         ax.grid(True, alpha=0.3)
