@@ -227,7 +227,7 @@ def summary(scene: Scene, result, sim) -> dict:
         s["min_mu1"] = _f(st.low("mu1"))
         s["min_mu2"] = _f(st.low("mu2"))
     meter = _cycle_meter(scene, result)
-    if meter is not None:
+    if meter is not None and meter.cycles():       # a run shorter than one cycle has nothing to report
         from .cycles import summary_block
         s["test_machine"] = summary_block(meter, scene)
     if d["coupling"]["scheme"] == "iterated":
@@ -238,7 +238,9 @@ def summary(scene: Scene, result, sim) -> dict:
 
 def _cycle_meter(scene: Scene, result):
     """The per-cycle meter of a test-machine run: the streamed history's (fed
-    every block), or one fed the rows held in memory; None for other scenes."""
+    every block; ``stream_history`` gives it one, a bare StreamHistory has
+    none and its summary no ``test_machine``), or one fed the rows held in
+    memory; None for other scenes."""
     from .cycles import CycleMeter, meter_for
     if result.streamed:
         return next((m for m in getattr(result.history, "meters", ()) if isinstance(m, CycleMeter)), None)
