@@ -250,6 +250,7 @@ def stability_plots(folder: Path, cases) -> list[str]:
                         label=f"dt {run.m['dt_s']:g}")
         ax.set_title(f"{c['case']} ({'pass' if c['pass'] else 'FAIL'})", fontsize=8)
         ax.tick_params(labelsize=7)
+        ax.ticklabel_format(axis="y", useOffset=False)     # 20.0005, not "+2e1" and 0.0005
         ax.legend(fontsize=6)
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[n:]:
