@@ -130,3 +130,33 @@ def test_render_refuses_to_overwrite_without_force(run):
     assert r.returncode == 0, r.stderr
     assert sorted(p.name for p in (run / "render" / "frames").iterdir()) == first
     assert not list(run.glob(".render*"))
+
+
+def test_pvd_index_is_extended_not_rewritten(tmp_path, monkeypatch):
+    """Linear cost: after the index is created, a frame writes only its own
+    DataSet lines (and the closing tags), never the whole index again."""
+    import xml.etree.ElementTree as ET
+
+    from fpd.meshes import vtk
+
+    replaced, written = [], []
+    real_replace = os.replace
+    monkeypatch.setattr(vtk.os, "replace", lambda a, b: (replaced.append(b), real_replace(a, b)))
+    w = vtk.PVDWriter(tmp_path, "s")
+    real_append = w._append
+
+    def spy(entries):
+        before = w._body_end
+        real_append(entries)
+        written.append(w._body_end - before)
+    w._append = spy
+    pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    for k in range(300):
+        w.add_parts(0.1 * k, [("a", pts, [("triangle", [[0, 1, 2]])], {"T_C": np.arange(3.0)}, None),
+                              ("b", pts, [("triangle", [[0, 1, 2]])], None, {"body": [np.array([1])]})])
+    assert len(replaced) == 1                              # the empty index, once
+    assert max(written) <= 200                             # bytes per frame: two lines, whatever the frame count
+    root = ET.parse(tmp_path / "s.pvd").getroot()         # valid without close()
+    ds = list(root.iter("DataSet"))
+    assert len(ds) == 600 and ds[-1].get("file") == "s_b_000299.vtu" and ds[-1].get("part") == "1"
+    w.close()
