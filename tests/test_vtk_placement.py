@@ -160,3 +160,47 @@ def test_pvd_index_is_extended_not_rewritten(tmp_path, monkeypatch):
     ds = list(root.iter("DataSet"))
     assert len(ds) == 600 and ds[-1].get("file") == "s_b_000299.vtu" and ds[-1].get("part") == "1"
     w.close()
+
+
+def _hex_field(n=5, m=4):
+    """A small fe3d-like field: hexahedra, x, y in the face, z the depth (>= 0)."""
+    x = np.linspace(-0.2, 0.2, n)
+    z = np.linspace(0.0, 0.04, m)
+    X, Y, Z = np.meshgrid(x, x, z, indexing="ij")
+    pts = np.column_stack((X.ravel(), Y.ravel(), Z.ravel()))
+    idx = np.arange(len(pts)).reshape(n, n, m)
+    hexes = []
+    for i in range(n - 1):
+        for j in range(n - 1):
+            for k in range(m - 1):
+                hexes.append([idx[i, j, k], idx[i + 1, j, k], idx[i + 1, j + 1, k], idx[i, j + 1, k],
+                              idx[i, j, k + 1], idx[i + 1, j, k + 1], idx[i + 1, j + 1, k + 1], idx[i, j + 1, k + 1]])
+    T = 20.0 + 30.0 * np.exp(-(pts[:, 0] ** 2 + pts[:, 1] ** 2) / 0.01 - pts[:, 2] / 0.005)
+    return pts, [("hexahedron", np.array(hexes))], T
+
+
+def test_three_d_field_series_and_picture(tmp_path):
+    """fe3d's convention (hexahedra, depth z >= 0): placed, written, read back, drawn."""
+    import pyvista
+    from types import SimpleNamespace
+
+    from fpd.coupling.hottest import plot_plate_field
+    from fpd.coupling.placement import place_field
+    from fpd.mechanics.geometry import DeviceGeometry
+    from fpd.meshes.vtk import PVDWriter
+
+    fld = _hex_field()
+    geom = DeviceGeometry("DFP", 2.2, 2.2, 0.1, 0.25, 30.0, 1e5)
+    params = SimpleNamespace(model="fe3d", source="follow-pad", radius_m=0.0, a_contact_m=0.125)
+    pw, cw, Tw = place_field("upper", fld, geom, params, {"xg_m": 0.1, "u_m": 0.05, "z_m": 0.0, "s2_m": 0.0})
+    with PVDWriter(tmp_path, "upper_plate") as w:
+        w.add(0.0, pw, cw, point_data={"T_C": Tw})
+    g = pyvista.PVDReader(str(tmp_path / "upper_plate.pvd")).read()[0]
+    assert g.n_cells == 4 * 4 * 3 and np.allclose(g.point_data["T_C"], fld[2])
+    face = fld[0][:, 2] == 0.0
+    assert np.all(g.points[face, 2] < g.points[~face, 2].max())       # the steel is above the face
+    p = plot_plate_field(tmp_path / "hot.png", "upper plate", float(fld[2].max()), 1.0, *fld,
+                         surface=30.0, params=params, column="T2_C")
+    from PIL import Image
+    with Image.open(p) as im:
+        assert np.asarray(im.convert("RGB"), dtype=float).var() > 0
