@@ -53,8 +53,9 @@ def _wrap(points: np.ndarray, centre, R: float, up: bool) -> np.ndarray:
     return np.column_stack((centre[0] + r * s * ux, centre[1] + r * s * uy, centre[2] + zsign * r * np.cos(ang)))
 
 
-def local_points(points, model: str, column_x: float = 0.0):
-    """(points as (x, y, depth), mirrored?) of a field in plate-local coordinates."""
+def local_points(points, column_x: float = 0.0) -> np.ndarray:
+    """A field's points as plate-local (x, y, depth >= 0); a single column
+    (every point at x = y = 0) moved to x = column_x."""
     p = np.asarray(points, dtype=float)
     if p.shape[1] == 2:
         p = np.column_stack((p, np.zeros(len(p))))
@@ -89,13 +90,10 @@ def place_field(side: str, fld, geom, params, vals: dict):
         cx = params.radius_m
     else:
         cx = vals.get("s1_m", 0.0) if side == "lower" else -vals.get("s2_m", 0.0)
-    q = local_points(points, model, cx)
+    q = local_points(points, cx)
     if model == "axisym":
         q, cells = mirror_section(q, cells)
-        if len(T) == len(points):
-            T = np.concatenate((T, T))
-        else:
-            T = np.concatenate((T, T))
+        T = np.concatenate((T, T))          # nodal or per cell: the mirror repeats both in order
     xg = vals.get("xg_m", 0.0)
     if side == "lower":
         world = _wrap(q, (xg, 0.0, geom.R1), geom.R1, up=False)
