@@ -79,7 +79,7 @@ def _read_record(ld: dict):
     if "record_set" in ld:
         from fpd.mechanics import p695
         return p695.read(ld["record_set"], ld["record_id"], ld["component"], ld["normalize"])
-    return gmod.read_record(ld["path"], ld.get("units"))
+    return gmod.read_record(ld["path"], ld.get("units"), ld.get("dt"))
 
 
 def _target_factor(ld: dict, rec) -> float:
@@ -206,7 +206,7 @@ def bidirectional_loading_of(scene: Scene, dt: float):
     if ld.get("path_y"):
         key = "record" if "record" in ld else "file_y"
         try:
-            rec = gmod.read_record(ld["path_y"], ld.get("units"))
+            rec = gmod.read_record(ld["path_y"], ld.get("units"), ld.get("dt"))
         except gmod.RecordError as exc:
             raise SceneError(f"{exc} (loading.{key})") from None
         length = duration if duration is not None else float(gx.t[-1])

@@ -138,6 +138,8 @@ def _parser() -> argparse.ArgumentParser:
                     "DIR/render/frames/ (at most 200 PNG frames) and DIR/render/device.gif."),
         epilog="examples:\n  fpd run default --set output.vtk_every=100 --out r\n  fpd render r\n")
     d.add_argument("dir", metavar="DIR", help="a results folder of `fpd run` with a vtk/ folder")
+    d.add_argument("--force", action="store_true", help="replace an existing DIR/render")
+    d.add_argument("--quiet", action="store_true", help="print nothing but errors (no progress, no report)")
 
     sub.add_parser(
         "reference", formatter_class=_FMT, help="print the reference (docs/reference.md)",
@@ -294,8 +296,11 @@ def _report(s: dict, out: Path) -> None:
         parts.append(f"friction work {sum(s['friction_work_J'].values()) / 1e3:.2f} kJ")
         parts.append(f"energy residual {s['energy_residual_rel']:.1e}")
     if "peak_T1_C" in s:
-        parts.append(f"peak T {s['peak_T1_C']:.1f} / {s['peak_T2_C']:.1f} C")
+        parts.append(f"peak T {s['peak_T1_C']:.1f} / {s['peak_T2_C']:.1f} \N{DEGREE SIGN}C")
     print("; ".join(parts))
+    if s.get("test_machine", {}).get("cycles"):        # coupling/cycles.py
+        print("per cycle: " + "; ".join(f"{c['cycle']}: EDC {c['EDC_J'] / 1e3:.1f} kJ, K_eff {c['K_eff_N_m'] / 1e3:.0f} kN/m, "
+                                        f"mu_eff {c['mu_eff']:.4f}" for c in s["test_machine"]["cycles"]))
     print(f"results in {out}/")
 
 

@@ -227,8 +227,15 @@ class StreamHistory:
     streamed = True
 
     def __init__(self, csv_path, spill_path=None, chunk_rows: int | None = None, plots: bool = True,
-                 plot_full_rows: int = PLOT_FULL_ROWS, plot_bins: int = PLOT_BINS):
+                 plot_full_rows: int = PLOT_FULL_ROWS, plot_bins: int = PLOT_BINS, meters=(), writer=None):
         self.csv_path = Path(csv_path)
+        # writer: a class (path, columns) -> format(rows) / write / close, e.g.
+        # output.ParquetWriter; None: the CSV text on an open file (CsvWriter)
+        self._writer_cls = writer
+        # meters: callables columns -> an object with add(rows) (or None), fed
+        # every block (e.g. coupling/cycles.CycleMeter: per-cycle loop areas)
+        self._meter_makers = tuple(meters)
+        self.meters = []
         self.spill_path = Path(spill_path) if spill_path is not None else None
         self.chunk_rows = chunk_rows
         self.keep_plot = plots
@@ -243,8 +250,17 @@ class StreamHistory:
         self.idx = [list(loop_columns).index(c) for c in columns]
         self.stats = Stats(columns)
         self.plot = PlotSampler(columns, n_rows_max, *self._plot_args)
-        self._fh = _Sink(self.csv_path)
-        self._csv = CsvWriter(self._fh, columns)
+        self.meters = [m for m in (make(self.columns) for make in self._meter_makers) if m is not None]
+        if self._writer_cls is None:
+            self._fh = _Sink(self.csv_path)
+            self._csv = CsvWriter(self._fh, columns)
+        else:
+            try:
+                self._csv = self._writer_cls(self.csv_path, columns)
+            except OSError as exc:
+                from .output import WriteError
+                raise WriteError(exc, path=exc.filename or str(self.csv_path), t_s=0.0) from None
+            self._fh = None
         if self.spill_path is not None:
             self._spill = _Sink(self.spill_path)
         self.rows = 0
@@ -259,34 +275,44 @@ class StreamHistory:
         rows, texts = prepared
         if not len(rows):
             return
-        sinks = [f for f in (self._fh, self._spill) if f is not None]
-        good = [f.size for f in sinks]
+        fh_good = self._fh.size if self._fh is not None else 0
+        spill_good = self._spill.size if self._spill is not None else 0
         try:
-            self._fh.alive()
-            for text in texts:
-                self._fh.write(text)
+            if self._fh is None:
+                for table in texts:          # a binary writer (output.ParquetWriter): whole blocks
+                    self._csv.w.write_table(table)
+            else:
+                self._fh.alive()
+                for text in texts:
+                    self._fh.write(text)
             if self._spill is not None:
                 self._spill.write(rows.tobytes())
         except OSError as exc:
             # the CSV cut back to its last complete line (the rows of this block
             # that fit are kept and counted); the spill, read only by a complete
-            # run's summary, back to the rows before the block
-            done = self._fh.size - good[0]
-            data = "".join(texts).encode()[:done]
-            keep = data.rfind(b"\n") + 1
-            m = data.count(b"\n", 0, keep)
-            self._fh.cut(good[0] + keep)
+            # run's summary, back to the rows before the block; a binary writer
+            # keeps none of the block
+            m = 0
+            if self._fh is not None:
+                done = self._fh.size - fh_good
+                data = "".join(texts).encode()[:done]
+                keep = data.rfind(b"\n") + 1
+                m = data.count(b"\n", 0, keep)
+                self._fh.cut(fh_good + keep)
             if self._spill is not None:
-                self._spill.cut(good[1])
+                self._spill.cut(spill_good)
             if m:
-                self.stats.add(rows[:m])
-                if self.keep_plot:
-                    self.plot.add(rows[:m])
-                self.rows += m
+                self._take(rows[:m])
             from .output import WriteError
             t_s = float(rows[-1, self.columns.index("t_s")]) if "t_s" in self.columns else None
             raise WriteError(exc, path=exc.filename or str(self.csv_path), t_s=t_s) from None
+        self._take(rows)
+
+    def _take(self, rows) -> None:
+        """Count rows that reached the file: statistics, meters, plot copy."""
         self.stats.add(rows)
+        for m in self.meters:
+            m.add(rows)
         if self.keep_plot:
             self.plot.add(rows)
         self.rows += len(rows)
@@ -297,6 +323,8 @@ class StreamHistory:
         for f in (self._fh, self._spill):
             if f is not None:
                 f.close()
+        if self._fh is None and self._writer_cls is not None:
+            self._csv.close()
 
     def abandon(self) -> None:
         """After a write failure: close the files, keeping what is in them."""
@@ -304,6 +332,9 @@ class StreamHistory:
             if f is not None:
                 with contextlib.suppress(OSError):
                     f.close()
+        if self._fh is None and self._writer_cls is not None:
+            with contextlib.suppress(OSError):
+                self._csv.close()
 
     def plot_data(self) -> np.ndarray:
         """The bounded copy of the rows for the plots (PlotSampler)."""

@@ -16,6 +16,8 @@ class HottestFields:
 
     def __init__(self):
         self.best = {}
+        self.surface = {}        # side -> the model's T1_C / T2_C at the kept time
+        self.params = {}         # side -> PlateParams (what that column is)
 
     def __getitem__(self, side):
         self.resolve()
@@ -24,13 +26,19 @@ class HottestFields:
     def __contains__(self, side) -> bool:
         return side in self.best
 
-    def consider(self, side: str, t: float, points, cells, T) -> None:
+    def consider(self, side: str, t: float, points, cells, T, surface=None, params=None) -> None:
+        """surface: the plate model's own temperature at that time (its
+        T1_C / T2_C column: footprint mean, material point...); params: the
+        plate's PlateParams (what that column is, the footprint radius)."""
         T = np.asarray(T, dtype=float)
         tmax = float(np.nanmax(T)) if T.size else float("nan")
+        if params is not None:
+            self.params[side] = params
         best = self.best.get(side)
         if best is None or tmax > best[0]:
             self.best[side] = (tmax, t, np.asarray(points, dtype=float).copy(),
                                [(k, np.asarray(cc).copy()) for k, cc in cells], T.copy())
+            self.surface[side] = None if surface is None else float(surface)
 
     def update(self, plates, t: float) -> None:
         """Offer the current field of every plate that has one. A plate with
@@ -46,7 +54,8 @@ class HottestFields:
                 continue
             fld = plate.field() if plate is not None else None
             if fld is not None:
-                self.consider(side, t, *fld)
+                self.consider(side, t, *fld, surface=plate.surface_temperature(),
+                              params=getattr(plate, "params", None))
 
     def resolve(self) -> None:
         """Build the fields kept as states (update)."""
@@ -60,56 +69,106 @@ class HottestFields:
         self.resolve()
         out = []
         for side in ("lower", "upper"):
-            if side in self.best:
+            # a plate that never heated (an SFP's housing: its articulation
+            # carries no friction) gets no picture of its uniform field
+            if side in self.best and np.nanmax(self.best[side][4]) > np.nanmin(self.best[side][4]):
                 out.append(plot_plate_field(Path(plots_dir) / f"{side}_plate_hottest.png",
-                                            f"{side} plate", *self.best[side]))
+                                            f"{side} plate", *self.best[side],
+                                            surface=self.surface.get(side), params=self.params.get(side),
+                                            column=f"T{1 if side == 'lower' else 2}_C"))
         return out
 
 
-def _plane_axes(points: np.ndarray) -> tuple[int, int]:
-    """The two coordinates along which the points spread most (x, y, z order kept)."""
-    ext = np.ptp(points, axis=0) if len(points) else np.zeros(3)
-    i, j = sorted(np.argsort(ext)[-2:])
-    return int(i), int(j)
+def quantity_of(model: str, source: str = "follow-pad", radius_m: float = 0.0) -> str:
+    """What a plate model's temperature column (T1_C / T2_C) is, in words."""
+    if model == "lumped":
+        return "plate mean (lumped)"
+    if model == "fe1d":
+        if source == "fixed-point":
+            return f"material point at r = {radius_m:g} m, surface (fe1d)"
+        return "surface under the pad, 1-D column (fe1d)"
+    if model == "axisym":
+        return "footprint mean, surface (axisym)"
+    return f"surface under the pad ({model})"
 
 
-def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cells, T) -> Path:
-    """A plate's temperature field: a line mesh as T along the line, a 2-D
-    mesh (triangles, quads) as a coloured r-z section."""
+DEG = "\N{DEGREE SIGN}C"
+
+
+def _hot_extent(x: np.ndarray, T: np.ndarray, lo: float, hi: float, frac: float = 0.02,
+                grow: float = 1.5, least: float = 0.0) -> tuple[float, float]:
+    """The range of x where T rises above frac of its rise, grown by ``grow``
+    (at least ``least`` wide), clipped to [lo, hi]: the zoom on the hot part."""
+    rise = T - np.nanmin(T)
+    top = np.nanmax(rise)
+    if not np.isfinite(top) or top <= 0:
+        return lo, hi
+    hot = x[rise >= frac * top]
+    a, b = float(hot.min()), float(hot.max())
+    w = max((b - a) * grow, least)
+    c = 0.5 * (a + b) if b - a > 0 else a
+    a, b = max(lo, c - 0.5 * w), min(hi, c + 0.5 * w)
+    return a, b
+
+
+def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cells, T,
+                     surface=None, params=None, column="T_C") -> Path:
+    """A plate's temperature field at its hottest, drawn as a field and
+    zoomed on the hot part (the heated track and the thin heated layer):
+
+    - a column (fe1d: a line through the thickness): T against the depth
+      into the steel, the depth axis cut where the rise fades;
+    - a 2-D section (axisym: r and z): the r-depth section coloured by T,
+      zoomed on the heated track and the heated layer, the footprint's
+      half-width marked;
+    - a 3-D field (fe3d: x, y in the face, depth): the sliding face coloured
+      by T (nodes on the face) and the section through the hottest node.
+
+    The title gives the hottest node and, when known, what the run's
+    T1_C / T2_C column holds at that time (the model's surface quantity:
+    footprint mean, material point, ...) and why the two differ."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.tri import Triangulation
 
-    names = "xyz"
     points = np.asarray(points, dtype=float)
     if points.shape[1] == 2:
         points = np.column_stack((points, np.zeros(len(points))))
-    kinds = {k for k, _ in cells}
-    if "hexahedron" in kinds and len(T) == len(points):
-        # a 3D plate (fe3d, depth z >= 0): draw its sliding face z = 0, where the heat enters
-        conn = np.vstack([np.asarray(cc)[:, :4] for k, cc in cells if k == "hexahedron"])
-        conn = conn[np.all(np.abs(points[conn, 2]) <= 1e-12, axis=1)]
-        cells = [("quad", conn)]
-        kinds = {"quad"}
-        label = f"{label} face"
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), constrained_layout=True)
+    T = np.asarray(T, dtype=float)
     point_T = len(T) == len(points)
-    if kinds <= {"line"} or not point_T:
-        ext = np.ptp(points, axis=0)
-        k = int(np.argmax(ext))
-        if point_T:
-            order = np.argsort(points[:, k])
-            ax.plot(points[order, k], T[order], "-", color="tab:red")
-        else:
-            mids = np.array([points[np.asarray(cc)].mean(axis=1)[:, k] for _, cc in cells]).ravel()
-            order = np.argsort(mids)
-            ax.plot(mids[order], T[order], "-", color="tab:red")
-        ax.set_xlabel(f"{names[k]} (m), plate coordinates")
-        ax.set_ylabel("T (degC)")
-        ax.grid(True, alpha=0.3)
+    depth = np.abs(points[:, 2])                  # the sliding face is z = 0 (either sign convention)
+    ext = np.ptp(points, axis=0) if len(points) else np.zeros(3)
+    a = getattr(params, "a_contact_m", None)
+    model = getattr(params, "model", "")
+    what = quantity_of(model, getattr(params, "source", "follow-pad"), getattr(params, "radius_m", 0.0)) \
+        if params is not None else None
+    three_d = point_T and ext[0] > 0 and ext[1] > 0 and ext[2] > 0
+    section = point_T and not three_d and ext[2] > 0 and (ext[0] > 0 or ext[1] > 0)
+    if three_d:
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4.4), constrained_layout=True)
     else:
-        i, j = _plane_axes(points)
+        fig, ax = plt.subplots(figsize=(7, 4.6), constrained_layout=True)
+    if not point_T or not (three_d or section):
+        # a column: T against the depth (cell values at the cell mid-depths)
+        if point_T:
+            d, y = depth, T
+        else:
+            d = np.concatenate([depth[np.asarray(cc)].mean(axis=1) for _, cc in cells])
+            y = T
+        o = np.argsort(d)
+        d, y = d[o], y[o]
+        lo, hi = _hot_extent(d, y, 0.0, float(d.max()), grow=1.0, least=0.0)
+        dmax = min(float(d.max()), max(3.0 * hi, 2e-3))
+        ax.plot(1e3 * d, y, "-", color="tab:red", lw=1.6)
+        ax.set_xlim(0.0, 1e3 * dmax)
+        ax.set_xlabel("depth into the steel from the sliding face (mm)"
+                      + (f"; plate {1e3 * float(d.max()):.0f} mm thick" if dmax < d.max() else ""))
+        ax.set_ylabel(f"T ({DEG})")
+        ax.grid(True, alpha=0.3)
+    elif section:
+        i = 0 if ext[0] > 0 else 1
+        r = points[:, i]
         tris = []
         for kind, conn in cells:
             conn = np.asarray(conn)
@@ -117,16 +176,54 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
                 tris.append(conn)
             elif kind == "quad":
                 tris += [conn[:, [0, 1, 2]], conn[:, [0, 2, 3]]]
-        tri = Triangulation(points[:, i], points[:, j], np.vstack(tris))
+        tri = Triangulation(1e3 * r, 1e3 * depth, np.vstack(tris) if tris else None)
         pc = ax.tripcolor(tri, T, shading="gouraud", cmap="inferno")
-        fig.colorbar(pc, ax=ax, label="T (degC)")
-        ext = np.ptp(points[:, [i, j]], axis=0)
-        stretched = ext.min() > 0 and ext.max() / ext.min() > 3.0
-        ax.set_aspect("auto" if stretched else "equal")     # a thin plate: stretch its thickness
-        short = " (stretched)" if stretched else ""
-        ax.set_xlabel(f"{names[i]} (m)" + (short if ext[0] < ext[1] else ""))
-        ax.set_ylabel(f"{names[j]} (m)" + (short if ext[1] < ext[0] else ""))
-    ax.set_title(f"{label} at its hottest: t = {t:.3f} s, max T = {tmax:.2f} degC")
+        fig.colorbar(pc, ax=ax, label=f"T ({DEG})")
+        face = depth <= 1e-9 * max(ext[2], 1e-12)
+        r0, r1 = _hot_extent(r[face], T[face], float(r.min()), float(r.max()), grow=1.3,
+                             least=2.5 * (a or 0.0))
+        d0, d1 = _hot_extent(depth, T, 0.0, float(depth.max()), grow=1.0)
+        ax.set_xlim(1e3 * r0, 1e3 * r1)
+        ax.set_ylim(1e3 * min(float(depth.max()), max(2.0 * d1, 2e-3)), 0.0)    # depth down
+        if a:      # the footprint's width, drawn on the face around the hottest surface point
+            rc = float(r[face][np.argmax(T[face])])
+            ax.plot([1e3 * max(rc - a, r0), 1e3 * min(rc + a, r1)], [0.0, 0.0], color="tab:cyan", lw=4,
+                    solid_capstyle="butt", clip_on=False, label=f"pad footprint width (2 a = {2e3 * a:.0f} mm)")
+            ax.legend(loc="lower right", fontsize=8)
+        ax.set_xlabel(("r" if model == "axisym" else "xy"[i]) + " (mm), from the plate centre (zoomed)")
+        ax.set_ylabel("depth below the sliding face (mm, zoomed)")
+    else:
+        face = depth <= 1e-9 * max(ext[2], 1e-12) + 1e-12
+        ax = axes[0]
+        pc = ax.tripcolor(Triangulation(1e3 * points[face, 0], 1e3 * points[face, 1]), T[face],
+                          shading="gouraud", cmap="inferno")
+        fig.colorbar(pc, ax=ax, label=f"T ({DEG})")
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (mm)")
+        ax.set_ylabel("y (mm)")
+        ax.set_title("sliding face", fontsize=9)
+        k = int(np.nanargmax(T))
+        ys = np.unique(points[:, 1])
+        yk = ys[np.argmin(np.abs(ys - points[k, 1]))]
+        sel = np.abs(points[:, 1] - yk) <= 1e-9 * max(ext[1], 1e-12) + 1e-12
+        ax = axes[1]
+        pc = ax.tripcolor(Triangulation(1e3 * points[sel, 0], 1e3 * depth[sel]), T[sel], shading="gouraud",
+                          cmap="inferno")
+        d0, d1 = _hot_extent(depth[sel], T[sel], 0.0, float(depth.max()), grow=1.0)
+        x0, x1 = _hot_extent(points[sel & face, 0], T[sel & face], float(points[:, 0].min()),
+                             float(points[:, 0].max()), grow=1.3, least=2.5 * (a or 0.0))
+        ax.set_xlim(1e3 * x0, 1e3 * x1)
+        ax.set_ylim(1e3 * min(float(depth.max()), max(2.0 * d1, 2e-3)), 0.0)
+        ax.set_xlabel("x (mm, zoomed)")
+        ax.set_ylabel("depth (mm, zoomed)")
+        ax.set_title(f"section y = {1e3 * yk:.0f} mm through the hottest node", fontsize=9)
+    head = f"{label} at its hottest, t = {t:.3f} s: hottest node {tmax:.2f} {DEG}"
+    if surface is not None and what is not None:
+        head += f"\n{column} at that time: {surface:.2f} {DEG}, the {what}"
+        if surface < tmax - 0.005:
+            head += ("\n(a mean over the footprint is below the footprint's hottest point)" if "mean" in what
+                     else "\n(the model's point is not the hottest node)")
+    fig.suptitle(head, fontsize=9.5)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -22,6 +22,7 @@ import numpy as np
 MAX_FRAMES = 200
 GIF_FRAME_MS = 80
 BODY_NAMES = ("lower plate", "pad", "upper plate", "superstructure")
+DEG = "\N{DEGREE SIGN}C"
 GREYS = ("#9a9a9a", "#c8c8c8", "#9a9a9a", "#d9d9d9")   # bodies without a temperature
 
 
@@ -50,21 +51,94 @@ def read_device_series(pvd: Path, cap: int = MAX_FRAMES) -> list[dict]:
     for i in frame_indices(len(times), cap):
         reader.set_active_time_value(times[i])
         data = reader.read()
-        grid = data[0] if isinstance(data, pyvista.MultiBlock) else data
-        pts = np.asarray(grid.points)[:, [0, 2]]
-        off = np.asarray(grid.cell_offsets if hasattr(grid, "cell_offsets") else grid.offset)
-        conn = np.asarray(grid.cell_connectivity)
-        polys = [pts[conn[off[k]:off[k + 1]]] for k in range(grid.n_cells)]
-        cd = grid.cell_data
-        n = grid.n_cells
+        # the device is two parts per time (plates with T_C and mu; pad and
+        # superstructure with body only): draw them together, in body order
+        grids = list(data) if isinstance(data, pyvista.MultiBlock) else [data]
+        polys, body, T, mu = [], [], [], []
+        for grid in grids:
+            if grid is None or grid.n_cells == 0:
+                continue
+            pts = np.asarray(grid.points)[:, [0, 2]]
+            off = np.asarray(grid.cell_offsets if hasattr(grid, "cell_offsets") else grid.offset)
+            conn = np.asarray(grid.cell_connectivity)
+            n = grid.n_cells
+            cd = grid.cell_data
+            polys += [pts[conn[off[k]:off[k + 1]]] for k in range(n)]
+            body += list(np.asarray(cd["body"]) if "body" in cd else np.arange(len(body), len(body) + n))
+            T += list(np.asarray(cd["T_C"], dtype=float) if "T_C" in cd else np.full(n, np.nan))
+            mu += list(np.asarray(cd["mu"], dtype=float) if "mu" in cd else np.full(n, np.nan))
+        order = np.argsort(body, kind="stable")
         frames.append({
             "time": float(times[i]),
-            "polygons": polys,
-            "body": np.asarray(cd["body"]) if "body" in cd else np.arange(n),
-            "T_C": np.asarray(cd["T_C"], dtype=float) if "T_C" in cd else np.full(n, np.nan),
-            "mu": np.asarray(cd["mu"], dtype=float) if "mu" in cd else np.full(n, np.nan),
+            "polygons": [polys[k] for k in order],
+            "body": np.asarray(body)[order],
+            "T_C": np.asarray(T)[order],
+            "mu": np.asarray(mu)[order],
         })
     return frames
+
+
+def read_field_series(pvd: Path, times) -> list:
+    """A placed plate-field series (vtk/<side>_plate.pvd) at the given times:
+    per time a list of (polygon (k, 2) x-z array, T) pieces to draw, or
+    None where the series has no frame: a column (line cells) becomes a
+    strip as wide as the footprint (``width``), a section its cells, a 3-D
+    field the faces of its cells in the plane y = 0 (nearest nodes)."""
+    import pyvista
+
+    reader = pyvista.PVDReader(str(pvd))
+    have = list(reader.time_values)
+    out = []
+    for t in times:
+        if not have:
+            out.append(None)
+            continue
+        j = int(np.argmin(np.abs(np.asarray(have) - t)))
+        if abs(have[j] - t) > 1e-9 * max(1.0, abs(t)):
+            out.append(None)
+            continue
+        reader.set_active_time_value(have[j])
+        data = reader.read()
+        g = data[0] if isinstance(data, pyvista.MultiBlock) else data
+        out.append(g)
+    return out
+
+
+def field_pieces(g, width: float):
+    """Polygons (x-z) and their temperatures of one placed field grid."""
+    pts = np.asarray(g.points)
+    T = np.asarray(g.point_data["T_C"], dtype=float) if "T_C" in g.point_data else None
+    Tc = np.asarray(g.cell_data["T_C"], dtype=float) if "T_C" in g.cell_data else None
+    off = np.asarray(g.cell_offsets)
+    conn = np.asarray(g.cell_connectivity)
+    types = np.asarray(g.celltypes)
+    polys, vals = [], []
+    ytol = 1e-9 + 1e-6 * float(np.ptp(pts[:, 1])) if len(pts) else 0.0
+    on_plane = np.abs(pts[:, 1] - pts[np.argmin(np.abs(pts[:, 1])), 1]) <= ytol if len(pts) else None
+    for c in range(g.n_cells):
+        ids = conn[off[c]:off[c + 1]]
+        v = Tc[c] if Tc is not None else float(T[ids].mean())
+        if types[c] == 3:                     # a line segment of a column: a strip of the footprint's width
+            p, q = pts[ids[0]][[0, 2]], pts[ids[1]][[0, 2]]
+            d = q - p
+            n = np.hypot(*d)
+            if n == 0:
+                continue
+            tvec = np.array([-d[1], d[0]]) / n * 0.5 * width
+            polys.append(np.array([p - tvec, p + tvec, q + tvec, q - tvec]))
+        elif types[c] in (5, 7, 9):           # triangles, polygons, quads of a section
+            polys.append(pts[ids][:, [0, 2]])
+        else:                                 # 3-D cells: the nodes on the plane y = 0
+            sel = ids[on_plane[ids]]
+            if len(sel) >= 3:
+                xz = pts[sel][:, [0, 2]]
+                ctr = xz.mean(axis=0)
+                order = np.argsort(np.arctan2(xz[:, 1] - ctr[1], xz[:, 0] - ctr[0]))
+                polys.append(xz[order])
+            else:
+                continue
+        vals.append(v)
+    return polys, np.asarray(vals)
 
 
 def _limits(frames):
@@ -85,7 +159,12 @@ def _t_range(frames):
     return lo, hi
 
 
-def draw_frames(frames, out_dir: Path, title: str) -> list[Path]:
+def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -> list[Path]:
+    """fields: {side: [grid or None per frame]} of the placed plate fields and
+    the footprint width: a plate with a field is drawn grey with its field
+    over it (the hot track and the thin heated layer where the model has
+    them); a plate without (lumped: T is the plate mean) is painted in its
+    temperature. progress(k, n) is called per frame."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -93,41 +172,63 @@ def draw_frames(frames, out_dir: Path, title: str) -> list[Path]:
     from matplotlib.colors import Normalize
     from PIL import Image
 
+    fields = fields or {}
+    width = fields.pop("width", 0.02)
     (x0, x1), (z0, z1) = _limits(frames)
-    norm = Normalize(*_t_range(frames))
+    lo, hi = _t_range(frames)
+    pieces = {}
+    for side, grids in fields.items():
+        pieces[side] = [field_pieces(g, width) if g is not None else ([], np.zeros(0)) for g in grids]
+        for _, v in pieces[side]:
+            if v.size:
+                lo, hi = min(lo, float(v.min())), max(hi, float(v.max()))
+    norm = Normalize(lo, hi)
     cmap = matplotlib.colormaps["plasma"]
     out_dir.mkdir(parents=True, exist_ok=True)
-    for old in out_dir.glob("frame_*.png"):
-        old.unlink()
     # one figure for all frames: only the polygons, their colours and the title change
     fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=100, layout="constrained")
     coll = PolyCollection(frames[0]["polygons"], edgecolors="k", linewidths=0.8)
     ax.add_collection(coll)
+    fcoll = PolyCollection([], edgecolors="none", linewidths=0.0, cmap=cmap, norm=norm)
+    ax.add_collection(fcoll)
     sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
-    fig.colorbar(sm, ax=ax, label="plate surface temperature (degC)", shrink=0.85)
+    fig.colorbar(sm, ax=ax, label=f"temperature ({DEG})", shrink=0.85)
     ax.set_xlim(x0, x1)
     ax.set_ylim(z0, z1)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("z (m)")
-    ax.text(0.01, 0.02, "plates coloured by their surface temperature; pad and superstructure in grey",
-            transform=ax.transAxes, fontsize=8, color="0.3")
+    with_field = {0: "lower" in pieces, 2: "upper" in pieces}
+    if any(with_field.values()):
+        note = ("plate temperature fields where the models have them (a 1-D column: a strip\n"
+                "of the footprint's width); the rest of the plates, pad, superstructure in grey")
+    else:
+        note = "plates coloured by their model's temperature (lumped: the plate mean)\npad and superstructure in grey"
+    fig.text(0.01, 0.01, note, fontsize=7, color="0.3", va="bottom")
     head = ax.set_title("t\nmu", fontsize=11)     # two lines: room kept by the layout
     fig.canvas.draw()
     fig.set_layout_engine("none")      # freeze the layout: same frame geometry throughout
     # the axes, ticks and colour bar are drawn once (the slow part); per frame
     # only the polygons and the title are drawn over that background (blitting)
     coll.set_animated(True)
+    fcoll.set_animated(True)
     head.set_animated(True)
     fig.canvas.draw()
     canvas = fig.canvas
     background = canvas.copy_from_bbox(fig.bbox)
     paths = []
     for k, f in enumerate(frames):
-        colours = [cmap(norm(T)) if np.isfinite(T) else GREYS[int(body) % len(GREYS)]
-                   for body, T in zip(f["body"], f["T_C"])]
+        colours = [GREYS[int(body) % len(GREYS)] if (not np.isfinite(T) or with_field.get(int(body), False))
+                   else cmap(norm(T)) for body, T in zip(f["body"], f["T_C"])]
         coll.set_verts(f["polygons"])
         coll.set_facecolor(colours)
+        fp, fv = [], []
+        for side in pieces:
+            p, v = pieces[side][k]
+            fp += p
+            fv.append(v)
+        fcoll.set_verts(fp)
+        fcoll.set_array(np.concatenate(fv) if fv else np.zeros(0))
         words = []
         for i, name in ((0, "1"), (2, "2")):
             sel = np.flatnonzero(f["body"] == i)
@@ -136,14 +237,17 @@ def draw_frames(frames, out_dir: Path, title: str) -> list[Path]:
                 if np.isfinite(mu):
                     words.append(f"mu{name} = {mu:.4f}")
                 if np.isfinite(T):
-                    words.append(f"T{name} = {T:.2f} C")
+                    words.append(f"T{name} = {T:.2f} {DEG}")
         head.set_text(f"{title}   t = {f['time']:.3f} s\n" + ",  ".join(words))
         canvas.restore_region(background)
         ax.draw_artist(coll)
+        ax.draw_artist(fcoll)
         ax.draw_artist(head)
         p = out_dir / f"frame_{k:04d}.png"
         Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3]).save(p, compress_level=3)
         paths.append(p)
+        if progress is not None:
+            progress(k + 1, len(frames))
     plt.close(fig)
     return paths
 
@@ -160,8 +264,10 @@ def write_gif(pngs: list[Path], path: Path, frame_ms: int = GIF_FRAME_MS) -> Pat
     return path
 
 
-def render(run_dir, cap: int = MAX_FRAMES) -> tuple[list[Path], Path]:
-    """Render DIR's device series; returns (PNG paths, GIF path)."""
+def render(run_dir, cap: int = MAX_FRAMES, force: bool = False, progress=None) -> tuple[list[Path], Path]:
+    """Render DIR's device series (and its placed plate fields) into
+    DIR/render/; returns (PNG paths, GIF path). An existing DIR/render is
+    refused unless ``force`` (then replaced once the new one is complete)."""
     from .scene import SceneError
 
     d = Path(run_dir)
@@ -171,19 +277,29 @@ def render(run_dir, cap: int = MAX_FRAMES) -> tuple[list[Path], Path]:
     if not pvd.is_file():
         raise SceneError(f"{d}: no VTK series (vtk/device.pvd missing); run the scene with "
                          "--set output.vtk_every=N, N > 0")
+    out = d / "render"
+    if out.exists() and not force:
+        raise SceneError(f"{out}: exists; use --force to replace it")
     title = d.name
     try:
         title = json.loads((d / "summary.json").read_text())["scene"]
     except (OSError, ValueError, KeyError):
         pass
     frames = read_device_series(pvd, cap)
+    fields = {}
+    times = [f["time"] for f in frames]
+    for side in ("lower", "upper"):
+        f = d / "vtk" / f"{side}_plate.pvd"
+        if f.is_file():
+            fields[side] = read_field_series(f, times)
+    if fields:
+        fields["width"] = _footprint_width(d)
     # written beside, moved into place complete (a full disk or a kill leaves
     # the old render/ or none, never half a set of frames)
     from .output import ResultsFolder
-    out = d / "render"
     folder = ResultsFolder(out)
     try:
-        pngs = draw_frames(frames, folder.subdir("frames"), title)
+        pngs = draw_frames(frames, folder.subdir("frames"), title, fields, progress)
         write_gif(pngs, folder.path("device.gif"))
         folder.commit()
     except BaseException:
@@ -192,14 +308,34 @@ def render(run_dir, cap: int = MAX_FRAMES) -> tuple[list[Path], Path]:
     return [out / "frames" / p.name for p in pngs], out / "device.gif"
 
 
+def _footprint_width(d: Path) -> float:
+    """The pad's footprint diameter from DIR/scene.toml (the width a column
+    field is drawn with), or 2 cm if unreadable."""
+    try:
+        import tomllib
+        sc = tomllib.loads((d / "scene.toml").read_text())
+        return float(sc["device"]["pad_diameter"])
+    except Exception:            # a hand-made folder: any readable width will do
+        return 0.02
+
+
 def cmd_render(args) -> int:
     from .claim import hold
     hold(args, args.dir, check=False)   # one writer of DIR at a time (coupling/claim.py)
     import shutil
     for stale in Path(args.dir).glob(".render.partial-*"):   # of a render that was killed: ours to tidy now
         shutil.rmtree(stale, ignore_errors=True)
-    pngs, gif = render(args.dir)
-    if not getattr(args, "quiet", False):
+    quiet = getattr(args, "quiet", False)
+    show = not quiet and sys.stderr.isatty()
+
+    def progress(k, n):
+        if show and (k == n or k % 5 == 0):
+            sys.stderr.write(f"\rrendering frame {k}/{n}")
+            sys.stderr.flush()
+    pngs, gif = render(args.dir, force=getattr(args, "force", False), progress=progress)
+    if show:
+        sys.stderr.write("\n")
+    if not quiet:
         print(f"{len(pngs)} frames in {pngs[0].parent}/, animation {gif}")
     sys.stdout.flush()
     return 0

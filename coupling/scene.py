@@ -119,7 +119,9 @@ LOADING_KEYS = {
                # FEMA P695 record sets (mechanics/p695.py; fpd sweep expands a set into its components)
                "record_set": (("p695-far-field", "p695-near-field-pulse", "p695-near-field-no-pulse"), None, None),
                "record_id": ("int", None, _atleast(1)), "component": (("a", "b"), None, None),
-               "normalize": ("bool", None, None), "target_pga_g": ("float", None, _pos)},
+               "normalize": ("bool", None, None), "target_pga_g": ("float", None, _pos),
+               # sampling interval of a record file without times (one or several values per line)
+               "dt": ("float", None, _pos)},
     "harmonic": {"amplitude_m": ("float", REQUIRED, _pos), "frequency_Hz": ("float", REQUIRED, _pos),
                  "cycles": ("float", REQUIRED, _pos)},
     "displacement": {"waveform": (("sine", "circle", "figure-eight"), "sine", None),
@@ -169,7 +171,9 @@ TABLES = {
                  "substeps": ("int", 1, _atleast(1))},
     "solver": {"dt": ("float", 1e-3, _pos), "duration": ("float", None, _pos)},
     "output": {"vtk_every": ("int", 0, _nonneg), "plots": ("bool", True, None),
-               "csv_every": ("int", 1, _atleast(1))},
+               "csv_every": ("int", 1, _atleast(1)),
+               # the history file: timeseries.csv, or timeseries.parquet (pyarrow) for long runs
+               "history": (("csv", "parquet"), "csv", None)},
 }
 TOP_KEYS = {"name": "str", "description": "str"}
 # the TFP's own [device] keys (its wave-2 keys); its four surfaces and five parts

@@ -97,9 +97,9 @@ def check_run(case) -> dict:
         # node 28 mm deep in 5 mm elements: a mesh effect, not a time-step one)
         slack = UNDERSHOOT_REL * max(t_hi - lo_b, 0.0) + 1e-12
         if t_lo < lo_b - slack:
-            why.append(f"temperature {t_lo:.6g} C below the coolest boundary {lo_b:g} C")
+            why.append(f"temperature {t_lo:.6g} \N{DEGREE SIGN}C below the coolest boundary {lo_b:g} \N{DEGREE SIGN}C")
         if t_hi > hi_b + slack:
-            why.append(f"temperature {t_hi:.6g} C above the all-heat bound {hi_b:.6g} C")
+            why.append(f"temperature {t_hi:.6g} \N{DEGREE SIGN}C above the all-heat bound {hi_b:.6g} \N{DEGREE SIGN}C")
     under = max(0.0, lo_b - t_lo) if math.isfinite(t_lo) else math.nan
     return {"pass": not why, "why": "; ".join(why), "undershoot_K": under, "ledger": max(mech if math.isfinite(mech) else 0.0, heat),
             "mech_ledger": mech, "heat_ledger": heat, "T_min_C": t_lo, "T_max_C": t_hi,
@@ -202,7 +202,7 @@ def stability_report(cases, fast, plots) -> str:
              f"coarse and fine agree on peak u, friction work and peak rise within {100 * STORY_RTOL:.0f} % "
              f"(floors {STORY_ATOL['peak_u_m'] * 1e3:g} mm, {STORY_ATOL['friction_work_J']:g} J, "
              f"{STORY_ATOL['rise_K']:g} K) and both slide or both stick.\n")
-    hdr = ["case", "dt (s)", "verdict", "worst ledger", "T range (C)", "T bound (C)", "peak u (mm)",
+    hdr = ["case", "dt (s)", "verdict", "worst ledger", "T range (\N{DEGREE SIGN}C)", "T bound (\N{DEGREE SIGN}C)", "peak u (mm)",
            "iterations (max/step)", "run time (s)"]
     body = []
     for c in cases:
@@ -250,12 +250,13 @@ def stability_plots(folder: Path, cases) -> list[str]:
                         label=f"dt {run.m['dt_s']:g}")
         ax.set_title(f"{c['case']} ({'pass' if c['pass'] else 'FAIL'})", fontsize=8)
         ax.tick_params(labelsize=7)
+        ax.ticklabel_format(axis="y", useOffset=False)     # 20.0005, not "+2e1" and 0.0005
         ax.legend(fontsize=6)
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
     fig.supxlabel("t (s)", fontsize=8)
-    fig.supylabel("lower surface T (C)", fontsize=8)
+    fig.supylabel("lower plate T1 (\N{DEGREE SIGN}C)", fontsize=8)
     fig.tight_layout()
     fig.savefig(folder / "temperatures.png", dpi=100)
     plt.close(fig)

@@ -93,12 +93,25 @@ def run_case(scene_arg, overrides, label="", progress=False) -> Case:
 
     case = Case(label, list(overrides))
     case.scene = scn.load(scene_arg, overrides)
-    t0 = time.perf_counter()
-    case.sim = build(case.scene)
-    case.result = simulate(case.sim, progress=progress)
-    case.runtime_s = time.perf_counter() - t0
+    key = (case.scene["mechanics"]["model"], case.scene.thermal("lower")["model"], case.scene.thermal("upper")["model"])
+    if key not in _WARM:          # imports, kernel loading and compiling once per model: a few steps first
+        simulate(build(scn.load(scene_arg, list(overrides) + [f"solver.duration={5 * case.scene['solver']['dt']!r}"])))
+        _WARM.add(key)
+    best = float("inf")
+    for _ in range(3):            # run time = build + stepping (no storing); best of 3 when it is short
+        t0 = time.perf_counter()
+        case.sim = build(case.scene)
+        build_s = time.perf_counter() - t0
+        case.result = simulate(case.sim, progress=progress)
+        best = min(best, build_s + case.result.runtime_s)
+        if best > 0.2:
+            break
+    case.runtime_s = best
     case.m = measure(case)
     return case
+
+
+_WARM: set = set()
 
 
 def measure(case: Case) -> dict:
@@ -253,7 +266,7 @@ def compare_cases(scene_arg, fast=False, log=lambda s: None) -> tuple[list[Case]
             keys["nr"], keys["nz"] = FAST_COMPARE["nr"], FAST_COMPARE["nz"]
             keys["per_radius"] = FAST_COMPARE["per_radius"]
         c = run_case(scene_arg, extra + thermal_set(**keys), label)
-        log(f"compare: {label}: {c.m['status']}, {c.runtime_s:.2f} s, peak T {c.m['peak_T1_C']:.2f} C")
+        log(f"compare: {label}: {c.m['status']}, {c.runtime_s:.2f} s, peak T {c.m['peak_T1_C']:.2f} \N{DEGREE SIGN}C")
         cases.append(c)
     return cases, missing
 
@@ -371,9 +384,12 @@ def compare_plots(folder: Path, cases, name) -> list[str]:
     for c in ok:
         r = c.result
         if "T1_C" in r:
-            ax.plot(r["t_s"], r["T1_C"], styles.get(c.label, "-"), lw=1, label=f"{c.label}, lower")
+            from .hottest import quantity_of
+            t = c.scene.thermal("lower")
+            what = quantity_of(t["model"], t.get("source", "follow-pad"), t.get("radius_m", 0.0))
+            ax.plot(r["t_s"], r["T1_C"], styles.get(c.label, "-"), lw=1, label=f"{c.label}, lower: {what}")
     ax.set_xlabel("t (s)")
-    ax.set_ylabel("surface temperature under the pad (C)")
+    ax.set_ylabel("lower plate T1 (\N{DEGREE SIGN}C), each model's own quantity")
     ax.set_title(f"{name}: temperature by thermal model")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
@@ -425,7 +441,7 @@ def compare_report(name, cases, rows, missing, ref, val, fast, plots) -> str:
         L.append(f"- `{lab}`: not run ({why}).")
     if missing:
         L.append("")
-    hdr = ["model", "plate", "peak T (C)", "T end (C)", "min mu", "friction work (kJ)", "peak u (mm)",
+    hdr = ["model", "plate", "peak T (\N{DEGREE SIGN}C)", "T end (\N{DEGREE SIGN}C)", "min mu", "friction work (kJ)", "peak u (mm)",
            "residual u (mm)", "run time (s)", "err peak T (K)", "err T end (K)", "err work (%)"]
     body = []
     for r in rows:

@@ -4,18 +4,24 @@
   the lower plate (a band of the plate's thickness under its concave arc,
   moving with the ground), the pad section (its two arcs between the four
   corners), the upper plate (a band over its arc; for the SFP, a flat
-  housing on the pivot) and the superstructure block on top. Cell data per
-  polygon: ``body`` (0 lower plate, 1 pad, 2 upper plate, 3 superstructure),
-  ``T_C`` (T1 on the lower plate, T2 on the upper, NaN elsewhere) and ``mu``
-  (mu1 / mu2 likewise): the values of timeseries.csv at the frame's step.
+  housing on the pivot) and the superstructure block on top. Two parts per
+  time (one file each, listed with part="0" name="plates" and part="1"
+  name="bodies"; ParaView and pyvista read a multiblock), so that a body
+  without a temperature carries no such field: ``plates`` (lower, upper
+  plate) with cell data ``body`` (0, 2), ``T_C`` (T1, T2: what the plate
+  model's column T1_C / T2_C is, e.g. the footprint mean) and ``mu`` (mu1,
+  mu2), the values of timeseries.csv at the frame's step; ``bodies`` (pad,
+  superstructure) with ``body`` (1, 3) only.
 - ``lower_plate.pvd`` / ``upper_plate.pvd``: each plate model's temperature
-  field (``PlateModel.field()``: points, meshio-style cells, nodal T_C) in
-  the plate's own coordinates; no series for plates without a field
-  (lumped, none).
+  field (``PlateModel.field()``: points, meshio-style cells, nodal T_C)
+  placed in the device's coordinates (coupling/placement.py: wrapped onto
+  the plate's concave surface, the column or section under the footprint,
+  moving with the ground or the superstructure), so it overlays device.pvd;
+  no series for plates without a field (lumped, none).
 
 Every frame is written when ``simulate`` calls ``VTKSeries.frame`` (every
-``output.vtk_every`` steps); frame 0 is the initial state. meshio is imported
-only here and only when VTK output is asked for; matplotlib only by
+``output.vtk_every`` steps); frame 0 is the initial state. The files are
+written by meshes/vtk.py (no meshio); matplotlib is imported only by
 ``hottest_pictures``.
 """
 from __future__ import annotations
@@ -26,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from .hottest import HottestFields
+from .placement import place_field
 
 BODIES = ("lower_plate", "pad", "upper_plate", "superstructure")
 N_ARC = 32          # points per arc of the device polygons
@@ -143,6 +150,7 @@ class VTKSeries:
         self.device = PVDWriter(self.folder, "device")
         self.plates = []              # (side, plate, writer)
         self.hottest = HottestFields()   # side -> (Tmax, time, points, cells, T)
+        self._shapes = None
         for side, plate in zip(("lower", "upper"), sim.plates):
             if plate is None or not callable(getattr(plate, "field", None)):
                 continue
@@ -193,21 +201,29 @@ class VTKSeries:
         u = float(vals.get("u_m", geom.L * math.sin(theta)))
         z = float(vals.get("z_m", geom.L * (1.0 - math.cos(theta))))
         O, angle = pad_pose(geom, mech, theta, xg)
-        polys = device_polygons(geom, sim.plate_params, xg, u, z, O, angle)
+        polys = self._polygons(xg, u, z, O, angle)
+        # two parts per time, so that each body carries only the fields it
+        # has (no NaN cells): the plates (T_C, mu: the CSV's T1/T2, mu1/mu2)
+        # and the bodies without a sliding surface of their own (pad, superstructure)
         nan = float("nan")
-        T = (vals.get("T1_C", nan), nan, vals.get("T2_C", nan), nan)
-        mu = (vals.get("mu1", nan), nan, vals.get("mu2", nan), nan)
-        pts, cells, start = [], [], 0
-        for poly in polys:
-            pts.append(poly)
-            cells.append(("polygon", np.arange(start, start + len(poly))[None, :]))
-            start += len(poly)
-        points = np.column_stack((np.vstack(pts)[:, 0], np.zeros(start), np.vstack(pts)[:, 1]))
-        self.device.add(t, points, cells, cell_data={
-            "body": [np.array([i], dtype=np.int32) for i in range(len(BODIES))],
-            "T_C": [np.array([float(x)]) for x in T],
-            "mu": [np.array([float(x)]) for x in mu],
-        })
+        plates = [(0, polys[0], vals.get("T1_C", nan), vals.get("mu1", nan)),
+                  (2, polys[2], vals.get("T2_C", nan), vals.get("mu2", nan))]
+        parts = [("plates", [(b, poly) for b, poly, _, _ in plates],
+                  {"T_C": [np.array([float(T)]) for _, _, T, _ in plates],
+                   "mu": [np.array([float(m)]) for _, _, _, m in plates]}),
+                 ("bodies", [(1, polys[1]), (3, polys[3])], {})]
+        out = []
+        for name, bodies, cdata in parts:
+            pts, cells, start = [], [], 0
+            for _, poly in bodies:
+                pts.append(poly)
+                cells.append(("polygon", np.arange(start, start + len(poly))[None, :]))
+                start += len(poly)
+            xz = np.vstack(pts)
+            points = np.column_stack((xz[:, 0], np.zeros(start), xz[:, 1]))
+            cdata = dict(cdata, body=[np.array([b], dtype=np.int32) for b, _ in bodies])
+            out.append((name, points, cells, None, cdata))
+        self.device.add_parts(t, out)
         for side, plate, writer in self.plates:
             fld = plate.field()
             if fld is None:
@@ -215,11 +231,27 @@ class VTKSeries:
             p, c, Tf = fld
             Tf = np.asarray(Tf, dtype=float)
             p = np.asarray(p, dtype=float)
-            if len(Tf) == len(p):
-                writer.add(t, p, c, point_data={"T_C": Tf})
+            # placed in the device's coordinates, so it overlays device.pvd (coupling/placement.py)
+            pw, cw, Tw = place_field(side, (p, c, Tf), geom, sim.plate_params[0 if side == "lower" else 1], vals)
+            if len(Tw) == len(pw):
+                writer.add(t, pw, cw, point_data={"T_C": Tw})
             else:
-                writer.add(t, p, c, cell_data={"T_C": [Tf]})
-            self.hottest.consider(side, t, p, c, Tf)
+                writer.add(t, pw, cw, cell_data={"T_C": [Tw]})
+            i = 0 if side == "lower" else 1
+            self.hottest.consider(side, t, p, c, Tf, surface=vals.get(f"T{i + 1}_C"), params=sim.plate_params[i])
+
+    def _polygons(self, xg, u, z, O, angle):
+        """device_polygons, by translating shapes computed once: the lower
+        plate moves with x_g, the upper plate and the superstructure with the
+        apex (x_g + u, h + z), the pad is its body outline moved to its pose
+        (the same points, ~10x cheaper per frame: vtk_every = 1 is affordable)."""
+        if self._shapes is None:
+            ref = device_polygons(self.geom, self.sim.plate_params, 0.0, 0.0, 0.0, np.zeros(2), 0.0)
+            apex0 = np.array([0.0, self.geom.pad_height])
+            self._shapes = (ref[0], ref[2] - apex0, ref[3] - apex0, pad_outline_body(self.geom))
+        lower, upper, block, pad = self._shapes
+        apex = np.array([xg + u, self.geom.pad_height + z])
+        return [lower + np.array([xg, 0.0]), _to_world(O, angle, pad), upper + apex, block + apex]
 
     def close(self) -> None:
         self.device.close()

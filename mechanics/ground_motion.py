@@ -206,16 +206,96 @@ def guess_format(text: str) -> str:
     return "two-column"
 
 
-def read_record(path, units: str | None = None) -> Record:
-    """Read a record file, format guessed from its content (docs/reference.md, loading.file)."""
+def _first_data_line(text: str):
+    """(line number, number of values) of the first all-numeric line after
+    any leading header lines (comments '#' and blank lines skipped), or None."""
+    for j, line in enumerate(text.splitlines(), start=1):
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        toks = s.replace(",", " ").replace(";", " ").split()
+        try:
+            [float(x) for x in toks]
+        except ValueError:
+            continue
+        return j, len(toks)
+    return None
+
+
+def parse_samples(text: str, path="<record>", dt: float = 0.0, units: str = "g") -> Record:
+    """Acceleration samples without times, at a given interval dt (s): one
+    value per line (the form OpenSees' ``Path -dt`` reads) or several per
+    line (PEER-processed data without its header), read in order; leading
+    header lines (non-numeric) and '#' comments are skipped. Times are
+    k dt, k = 0, 1, ..."""
+    a, header = [], []
+    started = False
+    for j, line in enumerate(text.splitlines(), start=1):
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        toks = s.replace(",", " ").replace(";", " ").split()
+        try:
+            row = [float(x) for x in toks]
+        except ValueError:
+            if started:
+                bad = next(x for x in toks if not _is_float(x))
+                raise RecordError(path, f"'{bad[:30]}' is not a number (acceleration samples, loading.dt "
+                                  f"= {dt:g} s)", j) from None
+            header.append(s)
+            continue
+        for tok, x in zip(toks, row):
+            if not np.isfinite(x):
+                raise RecordError(path, f"non-finite acceleration value '{tok[:30]}'", j)
+        started = True
+        a.extend(row)
+    if len(a) < 2:
+        raise RecordError(path, "fewer than two acceleration samples")
+    scale = {"g": 1.0, "m/s2": 1.0 / G_ACC}[units]
+    with np.errstate(over="ignore"):
+        aa = np.asarray(a) * scale
+    if not np.all(np.isfinite(aa)):
+        raise RecordError(path, "accelerations out of the range of floating-point numbers")
+    return Record(name=str(path), t=np.arange(len(aa)) * dt, a_g=aa, source=" / ".join(header))
+
+
+def _is_float(x: str) -> bool:
+    try:
+        float(x)
+        return True
+    except ValueError:
+        return False
+
+
+def read_record(path, units: str | None = None, dt: float | None = None) -> Record:
+    """Read a record file, format guessed from its content (docs/reference.md,
+    loading.file):
+    a PEER .AT2 (its header gives DT); with ``dt`` (loading.dt), acceleration
+    samples without times, any number per line; else two columns (time,
+    acceleration). The checks go in the order a reader would want them: the
+    file's shape first (what it is, what it needs), then the units."""
     text = _read_text(path)
     if guess_format(text) == "at2":
+        if dt is not None:
+            raise RecordError(path, "a PEER .AT2 file gives its own DT in its header; remove loading.dt")
         return parse_at2(text, path)
+    first = _first_data_line(text)
+    if first is None:
+        raise RecordError(path, "no line of numbers (expected time and acceleration columns, or "
+                          "acceleration samples with loading.dt)")
+    line, ncols = first
+    if dt is None and ncols != 2:
+        raise RecordError(path, f"found {ncols} value{'s' if ncols > 1 else ''} per line: without times, give the "
+                          "sampling interval loading.dt (s) and loading.units; or give two columns "
+                          "(time, acceleration)", line)
     if units is None:
         units = _units_from_header(text)
         if units is None:
-            raise RecordError(path, "two-column record: acceleration units not named "
+            what = "acceleration samples" if dt is not None else "two-column record"
+            raise RecordError(path, f"{what}: acceleration units not named "
                               "in its header; set loading.units = \"g\" or \"m/s2\"")
+    if dt is not None:
+        return parse_samples(text, path, dt, units)
     return parse_two_column(text, path, units)
 
 

@@ -1,0 +1,201 @@
+"""Bearing-test quantities per cycle of a test-machine run (docs/test_machine.md).
+
+A prototype or production test of a sliding isolator is judged cycle by
+cycle on the loop of horizontal force F against displacement d (EN 15129,
+AASHTO Guide Specifications for Seismic Isolation Design). For each cycle k
+of the imposed sine (t in [k T, (k+1) T], T = 1 / frequency):
+
+- ``EDC_J``: energy dissipated per cycle, the loop area, the closed integral
+  of F du (trapezoidal over the recorded rows);
+- ``d_pos_m``, ``d_neg_m``: the largest and smallest displacement of the
+  cycle, ``F_pos_N``, ``F_neg_N``: the force at those rows;
+- ``K_eff_N_m`` = (F+ - F-) / (d+ - d-): the effective (secant) stiffness,
+  the AASHTO form (|F+| + |F-|) / (|d+| + |d-|) when the signs alternate;
+- ``d_max_m`` = (d+ - d-) / 2: the cycle's displacement amplitude;
+- ``mu_eff`` = EDC / (4 W d_max): the friction coefficient of the
+  rigid-plastic loop of the same area under the vertical load W (a loop of
+  height mu W and half-width d_max has area 4 mu W d_max);
+- ``Q_d_N`` = EDC / (4 d_max): the characteristic strength of the bilinear
+  loop of the same area with zero yield displacement (AASHTO:
+  EDC = 4 Q_d (d_max - d_y); a slider has d_y ~ 0), = mu_eff W;
+- ``xi_eff`` = EDC / (2 pi K_eff d_max^2): the effective damping ratio;
+- ``v_peak_mps``: the largest |relative velocity| of the cycle;
+- each with its change against the first cycle (``*_change_rel`` =
+  x_k / x_1 - 1).
+
+``CycleMeter`` takes the rows block by block (the streamed history of ``fpd
+run`` hands it every block it writes), so the numbers are those of every
+recorded row whatever the length of the run, and equal those computed from
+the written timeseries.csv (the rows are the same floats; the CSV keeps 10
+significant digits).
+"""
+from __future__ import annotations
+
+import csv
+import math
+
+import numpy as np
+
+KEYS = ("EDC_J", "K_eff_N_m", "mu_eff", "Q_d_N", "xi_eff")
+CSV_COLUMNS = ("cycle", "t_start_s", "t_end_s", "d_pos_m", "d_neg_m", "F_pos_N", "F_neg_N", "d_max_m",
+               "v_peak_mps", "EDC_J", "K_eff_N_m", "mu_eff", "Q_d_N", "xi_eff",
+               "EDC_change_rel", "K_eff_change_rel", "mu_eff_change_rel", "Q_d_change_rel",
+               "xi_eff_change_rel")
+
+
+class CycleMeter:
+    """Per-cycle loop integrals over rows given in blocks (canonical columns).
+
+    period_s, cycles: the programme's cycles (cycle k covers [k T, (k+1) T]);
+    vertical_load_N: W of mu_eff. A segment between two consecutive rows
+    belongs to the cycle of its mid-time (so a row on a cycle boundary closes
+    one cycle and opens the next); a row to the cycle of its time."""
+
+    def __init__(self, columns, period_s: float, cycles: int, vertical_load_N: float):
+        cols = list(columns)
+        self.jt, self.ju, self.jF = cols.index("t_s"), cols.index("u_m"), cols.index("F_N")
+        self.jv = cols.index("v_mps") if "v_mps" in cols else None
+        self.T, self.n, self.W = float(period_s), int(cycles), float(vertical_load_N)
+        self.edc = np.zeros(self.n)
+        self.dpos = np.full(self.n, -np.inf)
+        self.dneg = np.full(self.n, np.inf)
+        self.Fpos = np.full(self.n, np.nan)
+        self.Fneg = np.full(self.n, np.nan)
+        self.vpk = np.zeros(self.n)
+        self.seen = np.zeros(self.n, dtype=bool)
+        self.closed = np.zeros(self.n, dtype=bool)     # a row at or past the cycle's end was seen
+        self.prev = None                                 # the last row of the previous block
+
+    def _cycle(self, t: np.ndarray) -> np.ndarray:
+        """Cycle index of times t (-1 outside the programme)."""
+        k = np.floor(t / self.T * (1.0 + 1e-12)).astype(int)
+        return np.where((t < 0) | (k >= self.n), -1, k)
+
+    def add(self, block: np.ndarray) -> None:
+        if not len(block):
+            return
+        rows = block if self.prev is None else np.vstack((self.prev[None, :], block))
+        t, u, F = rows[:, self.jt], rows[:, self.ju], rows[:, self.jF]
+        if len(rows) > 1:
+            seg = self._cycle(0.5 * (t[1:] + t[:-1]))
+            area = 0.5 * (F[1:] + F[:-1]) * np.diff(u)
+            ok = seg >= 0
+            np.add.at(self.edc, seg[ok], area[ok])
+        new = block
+        kt = self._cycle(new[:, self.jt])
+        ends = np.floor(new[:, self.jt] / self.T * (1.0 + 1e-12)).astype(int)     # cycles whose end was reached
+        for k in range(self.n):
+            if np.any(ends > k):
+                self.closed[k] = True
+            sel = kt == k
+            if not sel.any():
+                continue
+            self.seen[k] = True
+            uu = new[sel, self.ju]
+            i, j = int(np.argmax(uu)), int(np.argmin(uu))
+            if uu[i] > self.dpos[k]:
+                self.dpos[k], self.Fpos[k] = uu[i], new[sel, self.jF][i]
+            if uu[j] < self.dneg[k]:
+                self.dneg[k], self.Fneg[k] = uu[j], new[sel, self.jF][j]
+            if self.jv is not None:
+                self.vpk[k] = max(self.vpk[k], float(np.max(np.abs(new[sel, self.jv]))))
+        self.prev = block[-1].copy()
+
+    def cycles(self) -> list[dict]:
+        """One dict per complete cycle (the keys of CSV_COLUMNS)."""
+        out = []
+        for k in range(self.n):
+            if not (self.seen[k] and self.closed[k]):
+                break                      # an interrupted run: its complete cycles only
+            dmax = 0.5 * (self.dpos[k] - self.dneg[k])
+            K = (self.Fpos[k] - self.Fneg[k]) / (self.dpos[k] - self.dneg[k]) if dmax > 0 else math.nan
+            edc = float(self.edc[k])
+            c = {"cycle": k + 1, "t_start_s": k * self.T, "t_end_s": (k + 1) * self.T,
+                 "d_pos_m": float(self.dpos[k]), "d_neg_m": float(self.dneg[k]),
+                 "F_pos_N": float(self.Fpos[k]), "F_neg_N": float(self.Fneg[k]), "d_max_m": float(dmax),
+                 "v_peak_mps": float(self.vpk[k]) if self.jv is not None else math.nan,
+                 "EDC_J": edc, "K_eff_N_m": float(K),
+                 "mu_eff": edc / (4.0 * self.W * dmax) if dmax > 0 and self.W > 0 else math.nan,
+                 "Q_d_N": edc / (4.0 * dmax) if dmax > 0 else math.nan,
+                 "xi_eff": edc / (2.0 * math.pi * K * dmax * dmax) if dmax > 0 and K > 0 else math.nan}
+            out.append(c)
+        for c in out:
+            for key in KEYS:
+                first = out[0][key]
+                name = ("Q_d" if key == "Q_d_N" else "K_eff" if key == "K_eff_N_m"
+                        else key.removesuffix("_J")) + "_change_rel"
+                c[name] = c[key] / first - 1.0 if first and math.isfinite(first) else math.nan
+        return out
+
+
+def vertical_load(scene) -> float:
+    """W: the superstructure's weight, the test's vertical load (N)."""
+    from fpd.mechanics.geometry import G_ACC
+    return scene["superstructure"]["mass"] * G_ACC
+
+
+def meter_for(scene, columns) -> CycleMeter | None:
+    """The meter of a test-machine scene (loading.kind = "displacement"), else None."""
+    ld = scene["loading"]
+    if ld["kind"] != "displacement" or "F_N" not in columns or "u_m" not in columns:
+        return None
+    return CycleMeter(columns, 1.0 / ld["frequency_Hz"], int(math.ceil(ld["cycles"] - 1e-9)), vertical_load(scene))
+
+
+def summary_block(meter: CycleMeter, scene) -> dict:
+    """summary.json's ``test_machine``: the test's vertical load and programme,
+    and the per-cycle list."""
+    ld = scene["loading"]
+    cyc = meter.cycles()
+    A, f = ld["amplitude_m"], ld["frequency_Hz"]
+    return {
+        "definitions": "EDC = loop area (closed integral of F du); K_eff = (F+ - F-)/(d+ - d-); "
+                       "d_max = (d+ - d-)/2; mu_eff = EDC/(4 W d_max); Q_d = EDC/(4 d_max); "
+                       "xi_eff = EDC/(2 pi K_eff d_max^2); *_change_rel = value / first cycle's - 1 "
+                       "(docs/test_machine.md)",
+        "vertical_load_N": vertical_load(scene),
+        "amplitude_m": A, "frequency_Hz": f, "programme_peak_velocity_mps": 2.0 * math.pi * f * A,
+        "peak_velocity_mps": max((c["v_peak_mps"] for c in cyc), default=math.nan),
+        "machine_work_J": float(meter.edc.sum()),
+        "cycles": cyc,
+    }
+
+
+def write_cycles_csv(path, cycles: list[dict]) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh, lineterminator="\n")
+        w.writerow(CSV_COLUMNS)
+        for c in cycles:
+            w.writerow([c["cycle"]] + [repr(float(c[k])) for k in CSV_COLUMNS[1:]])
+
+
+def plot_cycles(path, cycles: list[dict], title: str) -> None:
+    """EDC, K_eff, mu_eff (and Q_d on mu_eff's axis, as mu_eff W) per cycle."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    k = [c["cycle"] for c in cycles]
+    fig, ax = plt.subplots(3, 1, figsize=(7, 7.2), sharex=True, constrained_layout=True)
+    panels = (("EDC_J", 1e-3, "EDC (kJ)", "EDC_change_rel"),
+              ("K_eff_N_m", 1e-3, "K_eff (kN/m)", "K_eff_change_rel"),
+              ("mu_eff", 1.0, "mu_eff = EDC / (4 W d_max)", "mu_eff_change_rel"))
+    for a, (key, s, label, ch) in zip(ax, panels):
+        y = [s * c[key] for c in cycles]
+        a.plot(k, y, "o-", color="tab:blue")
+        for kk, yy, c in zip(k, y, cycles):
+            if kk > 1:
+                a.annotate(f"{100 * c[ch]:+.1f} %", (kk, yy), textcoords="offset points", xytext=(6, 6),
+                           fontsize=8)
+        a.set_ylabel(label)
+        a.grid(alpha=0.3)
+    if cycles:
+        W = cycles[0]["Q_d_N"] / cycles[0]["mu_eff"] if cycles[0]["mu_eff"] else None
+        if W:
+            sec = ax[2].secondary_yaxis("right", functions=(lambda m: m * W * 1e-3, lambda q: q / (W * 1e-3)))
+            sec.set_ylabel("Q_d = EDC / (4 d_max) (kN)")
+    ax[-1].set_xlabel("cycle (change against cycle 1 marked)")
+    ax[-1].set_xticks(k)
+    ax[0].set_title(f"{title}: per-cycle test quantities")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
