@@ -524,10 +524,11 @@ def test_render_write_failure_keeps_old_render(tmp_path, monkeypatch, capsys, ke
         raise OSError(122, "Disk quota exceeded", str(path))
 
     monkeypatch.setattr(render, "read_device_series", lambda *a, **k: [])
-    monkeypatch.setattr(render, "draw_frames", lambda frames, d, title: [])
+    monkeypatch.setattr(render, "draw_frames", lambda frames, d, title, *a: [])
     monkeypatch.setattr(render, "write_gif", quota)
     capsys.readouterr()
-    assert cli.main(["render", str(run)]) == 1
+    # an existing render/ is replaced only with --force (issue 18); a write failure keeps it whole
+    assert cli.main(["render", str(run), "--force"]) == 1
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and "Disk quota exceeded" in err and "render wrote nothing" in err
     assert sorted(p.name for p in run.iterdir()) == ["render", "vtk"]          # no partial render left
