@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from fpd.mechanics.seated import PHASES, MechanicsFailure
+from fpd.mechanics.phases import PHASES, MechanicsFailure
 
 from .build import Simulation
 from .fast_loop import compiled_loop

@@ -25,14 +25,7 @@ import math
 from .geometry import DeviceGeometry
 from .ground_motion import float_array
 
-PHASES = ("stick", "slip", "tilt")
-
-
-class MechanicsFailure(RuntimeError):
-    """A state the mechanics model cannot continue from (e.g. an overturned
-    pad): the run stops as a numerical failure, keeping its history."""
-
-STICK, SLIP, TILT = 0, 1, 2
+from .phases import PHASES, SLIP, STICK, TILT, MechanicsFailure  # noqa: F401
 
 SEATED_COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
                   "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J", "phase",

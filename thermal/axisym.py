@@ -34,18 +34,8 @@ from scipy.sparse.linalg import splu
 
 from fpd.meshes.line import graded_nodes
 from fpd.meshes.rz import read_rz_mesh, rz_mesh
-from fpd.thermal.jit import OptionalKernels
 from fpd.thermal.params import PlateParams
 from fpd.thermal.stepping import Integrator
-
-_KERNELS = OptionalKernels("fpd.thermal._axisym_jit", warm=True)
-
-
-def jit_kernels():
-    """thermal._axisym_jit if numba is installed and FPD_NO_JIT is unset, else None."""
-    k = _KERNELS()
-    return k[0] if k else None
-
 
 NG_FACET = 8          # Gauss points per top facet in the fixed operator
 NG_PIECE = 20         # Gauss points per piece of a partly covered facet
@@ -301,7 +291,7 @@ class ModalIntegrator(Integrator):
     """
 
     def __init__(self, modes: TensorModes, rho_c: float, fD: np.ndarray, n_top: int,
-                 mass, stiff, conv, nf, mD, aD, u0, dt, scheme, jump_rtol, rannacher, kern=None):
+                 mass, stiff, conv, nf, mD, aD, u0, dt, scheme, jump_rtol, rannacher):
         super().__init__(mass, stiff, self._modal_factor, conv, nf, mD, aD, u0, dt, scheme,
                          jump_rtol, rannacher)
         self.modes, self.rho_c = modes, rho_c
@@ -315,8 +305,6 @@ class ModalIntegrator(Integrator):
         self.top = np.zeros(n_top)          # nodal top-face load of the step being taken
         self.top_prev = np.zeros(n_top)
         self._t = np.empty(nf)
-        self._kern = kern                   # thermal._axisym_jit (same numbers) or None
-        self._fD_k = self.fD if self.fD is not None else np.zeros(0)
 
     def _modal_factor(self, gamma: float) -> np.ndarray:
         return 1.0 / (self.rho_c + gamma * self.lam)
@@ -341,37 +329,28 @@ class ModalIntegrator(Integrator):
 
     def _increment(self, h, b, gamma):
         nf = self.nf
-        if self._kern is not None:
-            du = self.du[:nf]
-            self._kern.modal_be(self.lam, self._fD_k, b[:nf], self.solver(gamma), self.u[:nf], du, h)
-        else:
-            du = self._au(self._t)
-            np.subtract(b[:nf], du, out=du)
-            du *= h
-            du *= self.solver(gamma)
-            self.u[:nf] += du
-            self.du[:nf] = du
+        du = self._au(self._t)
+        np.subtract(b[:nf], du, out=du)
+        du *= h
+        du *= self.solver(gamma)
+        self.u[:nf] += du
+        self.du[:nf] = du
         return du
 
     def _bdf2(self, h, b, power):
         nf = self.nf
         dprev = self.du[:nf]
         du_prev_f = dprev.copy() if self.has_dirichlet else None
-        if self._kern is not None:
-            self._kern.modal_bdf2(self.lam, self._fD_k, b[:nf], self.b[:nf], self.solver(2.0 * h / 3.0),
-                                  self.u[:nf], dprev, (2.0 / 3.0) * h, self.rho_c / 3.0)
-            du = dprev
-        else:
-            du = self._au(self._t)                         # A u
-            g = 1.5 * b[:nf]
-            g -= 0.5 * self.b[:nf]                         # G
-            g -= du
-            g *= (2.0 / 3.0) * h
-            np.multiply(dprev, self.rho_c / 3.0, out=du)   # 1/3 M du_prev
-            du += g
-            du *= self.solver(2.0 * h / 3.0)
-            self.u[:nf] += du
-            dprev[:] = du
+        du = self._au(self._t)                         # A u
+        g = 1.5 * b[:nf]
+        g -= 0.5 * self.b[:nf]                         # G
+        g -= du
+        g *= (2.0 / 3.0) * h
+        np.multiply(dprev, self.rho_c / 3.0, out=du)   # 1/3 M du_prev
+        du += g
+        du *= self.solver(2.0 * h / 3.0)
+        self.u[:nf] += du
+        dprev[:] = du
         s = h * (self.conv @ self.u)
         if self.has_dirichlet:
             Mdu = self.mD[:nf] @ (1.5 * du - 0.5 * du_prev_f)
@@ -400,7 +379,7 @@ class TopLoad:
     precomputed facet loads, the partly covered facets (the band) integrated
     apart. Nodes are local top-node indices."""
 
-    def __init__(self, r_nodes: np.ndarray, facet_nodes: np.ndarray, kern=None):
+    def __init__(self, r_nodes: np.ndarray, facet_nodes: np.ndarray):
         ra, rb = r_nodes[facet_nodes[:, 0]], r_nodes[facet_nodes[:, 1]]
         swap = ra > rb
         facet_nodes = np.where(swap[:, None], facet_nodes[:, ::-1], facet_nodes)
@@ -428,8 +407,6 @@ class TopLoad:
         self._X = 0.5 * (x + 1.0)
         self._w_half = 0.5 * w
         self._cut_steps = 4.0 ** np.arange(40)
-        # thermal._axisym_jit.pattern (same numbers; it needs the sorted facets)
-        self._kern = kern if self._sorted else None
 
     def _range(self, lo: float, hi: float, strict_lo: bool) -> np.ndarray:
         """Facets with r1 > lo (r1 >= lo when not strict_lo... see callers) and r0 < hi."""
@@ -526,11 +503,6 @@ class TopLoad:
         footprint: int f(r) phi_i 2 pi r dr. Facets fully covered add their
         precomputed loads (f = 1 there; uncovered ones nothing), the partly
         covered ones come from _band_loads."""
-        if self._kern is not None:
-            loads = np.empty(self.n_nodes)
-            self._kern.pattern(c, a, self.r0, self.r1, self.fn0, self.fn1, self.full0, self.full1,
-                               self.inv_L, self._X, self._w_half, self._cut_steps, loads)
-            return loads
         loads = np.zeros(self.n_nodes)
         if c <= 1e-12 * a:
             full_below, band = a, self._range(a, a, strict_lo=True)    # r0 < a < r1
@@ -557,8 +529,8 @@ class AxisymPlate:
                  jit: bool | None = None):
         """fast_solver: step in the eigenbasis on a tensor-product quad mesh
         (TensorModes; False: always the nodal stepping with a sparse LU).
-        jit: None uses the numba kernels when available (FPD_NO_JIT unset),
-        False never, True requires them (same numbers either way)."""
+        jit: accepted for compatibility; the axisym plate has one path (the
+        eigenbasis or sparse-LU stepping in numpy, no compiled kernel)."""
         from fpd.thermal.fe1d import check_params
 
         check_params(params)
@@ -602,10 +574,7 @@ class AxisymPlate:
         local = {int(v): i for i, v in enumerate(top_mesh_nodes)}
         fnodes = np.vectorize(local.get)(mesh.facets[:, top_facets].T)
         self.top_nodes = self.inv[top_mesh_nodes]               # internal numbering
-        kern = jit_kernels() if jit is None or jit else None
-        if jit and kern is None:
-            raise ImportError("axisym: jit=True needs numba")
-        self.top = TopLoad(mesh.p[0, top_mesh_nodes], fnodes, kern)
+        self.top = TopLoad(mesh.p[0, top_mesh_nodes], fnodes)
         u0 = np.full(n, p.T0_C - p.T_air_C)
         u0[nf:] = p.T_back_C - p.T_air_C
         self._load = np.zeros(n)
@@ -623,7 +592,7 @@ class AxisymPlate:
             self._pat_hat = np.zeros(n)      # modal footprint weights (free dofs; Dirichlet part 0)
             fD = self.A[:nf, nf:] @ u0[nf:]
             self.integ = ModalIntegrator(m, p.rho * p.c, fD, len(self.top_nodes), self._mass, self._stiff,
-                                         conv, nf, mD, aD, u0, self.dt, p.scheme, jump_rtol, rannacher, kern)
+                                         conv, nf, mD, aD, u0, self.dt, p.scheme, jump_rtol, rannacher)
         else:
             self.integ = Integrator(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
                                     u0, self.dt, p.scheme, jump_rtol, rannacher)

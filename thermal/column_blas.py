@@ -1,0 +1,48 @@
+"""The linear-algebra primitives of the fe1d column step, pure backend.
+
+thermal/column_kernel.py (the scheme, start-up, jump test and ledger,
+written once) calls these three; the compiled path swaps this module for
+thermal/column_blas_numba.py (``__compiled_backend__``, fpd/kernels.py),
+which calls the same BLAS/LAPACK routines of scipy's library through
+pointers, so both paths give the same numbers bit for bit. The arguments
+``I`` (int32: n, k=1, lda=2, inc=1, nrhs=1, info, ord('U'), nf) and ``sc``
+(float scratch) are what the pointer calls need; here they are unused.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import blas, lapack
+
+__compiled_backend__ = "fpd.thermal.column_blas_numba"
+
+# reference-BLAS dsbmv costs ~25 ns per row; numpy's tridiagonal product
+# wins beyond a few hundred rows (measured, docs/thermal.md)
+BLAS_MAX_ROWS = 300
+
+
+def band_mv(I, sc, alpha, band, x, beta, y):
+    """y = alpha B x (beta == 0) or y += alpha B x (beta == 1), B tridiagonal
+    symmetric in upper band storage (2, n)."""
+    if x.shape[0] <= BLAS_MAX_ROWS:
+        blas.dsbmv(1, alpha, band, x, beta=beta, y=y, overwrite_y=1)
+        return
+    t = np.multiply(band[0, 1:], x[1:])
+    out = np.multiply(band[1], x)
+    out[:-1] += t
+    np.multiply(band[0, 1:], x[:-1], out=t)
+    out[1:] += t
+    out *= alpha
+    if beta == 0.0:
+        y[:] = out
+    else:
+        y += out
+
+
+def pt_solve(I, d, e, rhs, nf):
+    """rhs[:nf] = (L D L^T)^-1 rhs[:nf], the factor (d, e) of dpttrf."""
+    lapack.dpttrs(d[:nf], e[:nf - 1], rhs[:nf], overwrite_b=1)
+
+
+def dot(I, x, y):
+    """x . y (the BLAS ddot the compiled backend calls)."""
+    return float(x @ y)
