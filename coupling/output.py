@@ -13,8 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from fpd.mechanics.seated import PHASES
-
+from .history import CsvWriter, StreamHistory
 from .scene import Scene, SceneError, to_toml
 
 from fpd import __version__ as VERSION
@@ -66,40 +65,6 @@ class ResultsFolder:
 
     def discard(self) -> None:
         shutil.rmtree(self.tmp, ignore_errors=True)
-
-
-class CsvWriter:
-    """timeseries.csv on an open text file: the header at once, then blocks
-    of rows (canonical columns, ``phase`` as its code) as they come.
-
-    Each ``SUB`` rows are formatted by one %-operation (the bytes np.savetxt
-    wrote, ~10% faster, and without an object copy of the whole history)."""
-
-    SUB = 4096
-
-    def __init__(self, fh, columns):
-        self.fh = fh
-        cols = list(columns)
-        self.j = cols.index("phase") if "phase" in cols else -1
-        self.rowfmt = ",".join("%s" if c == "phase" else "%.10g" for c in cols) + "\n"
-        self.names = np.array(PHASES, dtype=object)
-        fh.write(",".join(cols) + "\n")
-
-    def format(self, data: np.ndarray) -> list[str]:
-        """The text of these rows, in pieces of SUB rows (changes nothing)."""
-        parts = []
-        for s in range(0, data.shape[0], self.SUB):
-            block = data[s:s + self.SUB]
-            rows = block.tolist()
-            if self.j >= 0:
-                for row, name in zip(rows, self.names[np.nan_to_num(block[:, self.j]).astype(int)].tolist()):
-                    row[self.j] = name
-            parts.append((self.rowfmt * len(rows)) % tuple(x for row in rows for x in row))
-        return parts
-
-    def write(self, data: np.ndarray) -> None:
-        for text in self.format(data):
-            self.fh.write(text)
 
 
 def write_csv(path: Path, result, chunk: int = 4096) -> None:
@@ -225,7 +190,6 @@ def stream_history(folder: ResultsFolder, scene: Scene, **kw):
     """The history ``fpd run`` gives ``simulate``: timeseries.csv written into
     the folder as the run goes (plus a raw spill, removed by write_all, when
     the summary reads rows back)."""
-    from .history import StreamHistory
     spill = folder.path(".history.f64") if needs_rows(scene) else None
     kw.setdefault("plots", bool(scene["output"]["plots"]))
     return StreamHistory(folder.path("timeseries.csv"), spill_path=spill, **kw)

@@ -42,13 +42,13 @@ class _SeatedBase:
         self.n = 0
         self.t = 0.0
         self.theta = 0.0
-        self.thetad = 0.0
+        self.theta_dot = 0.0
         self.F = 0.0
         self.N1 = self.N2 = geom.mass * geom.g
         self.N1 += geom.pad_mass * geom.g
         self.W1 = self.W2 = 0.0
-        self.E_in = 0.0
-        self.phase = STICK
+        self.E_input = 0.0
+        self.mode = STICK
         self.slip_v1 = self.slip_v2 = 0.0
         # constants as plain floats for the hot loop
         self._I, self._S = geom.I, geom.S
@@ -73,30 +73,42 @@ class _SeatedBase:
 
     @property
     def E_kin(self) -> float:
-        return 0.5 * self._I * self.thetad ** 2
+        return 0.5 * self._I * self.theta_dot ** 2
 
     @property
     def E_pot(self) -> float:
         return self._S * self._g * (1.0 - math.cos(self.theta))
 
-    def ledger_residual(self) -> float:
-        """E_input - (E_kin + E_pot + W1 + W2) (J)."""
-        return self.E_in - (self.E_kin + self.E_pot + self.W1 + self.W2)
+    def kinetic_energy(self) -> float:
+        return self.E_kin
+
+    def potential_energy(self) -> float:
+        return self.E_pot
+
+    def energy_residual(self) -> float:
+        """E_input - (E_kin + E_pot + W1 + W2) (J): the ledger."""
+        return self.E_input - (self.E_kin + self.E_pot + self.W1 + self.W2)
+
+    # former names (before both steppers shared one set): kept for callers
+    ledger_residual = energy_residual
+    thetad = property(lambda self: self.theta_dot, lambda self, v: setattr(self, "theta_dot", v))
+    E_in = property(lambda self: self.E_input, lambda self, v: setattr(self, "E_input", v))
+    phase = property(lambda self: self.mode, lambda self, v: setattr(self, "mode", v))
 
     def save(self):
-        return (self.n, self.t, self.theta, self.thetad, self.F, self.N1, self.N2,
-                self.W1, self.W2, self.E_in, self.phase, self.slip_v1, self.slip_v2)
+        return (self.n, self.t, self.theta, self.theta_dot, self.F, self.N1, self.N2,
+                self.W1, self.W2, self.E_input, self.mode, self.slip_v1, self.slip_v2)
 
     def restore(self, snap) -> None:
-        (self.n, self.t, self.theta, self.thetad, self.F, self.N1, self.N2,
-         self.W1, self.W2, self.E_in, self.phase, self.slip_v1, self.slip_v2) = snap
+        (self.n, self.t, self.theta, self.theta_dot, self.F, self.N1, self.N2,
+         self.W1, self.W2, self.E_input, self.mode, self.slip_v1, self.slip_v2) = snap
 
     def values(self) -> tuple:
         th, L = self.theta, self._L
-        return (self.t, self.xg(), L * math.sin(th), L * math.cos(th) * self.thetad,
+        return (self.t, self.xg(), L * math.sin(th), L * math.cos(th) * self.theta_dot,
                 self.F, L * (1.0 - math.cos(th)), th, self._R1 * th, self._R2 * th,
-                self.N1, self.N2, self.W1, self.W2, self.phase, self.E_in,
-                0.5 * self._I * self.thetad ** 2,
+                self.N1, self.N2, self.W1, self.W2, self.mode, self.E_input,
+                0.5 * self._I * self.theta_dot ** 2,
                 self._S * self._g * (1.0 - math.cos(th)))
 
 
@@ -117,7 +129,7 @@ class SeatedStepper(_SeatedBase):
         dt, I, S, g = self.dt, self._I, self._S, self._g
         L, M, m, rho, R1, R2 = self._L, self._M, self._m, self._rho, self._R1, self._R2
         a = self._a_step[self.n]
-        th0, v0 = self.theta, self.thetad
+        th0, v0 = self.theta, self.theta_dot
         half = 0.5 * dt * v0            # predictor of dtheta / 2
         v1 = v0
         for _ in range(self._iters):
@@ -143,15 +155,15 @@ class SeatedStepper(_SeatedBase):
         # horizontal force of the bearing on the superstructure, against u
         self.F = -M * (a + L * (c * thdd - s * (0.5 * (v0 + v1)) ** 2))
         self.theta = th0 + dth
-        self.thetad = v1
+        self.theta_dot = v1
         self.N1, self.N2 = N1, N2
         adth = abs(dth)
         dW1 = mu1 * N1 * R1 * adth
         dW2 = mu2 * N2 * R2 * adth
         self.W1 += dW1
         self.W2 += dW2
-        self.E_in -= S * a * c * dth
-        self.phase = SLIP if dth != 0.0 else STICK
+        self.E_input -= S * a * c * dth
+        self.mode = SLIP if dth != 0.0 else STICK
         self.slip_v1 = R1 * adth / dt
         self.slip_v2 = R2 * adth / dt
         self.n += 1
@@ -183,9 +195,9 @@ class SeatedTestMachine(_SeatedBase):
         self._smooth = {i: (float(a), float(b)) for i, (a, b) in
                         enumerate(zip(uds, udds)) if a != programme.ud[i] or b != programme.udd[i]}
         self.theta = math.asin(self._u[0] / self._L)
-        self.thetad = self._ud[0] / (self._L * math.cos(self.theta))
+        self.theta_dot = self._ud[0] / (self._L * math.cos(self.theta))
         # the machine launches the programme with u'(0) != 0: that energy is input
-        self.E_in = self.E_kin + self.E_pot
+        self.E_input = self.E_kin + self.E_pot
 
     def xg(self) -> float:
         return -self._u[self.n]
@@ -227,18 +239,18 @@ class SeatedTestMachine(_SeatedBase):
         stop = self._smooth.get(i1) if i0 not in self._smooth else None
         if stop is None:
             Q1 = (F * self._L + self._S * self._udd[i1]) * c
-            self.E_in += 0.5 * (Q0 + Q1) * dth
+            self.E_input += 0.5 * (Q0 + Q1) * dth
         else:
             # the machine stops the bearing inside this step: the smooth
             # branch's input up to the stop, then the stopping impulse, whose
             # work is the kinetic energy it removes (at fixed position)
             _, thd_s, _, F_s, _, _, _ = self._state_at(i1, mu1, mu2, sgn, stop)
             Q1 = (F_s * self._L + self._S * stop[1]) * c
-            self.E_in += 0.5 * (Q0 + Q1) * dth + 0.5 * self._I * (thd * thd - thd_s * thd_s)
-        self.theta, self.thetad, self.F, self.N1, self.N2 = th, thd, F, N1, N2
+            self.E_input += 0.5 * (Q0 + Q1) * dth + 0.5 * self._I * (thd * thd - thd_s * thd_s)
+        self.theta, self.theta_dot, self.F, self.N1, self.N2 = th, thd, F, N1, N2
         self.W1 += dW1
         self.W2 += dW2
-        self.phase = SLIP if dth != 0.0 else STICK
+        self.mode = SLIP if dth != 0.0 else STICK
         self.slip_v1 = self._R1 * adth / self.dt
         self.slip_v2 = self._R2 * adth / self.dt
         self.n = i1
