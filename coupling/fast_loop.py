@@ -49,8 +49,9 @@ def _plate_kind(plate):
     return None
 
 
-def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
-    """A CompiledLoop for this simulation, or None: the Python loop runs it."""
+def _eligible(sim):
+    """The plate kinds when the compiled loop can run this simulation's
+    staggered steps (and may: numba available, loaded or needed), else None."""
     from fpd.mechanics.two_phase import TwoPhaseStepper
 
     mech = sim.mechanics
@@ -63,16 +64,42 @@ def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
     kinds = [_plate_kind(p) for p in sim.plates]
     if None in kinds:
         return None
-    if inject_failure_at is not None and inject_failure_at <= 1:
-        return None
     if "fe1d" not in kinds and not _numba_loaded():
         return None
     if not kernels.available():
         return None
     if any(getattr(law, "P", None) is None for law in sim.laws):
         return None
-    if list(cols) != list(mech.columns) + (["mu1", "mu2", "T1_C", "T2_C", "E_stored_J", "E_air_J"]
-                                           if any(k != "none" for k in kinds) else ["mu1", "mu2"]):
+    return kinds
+
+
+def warm(sim) -> None:
+    """Load (or compile) the compiled loop now, if this simulation will use
+    it: at build time, before the run's folder exists and its Ctrl-C handling
+    starts (every mix of plates has the same signature: one call loads it)."""
+    if _eligible(sim) is None:
+        return
+    try:
+        lj = kernels.compiled("fpd.coupling.loop_kernel")
+    except ImportError:
+        return
+    from fpd.mechanics import two_phase_kernel as tp
+    f, i32 = np.zeros(tp.N_STATE), np.zeros(8, dtype=np.int32)
+    band, vecs = np.zeros((2, 2), order="F"), tuple(np.zeros(1) for _ in range(6))
+    plate = (band, band, vecs, vecs, i32, f)
+    lj.run_chunk(f, f, f, f, f, f, f, f, f, *plate, *plate, np.zeros((1, 1)), f,
+                 np.zeros(lj.N_CTL, dtype=np.int64))
+
+
+def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
+    """A CompiledLoop for this simulation, or None: the Python loop runs it."""
+    kinds = _eligible(sim)
+    if kinds is None:
+        return None
+    if inject_failure_at is not None and inject_failure_at <= 1:
+        return None
+    if list(cols) != list(sim.mechanics.columns) + (["mu1", "mu2", "T1_C", "T2_C", "E_stored_J", "E_air_J"]
+                                                    if any(k != "none" for k in kinds) else ["mu1", "mu2"]):
         return None
     try:
         lj = kernels.compiled("fpd.coupling.loop_kernel")
@@ -108,9 +135,10 @@ class CompiledLoop:
         self.ctl[lj.C_KIND1], self.ctl[lj.C_KIND2] = (code[k] for k in kinds)
         self.row = np.zeros(len(cols))
         self.plates = []             # per plate: (Mb, Ab, FAC, V, I, P) and whether P is a copy
-        # stand-ins of the fe1d arrays, of their types (one compiled signature for every mix)
+        # stand-ins of the fe1d arrays, of their types (one compiled signature for every mix;
+        # (2, 2) in Fortran order: a (2, 1) array would also be C-contiguous, typed 'C' by numba)
         dummy_f, dummy_i = np.zeros(1), np.zeros(8, dtype=np.int32)
-        dummy_F, dummy_C = np.zeros((2, 1), order="F"), np.zeros((6, 1))
+        dummy_F, dummy_T = np.zeros((2, 2), order="F"), tuple(np.zeros(1) for _ in range(6))
         for plate, kind in zip(sim.plates, kinds):
             if kind == "fe1d":
                 it = plate.integ
@@ -118,9 +146,8 @@ class CompiledLoop:
                 self.plates.append(((it.Mb, it.Ab, it.FAC, it.V, it.I, P), P is not it.P))
             else:
                 P = np.array(plate.P) if kind == "lumped" else dummy_f
-                self.plates.append(((dummy_F, dummy_F, dummy_C, dummy_C, dummy_i, P), kind == "lumped"))
-        self._buf_warm = np.zeros((1, len(cols)))
-        self._call(self._buf_warm)      # load (or compile) the kernel now, not inside the timed loop
+                self.plates.append(((dummy_F, dummy_F, dummy_T, dummy_T, dummy_i, P), kind == "lumped"))
+        self._call(np.zeros((1, len(cols))))   # load the kernel now (build() did: warm()), not in the timed loop
 
     def _args(self, buf):
         (p1, _), (p2, _) = self.plates

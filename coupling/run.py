@@ -145,7 +145,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     there, so the last block of the CSV is always written)."""
     mech = sim.mechanics
     p1, p2 = sim.plates
-    law1, law2 = sim.laws
+    law1, law2 = (getattr(law, "evaluate", law) for law in sim.laws)   # mechanics.friction: the bound kernel
     dt, N = sim.dt, sim.n_steps
     sub = sim.substeps
     cpl = sim.scene["coupling"]

@@ -135,7 +135,12 @@ def _drop_stale_caches(mod, modname: str, files: list) -> None:
 
 
 def fresh() -> None:
-    """Forget the compiled modules (the next ``compiled()`` builds them again)."""
+    """Forget the compiled modules (the next ``compiled()`` builds them again).
+
+    Try a changed constant in a child process (tests/test_one_source.py):
+    numba links a compiled callee by its symbol name, so after kernels were
+    compiled with a patched constant, cached kernels loaded later in the same
+    process may still call the patched copies."""
     for name in list(_compiled):
         sys.modules.pop(name + _SUFFIX, None)
     _compiled.clear()

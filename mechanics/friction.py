@@ -9,6 +9,7 @@ parameters, their defaults and the law's row ``P`` that the kernel reads.
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from functools import partial
 
 from . import friction_kernel as _k
 
@@ -20,6 +21,9 @@ class _Law:
 
     def __post_init__(self):
         object.__setattr__(self, "P", self.row())
+        # the evaluation bound to this law's row: what the Python loop calls
+        # (one Python frame less than __call__)
+        object.__setattr__(self, "evaluate", partial(_k.law_mu, self.P))
 
     def row(self) -> list:
         return [float(self.kind)] + [float(getattr(self, f.name)) for f in fields(self)]
@@ -76,6 +80,10 @@ class Table(_Law):
             raise ValueError(f"friction table: T_C and mu need the same length >= 1, got {n} and {len(self.mu)}")
         head = [float(self.kind), float(n)] + [0.0] * (_k.N_HEAD - 2)
         return head + [float(x) for x in self.T_C] + [float(x) for x in self.mu]
+
+    def __post_init__(self):
+        super().__post_init__()
+        object.__setattr__(self, "evaluate", self.__call__)      # (raises for a NaN temperature)
 
     def __call__(self, T_C: float, p_Pa: float = 0.0, v_mps: float = 0.0) -> float:
         mu = _k.law_mu(self.P, T_C, p_Pa, v_mps)

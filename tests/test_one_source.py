@@ -9,51 +9,88 @@ import numpy as np
 import pytest
 
 from fpd import kernels
-from fpd.coupling import fast_loop
-from fpd.coupling import scene as scn
-from fpd.coupling.build import build
-from fpd.coupling.run import simulate
-from fpd.mechanics import friction_kernel
 
 ROOT = Path(__file__).resolve().parent.parent
-OVER = ["solver.duration=3"]
 
 
-def _run(monkeypatch, compiled: bool):
-    with monkeypatch.context() as m:
-        if not compiled:
-            m.setenv("FPD_NO_JIT", "1")
-        sim = build(scn.load("default", OVER))
-        if compiled:
-            assert fast_loop.compiled_loop(sim, 1, sim.n_steps + 1, _cols(sim)) is not None
-        res = simulate(sim)
-    assert res.status == "ok", res.message
-    return res
+# The changed constant is tried in a child process: numba links a compiled
+# function by its symbol name, so kernels compiled with the patched constant
+# would stay linked into the cached ones loaded later in the same process.
+_CHILD = r"""
+import json, os, sys
+import numpy as np
+os.environ["FPD_JIT_NO_CACHE"] = "1"           # a cached kernel keeps the constants it was built with
+from fpd import kernels
+from fpd.mechanics import friction_kernel
+coef, what, out = float(sys.argv[1]), sys.argv[2], sys.argv[3]
+friction_kernel.KUMAR_T_COEF = coef            # the one place of the Kumar temperature coefficient
+if what == "law":
+    from fpd.mechanics.friction import Kumar2015
+    law = Kumar2015(0.06, use_pressure=True, use_velocity=True)
+    T = np.linspace(-20.0, 400.0, 57)
+    comp = kernels.compiled("fpd.mechanics.friction_kernel").law_mu
+    P = np.array(law.P)
+    np.savez(out, pure=[law(t, 3e7, 0.1) for t in T], comp=[comp(P, t, 3e7, 0.1) for t in T])
+else:
+    from fpd.coupling import fast_loop, scene as scn
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate, _columns
+    res = {}
+    for mode in ("comp", "pure"):
+        fast_loop.enabled = mode == "comp"
+        if mode == "pure":
+            os.environ["FPD_NO_JIT"] = "1"
+        sim = build(scn.load("default", ["solver.duration=3"]))
+        used = fast_loop.compiled_loop(sim, 1, sim.n_steps + 1, _columns(sim)[0]) is not None
+        assert used == (mode == "comp"), mode
+        plate = sim.plates[0].integ.compiled
+        assert plate == (mode == "comp"), mode
+        r = simulate(sim)
+        assert r.status == "ok", r.message
+        res[mode] = r.data
+        res["columns"] = np.array(r.columns)
+    np.savez(out, **res)
+"""
 
 
-def _cols(sim):
-    from fpd.coupling.run import _columns
-    return _columns(sim)[0]
+def _child(tmp_path, coef, what):
+    import os
+    import subprocess
+    import sys
+    out = tmp_path / f"{what}-{coef}.npz"
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    env.pop("FPD_NO_JIT", None)
+    r = subprocess.run([sys.executable, "-c", _CHILD, str(coef), what, str(out)], env=env, cwd=ROOT,
+                       capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stderr[-3000:]
+    return np.load(out)
 
 
-@pytest.mark.skipif(not kernels.available(), reason="numba not installed (or FPD_NO_JIT)")
-def test_a_constant_changed_in_its_one_place_changes_both_paths_identically(monkeypatch):
-    """The Kumar temperature coefficient 0.79 -> 0.70 (friction_kernel only):
-    the compiled and the pure default run both move, to the same history."""
-    base = _run(monkeypatch, compiled=False)
-    try:
-        monkeypatch.setenv("FPD_JIT_NO_CACHE", "1")      # a cached kernel keeps the constants it was built with
-        monkeypatch.setattr(friction_kernel, "KUMAR_T_COEF", 0.70)
-        kernels.fresh()
-        pure = _run(monkeypatch, compiled=False)
-        comp = _run(monkeypatch, compiled=True)
-    finally:
-        monkeypatch.undo()
-        kernels.fresh()                                   # later tests: the modules of the real constant
-    mu = base.columns.index("mu1")
-    assert np.nanmin(pure.data[1:, mu]) < 0.95 * np.nanmin(base.data[1:, mu])   # the law changed (x 0.70/0.79)
-    assert pure.columns == comp.columns
-    np.testing.assert_array_equal(pure.data, comp.data)
+needs_numba = pytest.mark.skipif(not kernels.available(), reason="numba not installed (or FPD_NO_JIT)")
+
+
+@needs_numba
+def test_a_constant_changed_in_its_one_place_changes_both_laws_identically(tmp_path):
+    """Fast version: the Kumar coefficient 0.79 -> 0.70 in friction_kernel
+    only moves the pure law and its compiled twin by k_T's ratio, identically."""
+    ref, new = _child(tmp_path, 0.79, "law"), _child(tmp_path, 0.70, "law")
+    np.testing.assert_array_equal(ref["pure"], ref["comp"])
+    np.testing.assert_array_equal(new["pure"], new["comp"])
+    np.testing.assert_allclose(new["pure"] / ref["pure"], 0.70 / 0.79, rtol=1e-14)
+
+
+@needs_numba
+@pytest.mark.slow
+def test_a_constant_changed_in_its_one_place_changes_both_paths_identically(tmp_path):
+    """The acceptance test of issue 12: the Kumar temperature coefficient
+    0.79 -> 0.70, changed in friction_kernel only, moves the compiled and the
+    pure default run, to the same history bit for bit (compiles the loop
+    without the cache: about a minute)."""
+    ref, new = _child(tmp_path, 0.79, "scene"), _child(tmp_path, 0.70, "scene")
+    np.testing.assert_array_equal(ref["pure"], ref["comp"])
+    np.testing.assert_array_equal(new["pure"], new["comp"])
+    mu = list(ref["columns"]).index("mu1")
+    assert np.nanmin(new["pure"][1:, mu]) < 0.95 * np.nanmin(ref["pure"][1:, mu])   # x 0.70/0.79 on k_T
 
 
 def test_no_numba_twin_of_a_kernel():

@@ -18,13 +18,14 @@ __compiled_backend__ = "fpd.thermal.column_blas_numba"
 # reference-BLAS dsbmv costs ~25 ns per row; numpy's tridiagonal product
 # wins beyond a few hundred rows (measured, docs/thermal.md)
 BLAS_MAX_ROWS = 300
+_dsbmv, _dpttrs = blas.dsbmv, lapack.dpttrs     # f2py wrappers, called with positional arguments (faster)
 
 
 def band_mv(I, sc, alpha, band, x, beta, y):
     """y = alpha B x (beta == 0) or y += alpha B x (beta == 1), B tridiagonal
     symmetric in upper band storage (2, n)."""
     if x.shape[0] <= BLAS_MAX_ROWS:
-        blas.dsbmv(1, alpha, band, x, beta=beta, y=y, overwrite_y=1)
+        _dsbmv(1, alpha, band, x, 1, 0, beta, y, 1, 0, 0, 1)     # (..., beta, y, incy, offy, lower, overwrite_y)
         return
     t = np.multiply(band[0, 1:], x[1:])
     out = np.multiply(band[1], x)
@@ -39,8 +40,9 @@ def band_mv(I, sc, alpha, band, x, beta, y):
 
 
 def pt_solve(I, d, e, rhs, nf):
-    """rhs[:nf] = (L D L^T)^-1 rhs[:nf], the factor (d, e) of dpttrf."""
-    lapack.dpttrs(d[:nf], e[:nf - 1], rhs[:nf], overwrite_b=1)
+    """rhs[:nf] = (L D L^T)^-1 rhs[:nf] in place, (d, e) the factor of dpttrf
+    (lengths nf, nf - 1)."""
+    _dpttrs(d, e, rhs if nf == rhs.shape[0] else rhs[:nf], 1)     # overwrite_b
 
 
 def dot(I, x, y):

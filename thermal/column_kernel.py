@@ -54,7 +54,7 @@ def be_step(Mb, Ab, FAC, V, I, P, h, q, f):
     """Backward Euler over h with the factor row f of FAC; returns the
     step's loss (J)."""
     nf = int(P[P_NF])
-    n = V.shape[1]
+    n = V[V_U].shape[0]
     u, du, rhs = V[V_U], V[V_DU], V[V_RHS]
     band_mv(I, V[V_SC], -h, Ab, u, 0.0, rhs)
     rhs[0] += h * q
@@ -72,7 +72,7 @@ def be_step(Mb, Ab, FAC, V, I, P, h, q, f):
 def cn_step(Mb, Ab, FAC, V, I, P, h, q):
     """Crank-Nicolson over h (trapezoidal loss)."""
     nf = int(P[P_NF])
-    n = V.shape[1]
+    n = V[V_U].shape[0]
     u, du, rhs = V[V_U], V[V_DU], V[V_RHS]
     band_mv(I, V[V_SC], -h, Ab, u, 0.0, rhs)
     rhs[0] += h * q
@@ -92,7 +92,7 @@ def bdf2_step(Mb, Ab, FAC, V, I, P, h, q):
     G = 3/2 q - 1/2 q_prev (the scheme delivers exactly q h per step); the
     loss source passes through the same filter, l_n = 2/3 (s_n + l_{n-1}/2)."""
     nf = int(P[P_NF])
-    n = V.shape[1]
+    n = V[V_U].shape[0]
     u, du, rhs = V[V_U], V[V_DU], V[V_RHS]
     c23 = 2.0 * h / 3.0
     band_mv(I, V[V_SC], -c23, Ab, u, 0.0, rhs)
@@ -155,7 +155,7 @@ def plate_step(Mb, Ab, FAC, V, I, P, power_W, centre_m):
     if P[P_FIXED] != 0.0 and not abs(centre_m - P[P_R0]) <= P[P_AC]:
         power_W = 0.0
     step(Mb, Ab, FAC, V, I, P, power_W)
-    return float(V[V_U, 0]) + P[P_TAIR]
+    return float(V[V_U][0]) + P[P_TAIR]
 
 
 def stored(V, I, P):

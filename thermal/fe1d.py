@@ -119,15 +119,15 @@ class ColumnIntegrator:
         self.Ab[1], self.Ab[0, 1:] = dA, eA
         h = self.dt
         gammas = {"be": h, "cn": 0.5 * h, "bdf2": 2.0 * h / 3.0}
-        self.FAC = np.zeros((6, n))
+        fac = [None] * 6
         for row, gamma in ((CK.F_SUB, h / self.start_substeps), (CK.F_MAIN, gammas[scheme]), (CK.F_H, h)):
-            d, e = self._factor(gamma)
-            self.FAC[row, :nf], self.FAC[row + 1, :nf - 1] = d, e
+            fac[row], fac[row + 1] = (np.ascontiguousarray(x, dtype=float) for x in self._factor(gamma))
+        self.FAC = tuple(fac)
         self.I = np.array([n, 1, 2, 1, 1, 0, ord("U"), nf], dtype=np.int32)
-        self.V = np.zeros((6, n))
-        self.V[CK.V_U] = u0
+        self.V = tuple(np.zeros(n) for _ in range(6))
         self.u, self.du = self.V[CK.V_U], self.V[CK.V_DU]
-        self.V[CK.V_M1] = self.mass(np.ones(n))             # M 1 = M^T 1
+        self.u[:] = u0
+        self.V[CK.V_M1][:] = self.mass(np.ones(n))          # M 1 = M^T 1
         P = [0.0] * CK.N_P
         P[CK.P_SCHEME] = {"be": CK.BE, "cn": CK.CN, "bdf2": CK.BDF2}[scheme]
         P[CK.P_RANN] = 1.0 if rannacher else 0.0
