@@ -14,6 +14,9 @@ gravity is evaluated by the discrete gradient sin(theta_m) sinc(dtheta / 2),
 so that the potential energy change of a step is exact. Second order while
 sliding, first order at stick-slip transitions.
 
+The step of SeatedStepper is mechanics/seated_kernel.py (kernel module,
+written once); SeatedTestMachine's imposed-displacement step is below.
+
 Energies are those of the ground frame (relative energy formulation):
 E_input is the work of the ground acceleration's d'Alembert forces through
 the relative motion, E_kin = I theta'^2 / 2, E_pot = S g (1 - cos theta).
@@ -23,6 +26,7 @@ from __future__ import annotations
 import math
 
 from .geometry import DeviceGeometry
+from . import seated_kernel as K
 from .ground_motion import float_array
 
 from .phases import PHASES, SLIP, STICK, TILT, MechanicsFailure  # noqa: F401
@@ -112,63 +116,55 @@ class _SeatedBase:
                 self._S * self._g * (1.0 - math.cos(th)))
 
 
+def _slot(i: int, kind=float):
+    """A SeatedStepper attribute that is slot i of its state vector S."""
+    if kind is float:
+        return property(lambda self: self.S[i], lambda self, v: self.S.__setitem__(i, v))
+    return property(lambda self: kind(self.S[i]), lambda self, v: self.S.__setitem__(i, kind(v)))
+
+
 class SeatedStepper(_SeatedBase):
-    """Seated DFP/SFP under an imposed ground motion (mechanics.ground_motion.GroundMotion)."""
+    """Seated DFP/SFP under an imposed ground motion (mechanics.ground_motion.GroundMotion).
+
+    The step is mechanics/seated_kernel.py (written once); the state is the
+    list ``S`` it reads and writes, the attributes are views of its slots."""
+
+    n, t, theta, theta_dot = _slot(K.SN, int), _slot(K.ST), _slot(K.TH), _slot(K.THD)
+    F, N1, N2, W1, W2 = _slot(K.SF), _slot(K.N1), _slot(K.N2), _slot(K.W1), _slot(K.W2)
+    E_input, mode = _slot(K.EIN), _slot(K.MODE, int)
+    slip_v1, slip_v2 = _slot(K.SV1), _slot(K.SV2)
 
     def __init__(self, geom: DeviceGeometry, ground, iterations: int = 3):
+        self.S = [0.0] * K.N_STATE
         super().__init__(geom, ground.dt, ground.n_steps)
         self.ground = ground
         self._a_step = float_array(ground.a_step)  # plain floats, 8 bytes each
         self._xg = ground.d
         self._iters = iterations
+        self.C = C = [0.0] * K.N_CONST
+        C[K.CDT], C[K.CI], C[K.CS], C[K.CL] = self.dt, self._I, self._S, self._L
+        C[K.CM], C[K.Cm], C[K.CRHO], C[K.CG] = self._M, self._m, self._rho, self._g
+        C[K.CR1], C[K.CR2], C[K.CITER], C[K.TWO] = self._R1, self._R2, iterations, 2.0
+        self._row = [0.0] * K.N_VALUES
 
     def xg(self) -> float:
         return float(self._xg[self.n])
 
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
-        dt, I, S, g = self.dt, self._I, self._S, self._g
-        L, M, m, rho, R1, R2 = self._L, self._M, self._m, self._rho, self._R1, self._R2
-        a = self._a_step[self.n]
-        th0, v0 = self.theta, self.theta_dot
-        half = 0.5 * dt * v0            # predictor of dtheta / 2
-        v1 = v0
-        for _ in range(self._iters):
-            thm = th0 + half
-            c, s = math.cos(thm), math.sin(thm)
-            vm = 0.5 * (v0 + v1)
-            N2 = M * (g * c - a * s + L * vm * vm)
-            N1 = N2 + m * (g * c - a * s + rho * vm * vm)
-            cap = mu1 * N1 * R1 + mu2 * N2 * R2
-            sinc = math.sin(half) / half if abs(half) > 1e-7 else 1.0 - half * half / 6.0
-            drive = -S * (a * c + g * s * sinc)
-            v_free = v0 + dt * drive / I
-            imp = dt * cap / I
-            if abs(v_free) <= imp:
-                v1 = 0.0
-            else:
-                v1 = v_free - math.copysign(imp, v_free)
-            half = 0.25 * dt * (v0 + v1)
-        dth = 2.0 * half
-        thm = th0 + half
-        c, s = math.cos(thm), math.sin(thm)
-        thdd = (v1 - v0) / dt
-        # horizontal force of the bearing on the superstructure, against u
-        self.F = -M * (a + L * (c * thdd - s * (0.5 * (v0 + v1)) ** 2))
-        self.theta = th0 + dth
-        self.theta_dot = v1
-        self.N1, self.N2 = N1, N2
-        adth = abs(dth)
-        dW1 = mu1 * N1 * R1 * adth
-        dW2 = mu2 * N2 * R2 * adth
-        self.W1 += dW1
-        self.W2 += dW2
-        self.E_input -= S * a * c * dth
-        self.mode = SLIP if dth != 0.0 else STICK
-        self.slip_v1 = R1 * adth / dt
-        self.slip_v2 = R2 * adth / dt
-        self.n += 1
-        self.t = self.n * dt
-        return dW1, dW2
+        return K.step(self.C, self.S, self._a_step, mu1, mu2)
+
+    def values(self) -> tuple:
+        out = self._row
+        K.values(self.C, self.S, float(self._xg[int(self.S[K.SN])]), out)
+        out[13] = int(out[13])
+        return tuple(out)
+
+    def save(self):
+        S = self.S
+        return (int(S[0]),) + tuple(S[1:K.MODE]) + (int(S[K.MODE]),) + tuple(S[K.MODE + 1:])
+
+    def restore(self, snap) -> None:
+        self.S[:] = snap
 
 
 class SeatedTestMachine(_SeatedBase):

@@ -343,3 +343,23 @@ def test_streamed_history_and_ctrl_c_while_a_block_is_taken(monkeypatch, tmp_pat
             assert a.status == "interrupted" and a.n_rows == 3 * 64 == a.steps + 1
         else:
             assert a.status == "ok" and len(calls_a) > 20
+
+
+@pytest.mark.parametrize("kind,scale", [("DFP", 1.0), ("SFP", 2.5)])
+def test_seated_kernel_compiled_matches_the_stepper(kind, scale):
+    """mechanics/seated_kernel.py compiled on float64 arrays against
+    SeatedStepper (the same source run as Python on its list)."""
+    from fpd.mechanics.seated import SeatedStepper
+    geom = DeviceGeometry(kind, R1=2.2, R2=2.2 if kind == "DFP" else None, pad_height=0.10, pad_diameter=0.25,
+                          pad_mass=30.0, mass=1.0e5)
+    st = SeatedStepper(geom, elcentro(1e-3, scale, duration=10.0))
+    SK = kernels.compiled("fpd.mechanics.seated_kernel")
+    C, S, A = np.array(st.C), np.array(st.S, dtype=float), np.asarray(st._a_step, dtype=float)
+    xg = np.asarray(st._xg, dtype=float)
+    row = np.zeros(SK.N_VALUES)
+    for _ in range(st.n_steps):
+        dw = st.step(0.05, 0.04)
+        assert SK.step(C, S, A, 0.05, 0.04) == dw
+        SK.values(C, S, xg[int(S[SK.SN])], row)
+        assert row.tolist() == list(st.values())
+    assert S.tolist() == [float(x) for x in st.S]
