@@ -26,6 +26,8 @@ from fpd.thermal import column_kernel as ck
 from fpd.thermal import lumped_kernel as lk
 
 __kernel__ = True
+# compiled: the plate dispatchers inline into run_chunk (no call passing the plates' arrays per step)
+__jit_options__ = {"inline": "always"}
 
 KIND_NONE, KIND_LUMPED, KIND_FE1D = 0, 1, 2
 # ctl (int64)

@@ -18,6 +18,10 @@ errors are returned as flags. It never imports numba.
   ``__compiled_backend__``; the compiled kernels call the twin. Only those
   few primitives have two backends.
 
+A kernel module may set ``__jit_options__`` (e.g. ``{"inline": "always"}``
+for small functions passed many arrays: numba then inlines them into their
+callers instead of calling them with reference-counted array arguments).
+
 ``available()`` says whether the compiled path may be used (numba installed,
 ``FPD_NO_JIT`` unset) without importing numba.
 """
@@ -66,7 +70,8 @@ def compiled(name: str) -> types.ModuleType:
     sys.modules[spec.name] = mod
     spec.loader.exec_module(mod)
     _compiled[name] = mod                   # before rewiring: kernel modules may import each other
-    options = dict(JIT_OPTIONS, cache=JIT_OPTIONS["cache"] and not os.environ.get("FPD_JIT_NO_CACHE"))
+    options = dict(JIT_OPTIONS, **getattr(pure, "__jit_options__", {}))
+    options["cache"] = options["cache"] and not os.environ.get("FPD_JIT_NO_CACHE")
     deps = [pure.__file__]
     for key, val in list(vars(mod).items()):
         if key.startswith("__"):

@@ -1,7 +1,8 @@
-"""The linear-algebra primitives of the fe1d column step, pure backend.
+"""The linear-algebra and vector primitives of the fe1d column step, pure backend.
 
 thermal/column_kernel.py (the scheme, start-up, jump test and ledger,
-written once) calls these three; the compiled path swaps this module for
+written once) calls these (numpy's whole-array operations here, loops in
+the compiled twin, where an array expression would cost more than the loop); the compiled path swaps this module for
 thermal/column_blas_numba.py (``__compiled_backend__``, fpd/kernels.py),
 which calls the same BLAS/LAPACK routines of scipy's library through
 pointers, so both paths give the same numbers bit for bit. The arguments
@@ -48,3 +49,19 @@ def pt_solve(I, d, e, rhs, nf):
 def dot(I, x, y):
     """x . y (the BLAS ddot the compiled backend calls)."""
     return float(x @ y)
+
+
+def accept(u, du, x, nf):
+    """u[:nf] += x[:nf]; du[:nf] = x[:nf] (the increment taken)."""
+    u[:nf] += x[:nf]
+    du[:nf] = x[:nf]
+
+
+def copy(dst, src, nf):
+    """dst[:nf] = src[:nf]."""
+    dst[:nf] = src[:nf]
+
+
+def difference(dst, a, b, nf):
+    """dst[:nf] = a[:nf] - b[:nf]."""
+    dst[:nf] = a[:nf] - b[:nf]

@@ -15,7 +15,7 @@ from numba.extending import get_cython_function_address
 
 from .column_blas import BLAS_MAX_ROWS
 
-_OPTIONS = {"cache": True, "nogil": True, "error_model": "numpy"}
+_OPTIONS = {"cache": True, "nogil": True, "error_model": "numpy", "inline": "always"}
 
 
 def _extern(module: str, name: str, restype, nargs: int):
@@ -62,3 +62,22 @@ def pt_solve(I, d, e, rhs, nf):
 @njit(**_OPTIONS)
 def dot(I, x, y):
     return _ddot(I[0:].ctypes, x.ctypes, I[3:].ctypes, y.ctypes, I[3:].ctypes)
+
+
+@njit(**_OPTIONS)
+def accept(u, du, x, nf):
+    for i in range(nf):
+        u[i] = u[i] + x[i]
+        du[i] = x[i]
+
+
+@njit(**_OPTIONS)
+def copy(dst, src, nf):
+    for i in range(nf):
+        dst[i] = src[i]
+
+
+@njit(**_OPTIONS)
+def difference(dst, a, b, nf):
+    for i in range(nf):
+        dst[i] = a[i] - b[i]

@@ -5,7 +5,7 @@ the load q (W) on the surface node, convection and the optional fixed
 temperature on the back node (the Dirichlet node, dofs [nf:]): the schemes,
 the start-up after t = 0 and after every load jump (Rannacher), the jump
 test and the heat ledger of thermal/stepping.py, specialised to a column.
-The three linear-algebra calls are thermal/column_blas.py's primitives (the
+The linear-algebra and vector calls are thermal/column_blas.py's primitives (the
 compiled path swaps in their numba backend); everything around them is here.
 
 Arrays (numpy on both paths): Mb, Ab (2, n) upper band storage of M and A;
@@ -18,9 +18,12 @@ Python list on the pure path, float64 on the compiled one).
 """
 from __future__ import annotations
 
-from .column_blas import band_mv, dot, pt_solve
+from .column_blas import accept, band_mv, copy, difference, dot, pt_solve
 
 __kernel__ = True
+# compiled: inline these small functions into their callers (a call passing
+# the tuples of arrays costs ~1 us per step, more than the arithmetic)
+__jit_options__ = {"inline": "always"}
 
 BE, CN, BDF2 = 0, 1, 2
 F_SUB, F_MAIN, F_H = 0, 2, 4             # rows of FAC (d, then e)
@@ -59,8 +62,7 @@ def be_step(Mb, Ab, FAC, V, I, P, h, q, f):
     band_mv(I, V[V_SC], -h, Ab, u, 0.0, rhs)
     rhs[0] += h * q
     pt_solve(I, FAC[f], FAC[f + 1], rhs, nf)
-    u[:nf] += rhs[:nf]
-    du[:nf] = rhs[:nf]
+    accept(u, du, rhs, nf)
     s = h * P[P_CB] * float(u[n - 1])
     if nf < n:
         s -= reaction(P, float(rhs[nf - 1]), h, float(u[n - 2]), float(u[n - 1]))
@@ -78,8 +80,7 @@ def cn_step(Mb, Ab, FAC, V, I, P, h, q):
     rhs[0] += h * q
     u2, u1 = float(u[n - 2]), float(u[n - 1])
     pt_solve(I, FAC[F_MAIN], FAC[F_MAIN + 1], rhs, nf)
-    u[:nf] += rhs[:nf]
-    du[:nf] = rhs[:nf]
+    accept(u, du, rhs, nf)
     s = 0.5 * h * P[P_CB] * (u1 + float(u[n - 1]))
     if nf < n:
         s -= reaction(P, float(rhs[nf - 1]), h, 0.5 * (u2 + float(u[n - 2])), float(u[n - 1]))
@@ -100,8 +101,7 @@ def bdf2_step(Mb, Ab, FAC, V, I, P, h, q):
     rhs[0] += c23 * (1.5 * q - 0.5 * P[P_Q])
     pt_solve(I, FAC[F_MAIN], FAC[F_MAIN + 1], rhs, nf)
     last_prev = float(du[nf - 1])
-    u[:nf] += rhs[:nf]
-    du[:nf] = rhs[:nf]
+    accept(u, du, rhs, nf)
     if nf == n:
         s = h * P[P_CB] * float(u[n - 1])
     else:
@@ -118,12 +118,12 @@ def start_step(Mb, Ab, FAC, V, I, P, h, q):
     step's increment (BDF2 history), the loss their sum."""
     nf = int(P[P_NF])
     u, du, ub = V[V_U], V[V_DU], V[V_UB]
-    ub[:nf] = u[:nf]
+    copy(ub, u, nf)
     m = int(P[P_M])
     loss = 0.0
     for _ in range(m):
         loss += be_step(Mb, Ab, FAC, V, I, P, h / m, q, F_SUB)
-    du[:nf] = u[:nf] - ub[:nf]
+    difference(du, u, ub, nf)
     P[P_LP] = loss
     P[P_HALF] += m
 

@@ -8,6 +8,8 @@ write; the compiled loop calls the numba copy on a float64 copy of it.
 from __future__ import annotations
 
 __kernel__ = True
+# compiled: inlined into the loop
+__jit_options__ = {"inline": "always"}
 
 # P: constants, then state
 P_H, P_C, P_DT, P_T0, P_TAIR, P_DECAY = 0, 1, 2, 3, 4, 5
