@@ -59,3 +59,18 @@ def test_pure_path_reproduces_the_fingerprints(monkeypatch):
     ref = np.load(DATA)
     data, _, _ = fingerprint(run_case("default"))
     assert_same(data, ref["default/data"])
+
+
+def test_a_plate_survives_pickling():
+    """The column holds its kernel module (not picklable): it is found again
+    on unpickling, and the copy steps on exactly as the original."""
+    import pickle
+    for jit in (False, True):
+        a = fe1d.FE1DPlate(PlateParams(model="fe1d"), 1e-3, jit=jit)
+        for q in loads(300):
+            a.step(q, 0.0)
+        b = pickle.loads(pickle.dumps(a))
+        assert b.integ.compiled == jit and b.integ.u is b.integ.V[0]
+        for q in loads(600)[300:]:
+            assert a.step(q, 0.0) == b.step(q, 0.0)
+        assert a.stored_heat() == b.stored_heat() and a.heat_lost() == b.heat_lost()

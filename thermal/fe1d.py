@@ -146,6 +146,15 @@ class ColumnIntegrator:
             raise np.linalg.LinAlgError(f"dpttrf failed (info={info})")
         return df, ef
 
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        del state["kern"]                # a module: found again on unpickling
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.kern = column_kernels(True) if self.compiled else CK
+
     def mass(self, x):
         """M x (full length)."""
         y = np.zeros(len(x))
