@@ -155,7 +155,7 @@ def plate_step(Mb, Ab, FAC, V, I, P, power_W, centre_m):
     if P[P_FIXED] != 0.0 and not abs(centre_m - P[P_R0]) <= P[P_AC]:
         power_W = 0.0
     step(Mb, Ab, FAC, V, I, P, power_W)
-    return float(V[V_U][0]) + P[P_TAIR]
+    return float(V[V_U][0]) + float(P[P_TAIR])
 
 
 def stored(V, I, P):

@@ -224,7 +224,7 @@ class FE1DPlate:
         """Advance dt with power_W over the footprint at centre_m; return the
         column's surface temperature (degC) at the end of the step."""
         it = self.integ
-        return float(it.kern.plate_step(it.Mb, it.Ab, it.FAC, it.V, it.I, it.P, float(power_W), centre_m))
+        return it.kern.plate_step(it.Mb, it.Ab, it.FAC, it.V, it.I, it.P, float(power_W), centre_m)
 
     def surface_temperature(self) -> float:
         return float(self.integ.u[0] + self.params.T_air_C)
@@ -237,7 +237,7 @@ class FE1DPlate:
         return self.integ.stored()
 
     def heat_lost(self) -> float:
-        return self.integ.heat_lost
+        return float(self.integ.P[CK.P_HLOST])
 
     def heat_in(self) -> float:
         return self.integ.heat_in
