@@ -33,11 +33,6 @@ def law_mu(P, T_C, p_Pa, v_mps):
     """mu of the law P at temperature T_C (degC), pressure p_Pa, slip speed v_mps.
     NaN for a table asked at a NaN temperature (no point brackets it)."""
     kind = int(P[0])
-    if kind == LAW_CONSTANT:
-        return P[1]
-    if kind == LAW_LINEAR:                      # mu0 + slope (T - T0), never below mu_min
-        x = P[1] + P[3] * (T_C - P[2])
-        return x if x > P[4] else P[4]
     if kind == LAW_KUMAR:                       # mu_ref, p_ref_MPa, a, use_p, use_T, use_v
         mu = P[1]
         if P[4] != 0.0:
@@ -47,6 +42,11 @@ def law_mu(P, T_C, p_Pa, v_mps):
         if P[6] != 0.0:
             mu *= 1.0 - KUMAR_V_DROP * math.exp(-P[3] * abs(v_mps))
         return mu
+    if kind == LAW_CONSTANT:
+        return P[1]
+    if kind == LAW_LINEAR:                      # mu0 + slope (T - T0), never below mu_min
+        x = P[1] + P[3] * (T_C - P[2])
+        return x if x > P[4] else P[4]
     # table: piecewise linear through (T[i], mu[i]), constant beyond the ends
     n = int(P[1])
     T0 = N_HEAD

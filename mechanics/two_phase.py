@@ -151,6 +151,10 @@ def two_phase_validity_errors(geom: DeviceGeometry, mu1: float, mu2: float) -> l
     return out
 
 
+_kstep = K.step
+assert (K.SN, K.ERR) == (0, 34)
+
+
 def _slot(i: int, doc: str, kind=float):
     """A stepper attribute that is slot i of the state vector S."""
     if kind is float:
@@ -262,10 +266,10 @@ class TwoPhaseStepper:
         """Advance one step with mu1, mu2 held; return the friction work (J)
         of the lower and upper interface in the step."""
         S = self.S
-        if S[K.SN] >= self.n_steps:
+        if S[0] >= self.n_steps:                     # S[K.SN]
             raise IndexError(f"all {self.n_steps} steps of the loading are taken")
-        dW = K.step(self.C, S, self._a_step, mu1, mu2)
-        if S[K.ERR] != 0.0:
+        dW = _kstep(self.C, S, self._a_step, mu1, mu2)
+        if S[34] != 0.0:                             # S[K.ERR]
             self.raise_error()
         return dW
 
