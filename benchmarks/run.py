@@ -107,8 +107,8 @@ def main():
     args = ap.parse_args()
     import numpy
     try:
-        from fpd.thermal.fe1d import jit_kernels
-        jit = "numba kernel" if jit_kernels() is not None else "pure numpy/LAPACK"
+        from fpd import kernels
+        jit = "compiled kernels (numba)" if kernels.available() else "pure kernels (numpy/LAPACK)"
     except ImportError:
         jit = "?"
     print(f"machine: {os.cpu_count()} cores, Python {sys.version.split()[0]}, numpy {numpy.__version__}, "

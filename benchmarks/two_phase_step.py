@@ -40,20 +40,20 @@ def per_step_us(make, with_values: bool, repeats: int = 3) -> float:
 
 
 def numba_kernel_us(make, repeats: int = 3):
-    """The same steps through mechanics/_two_phase_jit.run_steps (None without numba)."""
-    try:
-        import numpy as np
-        from fpd.mechanics import _two_phase_jit as K
-    except ImportError:
+    """The same steps through the compiled mechanics/two_phase_kernel.run_steps (None without numba)."""
+    from fpd import kernels
+    if not kernels.available():
         return None
+    import numpy as np
+    K = kernels.compiled("fpd.mechanics.two_phase_kernel")
     best = float("inf")
     for _ in range(repeats + 1):              # the first loads (or compiles) the kernel
         st = make()
-        C, G, S = K.pack_constants(st), K.ground_arrays(st), np.zeros(K.N_STATE)
-        K.pack_state(st, S)
+        C, S = np.array(st.C), np.array(st.S, dtype=float)
+        A, T, D = (np.asarray(x, dtype=float) for x in (st._a_step, st._t, st._d))
         rows = np.zeros((st.n_steps, K.N_VALUES))
         t0 = time.perf_counter()
-        K.run_steps(C, S, G, 0.05, 0.05, st.n_steps, rows)
+        K.run_steps(C, S, A, T, D, 0.05, 0.05, st.n_steps, rows)
         best = min(best, (time.perf_counter() - t0) / st.n_steps * 1e6)
     return best
 
@@ -74,7 +74,7 @@ def main() -> None:
     print(f"two-phase step() + values(): {per_step_us(make, True):6.2f} us/step")
     kernel_us = numba_kernel_us(make)
     if kernel_us is not None:
-        print(f"numba kernel step + values:  {kernel_us:6.2f} us/step (mechanics/_two_phase_jit.py)")
+        print(f"numba kernel step + values:  {kernel_us:6.2f} us/step (mechanics/two_phase_kernel.py, compiled)")
     try:
         from fpd.mechanics.seated import SeatedStepper
     except ImportError:

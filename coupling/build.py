@@ -177,8 +177,10 @@ def build(scene: Scene) -> Simulation:
                           "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
-    return Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp,
-                      substeps=substeps, info=info)
+    sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
+    from .fast_loop import warm
+    warm(sim)           # load the compiled loop now, not after the run's folder is made (coupling/fast_loop.py)
+    return sim
 
 
 # -- bidirectional runs (model.md 8) ----------------------------------------------------

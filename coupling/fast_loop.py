@@ -1,37 +1,33 @@
 """simulate()'s compiled fast path (issue 7): when to use it, and the driver.
 
 The common case (two-phase stepper, staggered coupling, one thermal step per
-step, lumped / fe1d-kernel / no plates, a friction law of mechanics.friction)
-runs in coupling/_loop_jit.run_chunk, a numba function over a range of
-steps; this module packs the models into arrays, calls it in chunks that end
-at simulate()'s events (progress bar, VTK frames, hottest-field tracker,
-every 2048 steps so that Ctrl-C is seen within ~10 ms), and writes the state
-back into the Python objects, which stay the reference: after the compiled
-part they hold exactly the state the Python loop would have reached, so the
+step, lumped / fe1d / no plates, a friction law of mechanics.friction) runs
+in coupling/loop_kernel.run_chunk compiled (fpd.kernels.compiled), over a
+range of steps; this module calls it in chunks that end at simulate()'s
+events (progress bar, VTK frames, hottest-field tracker, every 2048 steps so
+that Ctrl-C is seen within ~10 ms). The models' state vectors are what the
+kernels read: the stepper's list S and the plates' rows P travel as float64
+copies and are written back after each chunk (fe1d arrays are shared), so the
 Python loop can take over at any step (an injected failure, a step the
 kernel hands back because Python would raise there).
 
 Used only with numba installed and FPD_NO_JIT unset. A scene with an fe1d
 plate uses it always (numba is loaded for the column kernel anyway); a
 lumped or mechanics-only scene only when numba is already loaded in the
-process (a study, a process that ran an fe1d scene): loading numba, scipy
-and the kernels costs ~0.7 s, which would take such a scene's start past
-1 s (issue 7), while its Python loop costs ~10 us per step.
+process (a study, a process that ran an fe1d scene): loading numba and the
+kernels costs ~0.7 s, which would take such a scene's start past 1 s
+(issue 7), while its Python loop costs ~10 us per step.
 """
 from __future__ import annotations
 
-import os
 import sys
 
 import numpy as np
 
-from fpd.thermal.jit import OptionalKernels
+from fpd import kernels
 
 CHUNK = 2048                 # steps per call at most (progress bar, Ctrl-C latency)
-
-# (coupling._loop_jit, mechanics._two_phase_jit, thermal._plate_jit), or None
-# (numba missing or FPD_NO_JIT set)
-kernels = OptionalKernels("fpd.coupling._loop_jit", "fpd.mechanics._two_phase_jit", "fpd.thermal._plate_jit")
+enabled = True               # False: always the Python loop (tests compare the two)
 
 
 def _numba_loaded() -> bool:
@@ -39,65 +35,91 @@ def _numba_loaded() -> bool:
 
 
 def _plate_kind(plate):
-    """'none', 'lumped', 'fe1d' (on the column kernel's path) or None (not compiled)."""
+    """'none', 'lumped', 'fe1d' or None (not compiled: the Python loop runs it)."""
+    from fpd.thermal.lumped import LumpedPlate
+
     if plate is None:
         return "none"
-    name = type(plate).__name__
-    mod = type(plate).__module__
-    if mod == "fpd.thermal.lumped" and name == "LumpedPlate":
+    if "step" in vars(plate):
+        return None                  # patched (tests)
+    if type(plate) is LumpedPlate:
         return "lumped"
-    if mod == "fpd.thermal.fe1d" and name == "FE1DPlate":
-        integ = plate.integ
-        if (integ._kern is not None and integ.scheme == "bdf2" and integ.rannacher
-                and "step" not in vars(plate) and "step_surface" not in vars(integ)):
-            return "fe1d"
+    if type(plate).__name__ == "FE1DPlate" and type(plate).__module__ == "fpd.thermal.fe1d":
+        return "fe1d"
     return None
 
 
-def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
-    """A CompiledLoop for this simulation, or None: the Python loop runs it."""
+def _eligible(sim):
+    """The plate kinds when the compiled loop can run this simulation's
+    staggered steps (and may: numba available, loaded or needed), else None."""
+    from fpd.mechanics.two_phase import TwoPhaseStepper
+
     mech = sim.mechanics
-    if mech is None or sim.substeps != 1 or sim.scene["coupling"]["scheme"] != "staggered":
+    if not enabled or mech is None or sim.substeps != 1 or sim.scene["coupling"]["scheme"] != "staggered":
         return None
-    if type(mech).__name__ != "TwoPhaseStepper" or type(mech).__module__ != "fpd.mechanics.two_phase":
+    if type(mech) is not TwoPhaseStepper:
         return None
     if any(k in vars(mech) for k in ("step", "values", "save", "restore")):
         return None                  # patched (tests): the Python loop calls the patch
     kinds = [_plate_kind(p) for p in sim.plates]
     if None in kinds:
         return None
-    if inject_failure_at is not None and inject_failure_at <= 1:
-        return None
     if "fe1d" not in kinds and not _numba_loaded():
         return None
-    if os.environ.get("FPD_NO_JIT"):
+    if not kernels.available():
         return None
-    mods = kernels()
-    if mods is None:
+    if any(getattr(law, "P", None) is None for law in sim.laws):
         return None
-    _, tp, _ = mods
-    laws = [tp.pack_law(law) for law in sim.laws]
-    if any(x is None for x in laws):
+    return kinds
+
+
+def warm(sim) -> None:
+    """Load (or compile) the compiled loop now, if this simulation will use
+    it: at build time, before the run's folder exists and its Ctrl-C handling
+    starts (every mix of plates has the same signature: one call loads it)."""
+    if _eligible(sim) is None:
+        return
+    try:
+        lj = kernels.compiled("fpd.coupling.loop_kernel")
+    except ImportError:
+        return
+    from fpd.mechanics import two_phase_kernel as tp
+    f, i32 = np.zeros(tp.N_STATE), np.zeros(8, dtype=np.int32)
+    band, vecs = np.zeros((2, 2), order="F"), tuple(np.zeros(1) for _ in range(6))
+    plate = (band, band, vecs, vecs, i32, f)
+    lj.run_chunk(f, f, f, f, f, f, f, f, f, *plate, *plate, np.zeros((1, 1)), f,
+                 np.zeros(lj.N_CTL, dtype=np.int64))
+
+
+def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
+    """A CompiledLoop for this simulation, or None: the Python loop runs it."""
+    kinds = _eligible(sim)
+    if kinds is None:
         return None
-    if list(cols) != list(mech.columns) + (["mu1", "mu2", "T1_C", "T2_C", "E_stored_J", "E_air_J"]
-                                           if any(k != "none" for k in kinds) else ["mu1", "mu2"]):
+    if inject_failure_at is not None and inject_failure_at <= 1:
         return None
-    return CompiledLoop(sim, mods, kinds, laws, every, n_rows, cols, inject_failure_at)
+    if list(cols) != list(sim.mechanics.columns) + (["mu1", "mu2", "T1_C", "T2_C", "E_stored_J", "E_air_J"]
+                                                    if any(k != "none" for k in kinds) else ["mu1", "mu2"]):
+        return None
+    try:
+        lj = kernels.compiled("fpd.coupling.loop_kernel")
+    except ImportError:
+        return None
+    return CompiledLoop(sim, lj, kinds, every, n_rows, cols, inject_failure_at)
 
 
 class CompiledLoop:
     """Runs steps 1.. of simulate()'s loop compiled; see run()."""
 
-    def __init__(self, sim, mods, kinds, laws, every, n_rows, cols, inject_failure_at):
-        lj, tp, pj = mods
-        self.sim, self.lj, self.tp, self.pj = sim, lj, tp, pj
+    def __init__(self, sim, lj, kinds, every, n_rows, cols, inject_failure_at):
+        self.sim, self.lj = sim, lj
         self.kinds, self.cols = kinds, list(cols)
         mech = sim.mechanics
-        self.MC = tp.pack_constants(mech)
-        self.MS = np.zeros(tp.N_STATE)
-        self.MSAVE = np.zeros(tp.N_STATE)
-        self.G = tp.ground_arrays(mech)
-        self.LW1, self.LW2 = laws
+        self.MC = np.array(mech.C)
+        self.MS = np.array(mech.S, dtype=float)
+        self.MSAVE = np.zeros(len(mech.S))
+        self.A, self.T, self.D = (np.asarray(x, dtype=float) for x in (mech._a_step, mech._t, mech._d))
+        self.LW1, self.LW2 = (np.array(law.P) for law in sim.laws)
         N = sim.n_steps
         # the Python loop takes over at an injected failure
         self.n_stop = N if inject_failure_at is None else min(N, inject_failure_at - 1)
@@ -109,83 +131,46 @@ class CompiledLoop:
         self.ctl = np.zeros(lj.N_CTL, dtype=np.int64)
         self.ctl[lj.C_NROWS], self.ctl[lj.C_EVERY], self.ctl[lj.C_N] = n_rows, every, N
         self.ctl[lj.C_HEAT] = any(k != "none" for k in kinds)
+        code = {"none": lj.KIND_NONE, "lumped": lj.KIND_LUMPED, "fe1d": lj.KIND_FE1D}
+        self.ctl[lj.C_KIND1], self.ctl[lj.C_KIND2] = (code[k] for k in kinds)
         self.row = np.zeros(len(cols))
-        self.PP = np.zeros((2, pj.N_P))
-        self.arrays = []
-        dummy_f, dummy_i = np.zeros(1), np.zeros(1, dtype=np.int32)
-        for i, (plate, kind) in enumerate(zip(sim.plates, kinds)):
-            P = self.PP[i]
-            P[pj.P_KIND] = {"none": pj.KIND_NONE, "lumped": pj.KIND_LUMPED, "fe1d": pj.KIND_FE1D}[kind]
+        self.plates = []             # per plate: (Mb, Ab, FAC, V, I, P) and whether P is a copy
+        # stand-ins of the fe1d arrays, of their types (one compiled signature for every mix;
+        # (2, 2) in Fortran order: a (2, 1) array would also be C-contiguous, typed 'C' by numba)
+        dummy_f, dummy_i = np.zeros(1), np.zeros(8, dtype=np.int32)
+        dummy_F, dummy_T = np.zeros((2, 2), order="F"), tuple(np.zeros(1) for _ in range(6))
+        for plate, kind in zip(sim.plates, kinds):
             if kind == "fe1d":
-                from fpd.thermal.stepping import START_STEPS
-                integ = plate.integ
-                n = len(integ.u)
-                h = integ.dt
-                X = np.zeros(3 * n)
-                d, e = self._factor(integ, h / integ.start_substeps)
-                X[:n], X[n:2 * n - 1] = d, e
-                c23 = 2.0 * h / 3.0
-                d, e = self._factor(integ, c23)
-                integ._K[4 * n:5 * n], integ._K[5 * n:6 * n - 1] = d, e
-                P[pj.P_C23V] = c23
-                P[pj.P_JR], P[pj.P_H], P[pj.P_CB] = integ.jump_rtol, h, integ._cb
-                P[pj.P_M], P[pj.P_E0] = integ.start_substeps, integ._e0
-                P[pj.P_START] = START_STEPS["bdf2"]
-                P[pj.P_TAIR] = plate._T_air
-                P[pj.P_FIXED] = plate._fixed_point
-                P[pj.P_R0], P[pj.P_AC] = plate.params.radius_m, plate.params.a_contact_m
-                self.arrays.append((integ._K, integ._W, integ._I, X))
+                it = plate.integ
+                P = it.P if isinstance(it.P, np.ndarray) else np.array(it.P)
+                self.plates.append(((it.Mb, it.Ab, it.FAC, it.V, it.I, P), P is not it.P))
             else:
-                if kind == "lumped":
-                    P[pj.P_LH], P[pj.P_LT0], P[pj.P_DECAY] = plate.H, plate.T0, plate._decay
-                    P[pj.P_LC], P[pj.P_LDT], P[pj.P_TAIR] = plate.C, plate.dt, plate.T_air
-                self.arrays.append((dummy_f, dummy_f, dummy_i, dummy_f))
-        self._buf_warm = np.zeros((1, len(cols)))
-        self._call(self._buf_warm)      # load (or compile) the kernel now, not inside the timed loop
+                P = np.array(plate.P) if kind == "lumped" else dummy_f
+                self.plates.append(((dummy_F, dummy_F, dummy_T, dummy_T, dummy_i, P), kind == "lumped"))
+        self._call(np.zeros((1, len(cols))))   # load the kernel now (build() did: warm()), not in the timed loop
+
+    def _args(self, buf):
+        (p1, _), (p2, _) = self.plates
+        return (self.MC, self.MS, self.MSAVE, self.A, self.T, self.D, self.LW1, self.LW2, self.F,
+                *p1, *p2, buf, self.row, self.ctl)
 
     def _call(self, buf):
         """run_chunk from ctl[C_NDONE] to ctl[C_NEND] (0 to 0: just the dispatch)."""
-        (K1, W1, I1, X1), (K2, W2, I2, X2) = self.arrays
-        return self.lj.run_chunk(self.MC, self.MS, self.MSAVE, self.G, self.LW1, self.LW2, self.F, self.PP,
-                                 K1, W1, I1, X1, K2, W2, I2, X2, buf, self.row, self.ctl)
+        return self.lj.run_chunk(*self._args(buf))
 
-    @staticmethod
-    def _factor(integ, gamma):
-        """The integrator's own factor of M + gamma A (computed as its Python
-        path computes it, and kept in its cache as that path would)."""
-        integ.solver(gamma)
-        return integ._factors[gamma]
-
-    # -- the Python objects <-> the arrays ---------------------------------------------
+    # -- the models' state vectors <-> their float64 copies ------------------------------
     def _pack(self):
-        self.tp.pack_state(self.sim.mechanics, self.MS)
-        pj = self.pj
-        for plate, kind, P in zip(self.sim.plates, self.kinds, self.PP):
-            if kind == "fe1d":
-                it = plate.integ
-                P[pj.P_C23] = it._c23 if it._c23 is not None else 0.0
-                P[pj.P_Q], P[pj.P_LS], P[pj.P_SL], P[pj.P_STEPS] = it._q, it.load_scale, it._start_left, it.steps
-                P[pj.P_LP], P[pj.P_HIN], P[pj.P_HLOST] = it.loss_prev, it.heat_in, it.heat_lost
-                P[pj.P_HALF], P[pj.P_SOK] = it.half_steps, it._stored_ok
-            elif kind == "lumped":
-                P[pj.P_RISE], P[pj.P_LIN], P[pj.P_LLOST] = plate.rise, plate._in, plate._lost
+        self.MS[:] = self.sim.mechanics.S
+        for plate, (arrays, copy) in zip(self.sim.plates, self.plates):
+            if copy:
+                arrays[5][:] = plate.integ.P if hasattr(plate, "integ") else plate.P
 
     def _unpack(self):
-        self.tp.unpack_state(self.sim.mechanics, self.MS)
-        pj = self.pj
-        for plate, kind, P in zip(self.sim.plates, self.kinds, self.PP):
-            v = P.tolist()
-            if kind == "fe1d":
-                it = plate.integ
-                if v[pj.P_C23] != 0.0 and it._c23 is None:
-                    it._bdf2_setup(it.dt)
-                it._q, it.load_scale = v[pj.P_Q], v[pj.P_LS]
-                it.b[0] = v[pj.P_Q]
-                it._start_left, it.steps = int(v[pj.P_SL]), int(v[pj.P_STEPS])
-                it.loss_prev, it.heat_in, it.heat_lost = v[pj.P_LP], v[pj.P_HIN], v[pj.P_HLOST]
-                it.half_steps, it._stored_ok = int(v[pj.P_HALF]), bool(v[pj.P_SOK])
-            elif kind == "lumped":
-                plate.rise, plate._in, plate._lost = v[pj.P_RISE], v[pj.P_LIN], v[pj.P_LLOST]
+        self.sim.mechanics.S[:] = self.MS.tolist()
+        for plate, (arrays, copy) in zip(self.sim.plates, self.plates):
+            if copy:
+                target = plate.integ.P if hasattr(plate, "integ") else plate.P
+                target[:] = arrays[5].tolist()
 
     # -- the run -----------------------------------------------------------------------
     def run(self, buf, k, last_row, T1, T2, mu1, mu2, bar=None, hottest=None, hot_every=1,
@@ -205,10 +190,8 @@ class CompiledLoop:
         ctl[lj.C_NROWS] = len(buf)
         F[lj.F_T1], F[lj.F_T2], F[lj.F_MU1], F[lj.F_MU2] = T1, T2, mu1, mu2
         self._pack()
-        (K1, W1, I1, X1), (K2, W2, I2, X2) = self.arrays
         run_chunk = lj.run_chunk
-        args = (self.MC, self.MS, self.MSAVE, self.G, self.LW1, self.LW2, F, self.PP,
-                K1, W1, I1, X1, K2, W2, I2, X2, buf, self.row, ctl)
+        args = self._args(buf)
         events = (bar, hottest, hot_every, on_frame, frame_every)
         out = Outcome()
         n = start
@@ -259,7 +242,7 @@ class CompiledLoop:
     def _events(self, n, bar, hottest, hot_every, on_frame, frame_every):
         """simulate()'s events at the end of step n, in its order."""
         if on_frame is not None and frame_every and n % frame_every == 0 and int(self.ctl[self.lj.C_LAST]) == n:
-            self.tp.unpack_state(self.sim.mechanics, self.MS)
+            self._unpack()
             self.sim.frame_values = self._frame_values(self.row)
             on_frame(n, self.sim)
         if hottest is not None and n % hot_every == 0:

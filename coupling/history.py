@@ -33,6 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
+from fpd.mechanics.phases import TFP_PHASES
+
 CHUNK_ROWS = 1 << 14        # rows per block streamed (37 columns: 4.8 MB)
 PLOT_FULL_ROWS = 50_000     # up to this many rows the plots get every row
 PLOT_BINS = 2000            # beyond: this many bins (a few per pixel of a 770-px plot)
@@ -148,6 +150,42 @@ class PlotSampler:
         return self.parts[0]
 
 
+class CsvWriter:
+    """timeseries.csv on an open text file: the header at once, then blocks
+    of rows (canonical columns, ``phase`` as its code) as they come.
+
+    Each ``SUB`` rows are formatted by one %-operation (the bytes np.savetxt
+    wrote, ~10% faster, and without an object copy of the whole history)."""
+
+    SUB = 4096
+
+    def __init__(self, fh, columns):
+        self.fh = fh
+        cols = list(columns)
+        self.j = cols.index("phase") if "phase" in cols else -1
+        self.rowfmt = ",".join("%s" if c == "phase" else "%.10g" for c in cols) + "\n"
+        self.names = np.array(TFP_PHASES, dtype=object)     # the planar phases, then the TFP's
+        fh.write(",".join(cols) + "\n")
+
+    def format(self, data: np.ndarray) -> list[str]:
+        """The text of these rows, in pieces of SUB rows (changes nothing)."""
+        parts = []
+        ncol = data.shape[1] if data.ndim == 2 else 0
+        for s in range(0, data.shape[0], self.SUB):
+            block = data[s:s + self.SUB]
+            # one flat list of the block's values (a third cheaper than a
+            # generator over row lists); the phase codes replaced by their names
+            flat = np.ascontiguousarray(block).ravel().tolist()
+            if self.j >= 0:
+                flat[self.j::ncol] = self.names[np.nan_to_num(block[:, self.j]).astype(int)].tolist()
+            parts.append((self.rowfmt * len(block)) % tuple(flat))
+        return parts
+
+    def write(self, data: np.ndarray) -> None:
+        for text in self.format(data):
+            self.fh.write(text)
+
+
 class MemoryHistory:
     """Every row in memory, canonical order (the default sink)."""
 
@@ -244,8 +282,6 @@ class StreamHistory:
         self._fh = self._spill = None
 
     def start(self, loop_columns, columns, n_rows_max: int) -> int:
-        from .output import CsvWriter
-
         self.columns = list(columns)
         self.idx = [list(loop_columns).index(c) for c in columns]
         self.stats = Stats(columns)

@@ -14,9 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fpd.mechanics.seated import PHASES
-from fpd.mechanics.tfp import TFP_PHASES      # PHASES + the TFP's inner / outer / inner+outer
+from fpd.mechanics.phases import PHASES, TFP_PHASES  # noqa: F401
 
+from .history import CsvWriter, StreamHistory  # noqa: F401 (CsvWriter: callers import it from here too)
 from .scene import Scene, SceneError, to_toml
 
 from fpd import __version__ as VERSION
@@ -114,42 +114,6 @@ class ResultsFolder:
         shutil.rmtree(self.tmp, ignore_errors=True)
 
 
-class CsvWriter:
-    """timeseries.csv on an open text file: the header at once, then blocks
-    of rows (canonical columns, ``phase`` as its code) as they come.
-
-    Each ``SUB`` rows are formatted by one %-operation (the bytes np.savetxt
-    wrote, ~10% faster, and without an object copy of the whole history)."""
-
-    SUB = 4096
-
-    def __init__(self, fh, columns):
-        self.fh = fh
-        cols = list(columns)
-        self.j = cols.index("phase") if "phase" in cols else -1
-        self.rowfmt = ",".join("%s" if c == "phase" else "%.10g" for c in cols) + "\n"
-        self.names = np.array(TFP_PHASES, dtype=object)
-        fh.write(",".join(cols) + "\n")
-
-    def format(self, data: np.ndarray) -> list[str]:
-        """The text of these rows, in pieces of SUB rows (changes nothing)."""
-        parts = []
-        ncol = data.shape[1] if data.ndim == 2 else 0
-        for s in range(0, data.shape[0], self.SUB):
-            block = data[s:s + self.SUB]
-            # one flat list of the block's values (a third cheaper than a
-            # generator over row lists); the phase codes replaced by their names
-            flat = np.ascontiguousarray(block).ravel().tolist()
-            if self.j >= 0:
-                flat[self.j::ncol] = self.names[np.nan_to_num(block[:, self.j]).astype(int)].tolist()
-            parts.append((self.rowfmt * len(block)) % tuple(flat))
-        return parts
-
-    def write(self, data: np.ndarray) -> None:
-        for text in self.format(data):
-            self.fh.write(text)
-
-
 class ParquetWriter:
     """timeseries.parquet (``output.history = "parquet"``): the same rows and
     columns as timeseries.csv, as float64 columns (``phase`` as a dictionary
@@ -169,7 +133,7 @@ class ParquetWriter:
         self.pa = pa
         self.cols = list(columns)
         self.j = self.cols.index("phase") if "phase" in self.cols else -1
-        self.names = pa.array(PHASES, type=pa.string())
+        self.names = pa.array(TFP_PHASES, type=pa.string())
         fields = [pa.field(c, pa.dictionary(pa.int8(), pa.string()) if c == "phase" else pa.float64())
                   for c in self.cols]
         self.schema = pa.schema(fields)
@@ -409,7 +373,6 @@ def stream_history(folder: ResultsFolder, scene: Scene, **kw):
     """The history ``fpd run`` gives ``simulate``: timeseries.csv written into
     the folder as the run goes (plus a raw spill, removed by write_all, when
     the summary reads rows back)."""
-    from .history import StreamHistory
     spill = folder.path(".history.f64") if needs_rows(scene) else None
     kw.setdefault("plots", bool(scene["output"]["plots"]))
     from .cycles import meter_for

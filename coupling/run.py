@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from fpd.mechanics.seated import PHASES, MechanicsFailure
+from fpd.mechanics.phases import PHASES, MechanicsFailure
 
 from .build import Simulation
 from .fast_loop import compiled_loop
@@ -149,7 +149,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                             history=history, on_loop_end=on_loop_end, on_frame=on_frame, frame_every=frame_every)
     mech = sim.mechanics
     p1, p2 = sim.plates
-    law1, law2 = sim.laws
+    law1, law2 = (getattr(law, "evaluate", law) for law in sim.laws)   # mechanics.friction: the bound kernel
     dt, N = sim.dt, sim.n_steps
     sub = sim.substeps
     cpl = sim.scene["coupling"]

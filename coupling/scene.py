@@ -68,14 +68,30 @@ def _temp(x):
     return None if -273.15 < x < 5000 else "must be a temperature in degC above -273.15"
 
 
+def _law_keys(law: str, checks: dict, required=()) -> dict:
+    """A law's keys with the defaults of its class in mechanics.friction
+    (one source of truth; a field without a default, or named in
+    ``required`` (a scene must state it), is REQUIRED)."""
+    from dataclasses import MISSING, fields
+
+    from fpd.mechanics.friction import LAWS
+
+    out = {}
+    for f in fields(LAWS[law]):
+        kind, check = checks[f.name]
+        out[f.name] = (kind, REQUIRED if f.default is MISSING or f.name in required else f.default, check)
+    return out
+
+
 FRICTION_KEYS = {
-    "constant": {"mu": ("float", REQUIRED, _mu)},
-    "linear": {"mu0": ("float", REQUIRED, _mu), "T0_C": ("float", 20.0, _temp),
-               "slope_per_C": ("float", REQUIRED, None), "mu_min": ("float", 0.0, _mu)},
-    "kumar2015": {"mu_ref": ("float", REQUIRED, _mu), "p_ref_MPa": ("float", 50.0, _pos),
-                  "a_s_per_m": ("float", 100.0, _pos), "use_pressure": ("bool", False, None),
-                  "use_temperature": ("bool", True, None), "use_velocity": ("bool", False, None)},
-    "table": {"T_C": ("floats", REQUIRED, None), "mu": ("floats", REQUIRED, None)},
+    "constant": _law_keys("constant", {"mu": ("float", _mu)}),
+    "linear": _law_keys("linear", {"mu0": ("float", _mu), "T0_C": ("float", _temp),
+                                   "slope_per_C": ("float", None), "mu_min": ("float", _mu)},
+                        required=("slope_per_C",)),
+    "kumar2015": _law_keys("kumar2015", {"mu_ref": ("float", _mu), "p_ref_MPa": ("float", _pos),
+                                         "a_s_per_m": ("float", _pos), "use_pressure": ("bool", None),
+                                         "use_temperature": ("bool", None), "use_velocity": ("bool", None)}),
+    "table": _law_keys("table", {"T_C": ("floats", None), "mu": ("floats", None)}),
 }
 
 def _plate_default(name):

@@ -5,9 +5,8 @@ numba caches each compiled kernel (``cache=True``) as an index file
 to the module's source (or under ``NUMBA_CACHE_DIR``); the first run after an
 install or an edit of a kernel source finds none newer than the source and
 compiles, about 15 s in all. ``needs_compile(names)`` says so without
-importing numba or the kernels; the loaders (thermal/jit.py
-``OptionalKernels``; fpd.kernels ``compiled()``) call ``announce(names)``
-just before they load, which prints the notice once per process when the
+importing numba or the kernels; the loader (fpd.kernels ``compiled()``)
+calls ``announce(names)`` just before it loads, which prints the notice once per process when the
 command line (or ``fpd.run(progress=True)``) has ``enable()``-d it: never
 with ``--quiet``.
 """

@@ -13,6 +13,14 @@ errors are returned as flags. It never imports numba.
   modules it imported from other kernel modules are replaced by their compiled
   counterparts, so calls between kernels stay compiled. Nothing is translated
   by hand, so a change made in the source reaches both paths.
+- A module of primitives whose pure and compiled forms must differ (BLAS
+  through scipy against BLAS through pointers) names its compiled twin in
+  ``__compiled_backend__``; the compiled kernels call the twin. Only those
+  few primitives have two backends.
+
+A kernel module may set ``__jit_options__`` (e.g. ``{"inline": "always"}``
+for small functions passed many arrays: numba then inlines them into their
+callers instead of calling them with reference-counted array arguments).
 
 ``available()`` says whether the compiled path may be used (numba installed,
 ``FPD_NO_JIT`` unset) without importing numba.
@@ -28,6 +36,7 @@ import types
 JIT_OPTIONS = {"cache": True, "nogil": True, "error_model": "numpy"}
 _SUFFIX = "__njit"
 _compiled: dict[str, types.ModuleType] = {}
+_deps: dict[str, list] = {}          # the source files a compiled module depends on
 
 
 def available() -> bool:
@@ -50,6 +59,8 @@ def compiled(name: str) -> types.ModuleType:
     kernel keeps the globals it was compiled with, see ``fresh``)."""
     if name in _compiled:
         return _compiled[name]
+    from fpd import jitcache
+    jitcache.announce([name])       # "compiling kernels once", when numba has no cache for it yet
     import numba
 
     pure = importlib.import_module(name)
@@ -61,24 +72,83 @@ def compiled(name: str) -> types.ModuleType:
     sys.modules[spec.name] = mod
     spec.loader.exec_module(mod)
     _compiled[name] = mod                   # before rewiring: kernel modules may import each other
-    options = dict(JIT_OPTIONS, cache=JIT_OPTIONS["cache"] and not os.environ.get("FPD_JIT_NO_CACHE"))
+    options = dict(JIT_OPTIONS, **getattr(pure, "__jit_options__", {}))
+    options["cache"] = options["cache"] and not os.environ.get("FPD_JIT_NO_CACHE")
+    deps = [pure.__file__]
     for key, val in list(vars(mod).items()):
         if key.startswith("__"):
             continue
         if isinstance(val, types.FunctionType):
+            owner = sys.modules.get(val.__module__)
             if val.__module__ == spec.name:
                 mod.__dict__[key] = numba.njit(**options)(val)
-            elif is_kernel_module(sys.modules.get(val.__module__)):
+            elif is_kernel_module(owner):
                 mod.__dict__[key] = getattr(compiled(val.__module__), val.__name__)
+                deps += _deps[val.__module__]
+            elif _backend(owner) is not None:
+                mod.__dict__[key] = getattr(_backend(owner), val.__name__)
+                deps += [owner.__file__, _backend(owner).__file__]
         elif is_kernel_module(val):
             mod.__dict__[key] = compiled(val.__name__)
+            deps += _deps[val.__name__]
+        elif _backend(val) is not None:
+            mod.__dict__[key] = _backend(val)
+            deps += [val.__file__, _backend(val).__file__]
         elif key in pure.__dict__ and not isinstance(val, (types.ModuleType, type)):
             mod.__dict__[key] = pure.__dict__[key]
+    _deps[name] = sorted(set(deps))
+    if options["cache"] and len(_deps[name]) > 1:
+        _drop_stale_caches(mod, spec.name, _deps[name])
     return mod
 
 
+def _backend(mod):
+    """The compiled twin named by a primitives module's ``__compiled_backend__``
+    (the few linear-algebra calls whose pure and compiled forms differ)."""
+    name = getattr(mod, "__compiled_backend__", None) if isinstance(mod, types.ModuleType) else None
+    return importlib.import_module(name) if name else None
+
+
+def _drop_stale_caches(mod, modname: str, files: list) -> None:
+    """numba keys a cached function on its own file only, yet a compiled
+    kernel carries copies of the kernels it calls from other files: after an
+    edit there it would run the old code. So the files it depends on are
+    hashed together, and when the hash changes its caches are dropped."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for f in files:
+        with open(f, "rb") as fh:
+            h.update(fh.read())
+    digest = h.hexdigest()
+    disps = [v for v in vars(mod).values() if getattr(v, "py_func", None) is not None
+             and v.py_func.__module__ == modname and getattr(v, "_cache", None) is not None]
+    if not disps:
+        return
+    try:
+        stamp = os.path.join(disps[0]._cache.cache_path, f"{modname}.deps.sha256")
+        with open(stamp) as fh:
+            if fh.read() == digest:
+                return
+    except (OSError, AttributeError):
+        pass
+    try:
+        for d in disps:
+            d._cache.flush()
+        with open(stamp, "w") as fh:
+            fh.write(digest)
+    except (OSError, AttributeError, NameError):
+        pass        # an unwritable cache: numba compiles in memory anyway
+
+
 def fresh() -> None:
-    """Forget the compiled modules (the next ``compiled()`` builds them again)."""
+    """Forget the compiled modules (the next ``compiled()`` builds them again).
+
+    Try a changed constant in a child process (tests/test_one_source.py):
+    numba links a compiled callee by its symbol name, so after kernels were
+    compiled with a patched constant, cached kernels loaded later in the same
+    process may still call the patched copies."""
     for name in list(_compiled):
         sys.modules.pop(name + _SUFFIX, None)
     _compiled.clear()
+    _deps.clear()

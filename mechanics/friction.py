@@ -1,42 +1,61 @@
 """Friction laws mu(T, p, v) per interface (paper Eq. 8: F_mu = mu(T) N).
 
 Each law is a small callable ``law(T_C, p_Pa, v_mps) -> mu`` evaluated once
-per step at the surface temperature the thermal model returns.
+per step at the surface temperature the thermal model returns. The
+evaluation itself is written once, in mechanics/friction_kernel.py (a kernel
+module: the compiled loop runs the same source); the classes here hold the
+parameters, their defaults and the law's row ``P`` that the kernel reads.
 """
 from __future__ import annotations
 
-import bisect
-import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
+from functools import partial
+
+from . import friction_kernel as _k
 
 
-@dataclass(frozen=True)
-class Constant:
-    mu: float
+class _Law:
+    """A law's parameters and their kernel row (set once, after __init__)."""
+
+    kind = -1
+
+    def __post_init__(self):
+        object.__setattr__(self, "P", self.row())
+        # the evaluation bound to this law's row: what the Python loop calls
+        # (one Python frame less than __call__)
+        object.__setattr__(self, "evaluate", partial(_k.law_mu, self.P))
+
+    def row(self) -> list:
+        return [float(self.kind)] + [float(getattr(self, f.name)) for f in fields(self)]
 
     def __call__(self, T_C: float, p_Pa: float = 0.0, v_mps: float = 0.0) -> float:
-        return self.mu
+        return _k.law_mu(self.P, T_C, p_Pa, v_mps)
 
 
 @dataclass(frozen=True)
-class Linear:
+class Constant(_Law):
+    mu: float
+    kind = _k.LAW_CONSTANT
+
+
+@dataclass(frozen=True)
+class Linear(_Law):
     """mu = mu0 + slope (T - T0), never below mu_min."""
 
     mu0: float
     T0_C: float = 20.0
     slope_per_C: float = 0.0
     mu_min: float = 0.0
-
-    def __call__(self, T_C: float, p_Pa: float = 0.0, v_mps: float = 0.0) -> float:
-        return max(self.mu_min, self.mu0 + self.slope_per_C * (T_C - self.T0_C))
+    kind = _k.LAW_LINEAR
 
 
 @dataclass(frozen=True)
-class Kumar2015:
+class Kumar2015(_Law):
     """Kumar, Whittaker and Constantinou (2015), mu = mu_ref k_p k_T k_v with
     k_p = 0.70^((p - p_ref) / 50 MPa), k_T = 0.79 (0.70^(T / 50 C) + 0.40),
     k_v = 1 - 0.5 exp(-a v). Each factor can be switched off (then 1).
-    k_T is 1.00 at 20 C and falls to 0.70 at 100 C, 0.45 at 250 C."""
+    k_T is 1.00 at 20 C and falls to 0.70 at 100 C, 0.45 at 250 C
+    (constants: mechanics/friction_kernel.py)."""
 
     mu_ref: float
     p_ref_MPa: float = 50.0
@@ -44,34 +63,33 @@ class Kumar2015:
     use_pressure: bool = False
     use_temperature: bool = True
     use_velocity: bool = False
-
-    def __call__(self, T_C: float, p_Pa: float = 0.0, v_mps: float = 0.0) -> float:
-        mu = self.mu_ref
-        if self.use_pressure:
-            mu *= 0.70 ** ((p_Pa * 1e-6 - self.p_ref_MPa) / 50.0)
-        if self.use_temperature:
-            mu *= 0.79 * (0.70 ** (T_C / 50.0) + 0.40)
-        if self.use_velocity:
-            mu *= 1.0 - 0.5 * math.exp(-self.a_s_per_m * abs(v_mps))
-        return mu
+    kind = _k.LAW_KUMAR
 
 
 @dataclass(frozen=True)
-class Table:
+class Table(_Law):
     """Piecewise linear in T through (T_C[i], mu[i]), constant beyond the ends."""
 
     T_C: tuple
     mu: tuple
+    kind = _k.LAW_TABLE
+
+    def row(self) -> list:
+        n = len(self.T_C)
+        if n < 1 or len(self.mu) != n:
+            raise ValueError(f"friction table: T_C and mu need the same length >= 1, got {n} and {len(self.mu)}")
+        head = [float(self.kind), float(n)] + [0.0] * (_k.N_HEAD - 2)
+        return head + [float(x) for x in self.T_C] + [float(x) for x in self.mu]
+
+    def __post_init__(self):
+        super().__post_init__()
+        object.__setattr__(self, "evaluate", self.__call__)      # (raises for a NaN temperature)
 
     def __call__(self, T_C: float, p_Pa: float = 0.0, v_mps: float = 0.0) -> float:
-        T, M = self.T_C, self.mu
-        if T_C <= T[0]:
-            return M[0]
-        if T_C >= T[-1]:
-            return M[-1]
-        i = bisect.bisect_right(T, T_C) - 1
-        w = (T_C - T[i]) / (T[i + 1] - T[i])
-        return M[i] + w * (M[i + 1] - M[i])
+        mu = _k.law_mu(self.P, T_C, p_Pa, v_mps)
+        if mu != mu:
+            raise ValueError(f"friction table asked at T = {T_C} degC")
+        return mu
 
 
 LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table": Table}

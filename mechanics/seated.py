@@ -14,6 +14,9 @@ gravity is evaluated by the discrete gradient sin(theta_m) sinc(dtheta / 2),
 so that the potential energy change of a step is exact. Second order while
 sliding, first order at stick-slip transitions.
 
+The step of SeatedStepper is mechanics/seated_kernel.py (kernel module,
+written once); SeatedTestMachine's imposed-displacement step is below.
+
 Energies are those of the ground frame (relative energy formulation):
 E_input is the work of the ground acceleration's d'Alembert forces through
 the relative motion, E_kin = I theta'^2 / 2, E_pot = S g (1 - cos theta).
@@ -23,16 +26,10 @@ from __future__ import annotations
 import math
 
 from .geometry import DeviceGeometry
+from . import seated_kernel as K
 from .ground_motion import float_array
 
-PHASES = ("stick", "slip", "tilt")
-
-
-class MechanicsFailure(RuntimeError):
-    """A state the mechanics model cannot continue from (e.g. an overturned
-    pad): the run stops as a numerical failure, keeping its history."""
-
-STICK, SLIP, TILT = 0, 1, 2
+from .phases import PHASES, SLIP, STICK, TILT, MechanicsFailure  # noqa: F401
 
 SEATED_COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
                   "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J", "phase",
@@ -49,13 +46,13 @@ class _SeatedBase:
         self.n = 0
         self.t = 0.0
         self.theta = 0.0
-        self.thetad = 0.0
+        self.theta_dot = 0.0
         self.F = 0.0
         self.N1 = self.N2 = geom.mass * geom.g
         self.N1 += geom.pad_mass * geom.g
         self.W1 = self.W2 = 0.0
-        self.E_in = 0.0
-        self.phase = STICK
+        self.E_input = 0.0
+        self.mode = STICK
         self.slip_v1 = self.slip_v2 = 0.0
         # constants as plain floats for the hot loop
         self._I, self._S = geom.I, geom.S
@@ -80,90 +77,94 @@ class _SeatedBase:
 
     @property
     def E_kin(self) -> float:
-        return 0.5 * self._I * self.thetad ** 2
+        return 0.5 * self._I * self.theta_dot ** 2
 
     @property
     def E_pot(self) -> float:
         return self._S * self._g * (1.0 - math.cos(self.theta))
 
-    def ledger_residual(self) -> float:
-        """E_input - (E_kin + E_pot + W1 + W2) (J)."""
-        return self.E_in - (self.E_kin + self.E_pot + self.W1 + self.W2)
+    def kinetic_energy(self) -> float:
+        return self.E_kin
+
+    def potential_energy(self) -> float:
+        return self.E_pot
+
+    def energy_residual(self) -> float:
+        """E_input - (E_kin + E_pot + W1 + W2) (J): the ledger."""
+        return self.E_input - (self.E_kin + self.E_pot + self.W1 + self.W2)
+
+    # former names (before both steppers shared one set): kept for callers
+    ledger_residual = energy_residual
+    thetad = property(lambda self: self.theta_dot, lambda self, v: setattr(self, "theta_dot", v))
+    E_in = property(lambda self: self.E_input, lambda self, v: setattr(self, "E_input", v))
+    phase = property(lambda self: self.mode, lambda self, v: setattr(self, "mode", v))
 
     def save(self):
-        return (self.n, self.t, self.theta, self.thetad, self.F, self.N1, self.N2,
-                self.W1, self.W2, self.E_in, self.phase, self.slip_v1, self.slip_v2)
+        return (self.n, self.t, self.theta, self.theta_dot, self.F, self.N1, self.N2,
+                self.W1, self.W2, self.E_input, self.mode, self.slip_v1, self.slip_v2)
 
     def restore(self, snap) -> None:
-        (self.n, self.t, self.theta, self.thetad, self.F, self.N1, self.N2,
-         self.W1, self.W2, self.E_in, self.phase, self.slip_v1, self.slip_v2) = snap
+        (self.n, self.t, self.theta, self.theta_dot, self.F, self.N1, self.N2,
+         self.W1, self.W2, self.E_input, self.mode, self.slip_v1, self.slip_v2) = snap
 
     def values(self) -> tuple:
         th, L = self.theta, self._L
-        return (self.t, self.xg(), L * math.sin(th), L * math.cos(th) * self.thetad,
+        return (self.t, self.xg(), L * math.sin(th), L * math.cos(th) * self.theta_dot,
                 self.F, L * (1.0 - math.cos(th)), th, self._R1 * th, self._R2 * th,
-                self.N1, self.N2, self.W1, self.W2, self.phase, self.E_in,
-                0.5 * self._I * self.thetad ** 2,
+                self.N1, self.N2, self.W1, self.W2, self.mode, self.E_input,
+                0.5 * self._I * self.theta_dot ** 2,
                 self._S * self._g * (1.0 - math.cos(th)))
 
 
+def _slot(i: int, kind=float):
+    """A SeatedStepper attribute that is slot i of its state vector S."""
+    if kind is float:
+        return property(lambda self: self.S[i], lambda self, v: self.S.__setitem__(i, v))
+    return property(lambda self: kind(self.S[i]), lambda self, v: self.S.__setitem__(i, kind(v)))
+
+
 class SeatedStepper(_SeatedBase):
-    """Seated DFP/SFP under an imposed ground motion (mechanics.ground_motion.GroundMotion)."""
+    """Seated DFP/SFP under an imposed ground motion (mechanics.ground_motion.GroundMotion).
+
+    The step is mechanics/seated_kernel.py (written once); the state is the
+    list ``S`` it reads and writes, the attributes are views of its slots."""
+
+    n, t, theta, theta_dot = _slot(K.SN, int), _slot(K.ST), _slot(K.TH), _slot(K.THD)
+    F, N1, N2, W1, W2 = _slot(K.SF), _slot(K.N1), _slot(K.N2), _slot(K.W1), _slot(K.W2)
+    E_input, mode = _slot(K.EIN), _slot(K.MODE, int)
+    slip_v1, slip_v2 = _slot(K.SV1), _slot(K.SV2)
 
     def __init__(self, geom: DeviceGeometry, ground, iterations: int = 3):
+        self.S = [0.0] * K.N_STATE
         super().__init__(geom, ground.dt, ground.n_steps)
         self.ground = ground
         self._a_step = float_array(ground.a_step)  # plain floats, 8 bytes each
         self._xg = ground.d
         self._iters = iterations
+        self.C = C = [0.0] * K.N_CONST
+        C[K.CDT], C[K.CI], C[K.CS], C[K.CL] = self.dt, self._I, self._S, self._L
+        C[K.CM], C[K.Cm], C[K.CRHO], C[K.CG] = self._M, self._m, self._rho, self._g
+        C[K.CR1], C[K.CR2], C[K.CITER], C[K.TWO] = self._R1, self._R2, iterations, 2.0
+        self._row = [0.0] * K.N_VALUES
 
     def xg(self) -> float:
         return float(self._xg[self.n])
 
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
-        dt, I, S, g = self.dt, self._I, self._S, self._g
-        L, M, m, rho, R1, R2 = self._L, self._M, self._m, self._rho, self._R1, self._R2
-        a = self._a_step[self.n]
-        th0, v0 = self.theta, self.thetad
-        half = 0.5 * dt * v0            # predictor of dtheta / 2
-        v1 = v0
-        for _ in range(self._iters):
-            thm = th0 + half
-            c, s = math.cos(thm), math.sin(thm)
-            vm = 0.5 * (v0 + v1)
-            N2 = M * (g * c - a * s + L * vm * vm)
-            N1 = N2 + m * (g * c - a * s + rho * vm * vm)
-            cap = mu1 * N1 * R1 + mu2 * N2 * R2
-            sinc = math.sin(half) / half if abs(half) > 1e-7 else 1.0 - half * half / 6.0
-            drive = -S * (a * c + g * s * sinc)
-            v_free = v0 + dt * drive / I
-            imp = dt * cap / I
-            if abs(v_free) <= imp:
-                v1 = 0.0
-            else:
-                v1 = v_free - math.copysign(imp, v_free)
-            half = 0.25 * dt * (v0 + v1)
-        dth = 2.0 * half
-        thm = th0 + half
-        c, s = math.cos(thm), math.sin(thm)
-        thdd = (v1 - v0) / dt
-        # horizontal force of the bearing on the superstructure, against u
-        self.F = -M * (a + L * (c * thdd - s * (0.5 * (v0 + v1)) ** 2))
-        self.theta = th0 + dth
-        self.thetad = v1
-        self.N1, self.N2 = N1, N2
-        adth = abs(dth)
-        dW1 = mu1 * N1 * R1 * adth
-        dW2 = mu2 * N2 * R2 * adth
-        self.W1 += dW1
-        self.W2 += dW2
-        self.E_in -= S * a * c * dth
-        self.phase = SLIP if dth != 0.0 else STICK
-        self.slip_v1 = R1 * adth / dt
-        self.slip_v2 = R2 * adth / dt
-        self.n += 1
-        self.t = self.n * dt
-        return dW1, dW2
+        return K.step(self.C, self.S, self._a_step, mu1, mu2)
+
+    def values(self) -> tuple:
+        out = self._row
+        K.values(self.C, self.S, float(self._xg[int(self.S[K.SN])]), out)
+        out[13] = int(out[13])
+        return tuple(out)
+
+    def save(self):
+        S = self.S
+        return (int(S[0]),) + tuple(S[1:K.MODE]) + (int(S[K.MODE]),) + tuple(S[K.MODE + 1:])
+
+    def restore(self, snap) -> None:
+        self.S[:] = snap
 
 
 class SeatedTestMachine(_SeatedBase):
@@ -206,9 +207,9 @@ class SeatedTestMachine(_SeatedBase):
         self._smooth = {i: (float(a), float(b)) for i, (a, b) in
                         enumerate(zip(uds, udds)) if a != programme.ud[i] or b != programme.udd[i]}
         self.theta = math.asin(self._u[0] / self._L)
-        self.thetad = self._ud[0] / (self._L * math.cos(self.theta))
+        self.theta_dot = self._ud[0] / (self._L * math.cos(self.theta))
         # the machine launches the programme with u'(0) != 0: that energy is input
-        self.E_in = self.E_kin + self.E_pot
+        self.E_input = self.E_kin + self.E_pot
 
     def xg(self) -> float:
         return -self._u[self.n]
@@ -250,18 +251,18 @@ class SeatedTestMachine(_SeatedBase):
         stop = self._smooth.get(i1) if i0 not in self._smooth else None
         if stop is None:
             Q1 = (F * self._L + self._Sin * self._udd[i1]) * c
-            self.E_in += 0.5 * (Q0 + Q1) * dth
+            self.E_input += 0.5 * (Q0 + Q1) * dth
         else:
             # the machine stops the bearing inside this step: the smooth
             # branch's input up to the stop, then the stopping impulse, whose
             # work is the kinetic energy it removes (at fixed position)
             _, thd_s, _, F_s, _, _, _ = self._state_at(i1, mu1, mu2, sgn, stop)
             Q1 = (F_s * self._L + self._Sin * stop[1]) * c
-            self.E_in += 0.5 * (Q0 + Q1) * dth + 0.5 * self._I * (thd * thd - thd_s * thd_s)
-        self.theta, self.thetad, self.F, self.N1, self.N2 = th, thd, F, N1, N2
+            self.E_input += 0.5 * (Q0 + Q1) * dth + 0.5 * self._I * (thd * thd - thd_s * thd_s)
+        self.theta, self.theta_dot, self.F, self.N1, self.N2 = th, thd, F, N1, N2
         self.W1 += dW1
         self.W2 += dW2
-        self.phase = SLIP if dth != 0.0 else STICK
+        self.mode = SLIP if dth != 0.0 else STICK
         self.slip_v1 = self._R1 * adth / self.dt
         self.slip_v2 = self._R2 * adth / self.dt
         self.n = i1

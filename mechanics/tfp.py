@@ -24,11 +24,8 @@ from dataclasses import dataclass
 from . import tfp_kernel as K
 from .geometry import G_ACC
 from .ground_motion import float_array
-from .seated import PHASES, MechanicsFailure
+from .phases import BOTH, INNER, OUTER, PHASES, TFP_PHASES, MechanicsFailure  # noqa: F401
 
-# phase codes of the TFP (appended to mechanics.seated.PHASES: the CSV names them)
-INNER, OUTER, BOTH = 3, 4, 5
-TFP_PHASES = PHASES + ("inner", "outer", "inner+outer")
 # regime codes (Fenz-Constantinou numbering where it applies; docs/model.md 6.4)
 REGIMES = {0: "stick", 1: "I (S2+S3)", 3: "III (S1+S4)", 5: "V (S2+S3, outer rims)", 6: "I+III (all four)"}
 

@@ -21,7 +21,8 @@ on the opposite top corner, until it lands; the landing is the phase-2 impact.
 Energies are relative to the ground (the ground acceleration enters as the
 d'Alembert force -m a_g on every moving mass); docs/two_phase.md has the
 derivations, the choices the paper leaves open and the measured numbers.
-The per-step path uses plain floats and ``math`` only.
+The step itself is mechanics/two_phase_kernel.py, written once for the
+pure and the compiled path; the class holds its state vector.
 """
 from __future__ import annotations
 
@@ -29,7 +30,9 @@ import math
 
 from .geometry import DeviceGeometry
 from .ground_motion import GroundMotion, float_array
-from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, TILT, MechanicsFailure
+from . import two_phase_kernel as K
+from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, PadOverturned  # noqa: F401
+from .two_phase_kernel import rocking_acceleration  # noqa: F401  (Eq. 7, used by the tests)
 
 COLUMNS = (
     "t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad",
@@ -39,33 +42,6 @@ COLUMNS = (
     "beta1_rad", "beta2_rad", "pad_tilt_rad", "diagonal", "ds1_m", "ds2_m",
     "Ff1_N", "Ff2_N", "theta_dot_radps", "slip1_m", "slip2_m", "tip_ratio",
 )
-
-_FIXED_POINT_TOL = 1e-15   # rad, on the step increment
-_FIXED_POINT_ITERS = 50
-
-
-def _smallest_positive_root(c2: float, c1: float, c0: float, default: float) -> float:
-    """Smallest positive root of c2 x^2 + c1 x + c0 (stable form), else default."""
-    if c2 == 0.0:
-        return -c0 / c1 if c1 != 0.0 and -c0 / c1 > 0.0 else default
-    disc = c1 * c1 - 4.0 * c2 * c0
-    if disc < 0.0:
-        return default
-    q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
-    roots = [r for r in (q / c2, c0 / q if q != 0.0 else -1.0) if r > 0.0]
-    return min(roots) if roots else default
-
-
-class PadOverturned(MechanicsFailure):
-    """The rocking pad passed the angle where gravity stops restoring it."""
-
-
-def _sinc(x: float) -> float:
-    """sin(x) / x, exact near 0 (used by the discrete gradients)."""
-    if abs(x) < 1e-4:
-        return 1.0 - x * x / 6.0
-    return math.sin(x) / x
-
 
 def seated_normal_forces(geom: DeviceGeometry, theta: float, theta_dot: float,
                          a_g: float) -> tuple[float, float]:
@@ -96,16 +72,11 @@ def corner_pivot_rotation(a: float, eta_bottom: float, eta_top: float, h: float,
     solved in tan(b/2) by the root that vanishes with the shift (no
     cancellation for tiny steps). Reversal (shift < 0) mirrors to B-D.
     """
-    e = abs(shift)
-    px, pz = -a - e, eta_bottom - h + R2
-    rx, rz = 2.0 * a, eta_top - eta_bottom
-    P = px * rx + pz * rz
-    Q = pz * rx - px * rz
-    D = a * e - 0.5 * e * e
-    disc = Q * Q - D * (2.0 * P + D)
-    tau = D / (Q + math.sqrt(disc if disc > 0.0 else 0.0))
-    beta = 2.0 * math.atan(tau)
-    return beta if shift >= 0.0 else -beta
+    S = [0.0] * K.N_STATE
+    beta = K.corner_pivot_rotation(S, a, eta_bottom, eta_top, h, R2, shift)
+    if S[K.ERR] != 0.0:
+        raise ZeroDivisionError("float division by zero")
+    return beta
 
 
 def pivot_chain(geom: DeviceGeometry, theta: float, diagonal: int) -> tuple:
@@ -138,19 +109,6 @@ def pivot_chain(geom: DeviceGeometry, theta: float, diagonal: int) -> tuple:
     X0 = m * rGx + M * rQx
     Z0 = m * rGz + M * rQz
     return I_P, X0, Z0, rGx, rGz, rQx, rQz
-
-
-def rocking_acceleration(I_P: float, X: float, Z: float, a_g: float, g: float) -> float:
-    """Eq. (7) specialised to the phase-1 chain: beta'' about the pivot.
-
-    Moments about the pivot (counter-clockwise), ground acceleration a_g:
-    I_P beta'' = Z a_g - X g, with X, Z the horizontal and vertical first
-    moments sum m_i r_i of the pad and of RB3+4 at its corner. There is no
-    beta'^2 term: |r_i| is fixed, so the centripetal forces pass through the
-    pivot. The d'Alembert moment -r x (m a_g e_x) = +m r_z a_g overturns, the
-    weight's -m r_x g restores.
-    """
-    return (Z * a_g - X * g) / I_P
 
 
 def rocking_threshold(geom: DeviceGeometry, theta: float = 0.0) -> float:
@@ -193,13 +151,65 @@ def two_phase_validity_errors(geom: DeviceGeometry, mu1: float, mu2: float) -> l
     return out
 
 
+_kstep = K.step
+assert (K.SN, K.ERR) == (0, 34)
+
+
+def _slot(i: int, doc: str, kind=float):
+    """A stepper attribute that is slot i of the state vector S."""
+    if kind is float:
+        return property(lambda self: self.S[i], lambda self, v: self.S.__setitem__(i, v), doc=doc)
+    return property(lambda self: kind(self.S[i]), lambda self, v: self.S.__setitem__(i, kind(v)), doc=doc)
+
+
+# TwoPhaseStepper.save(): (name, slot, type); the chain (8 slots) follows "beta_dot"
+_SAVED = (("n", K.SN, int), ("theta", K.TH, float), ("theta_dot", K.THD, float), ("mode", K.MODE, int),
+          ("diagonal", K.DIAG, int), ("rocking", K.ROCK, bool), ("beta", K.BETA, float),
+          ("beta_dot", K.BETAD, float), ("_chain", K.CH, None), ("W1", K.W1, float), ("W2", K.W2, float),
+          ("E_input", K.EIN, float), ("E_reseat", K.ERS, float), ("beta1", K.B1, float),
+          ("beta2", K.B2, float), ("pad_tilt", K.PTILT, float), ("ds1", K.DS1, float),
+          ("ds2", K.DS2, float), ("slip1", K.SL1, float), ("slip2", K.SL2, float), ("Ff1", K.FF1, float),
+          ("Ff2", K.FF2, float), ("F", K.FF, float), ("N1", K.N1, float), ("N2", K.N2, float),
+          ("slip_v1", K.SV1, float), ("slip_v2", K.SV2, float))
+
+
 class TwoPhaseStepper:
     """Paper's two-phase stepper; implements the Stepper protocol (architecture.md).
 
     ``theta0``/``theta_dot0``: initial seated state (default at rest, centred).
+    The state is the list ``S`` (layout in two_phase_kernel) that the step
+    reads and writes; the attributes below are views of its slots. ``C``
+    holds the per-step constants.
     """
 
     columns = COLUMNS
+
+    n = _slot(K.SN, "steps taken", int)
+    theta = _slot(K.TH, "seated angle theta (rad)")
+    theta_dot = _slot(K.THD, "theta' (rad/s)")
+    mode = _slot(K.MODE, "phase of the last step (STICK, SLIP, TILT)", int)
+    diagonal = _slot(K.DIAG, "loaded diagonal (DIAGONAL_AC, DIAGONAL_BD)", int)
+    rocking = _slot(K.ROCK, "the pad pivots on a bottom corner", bool)
+    beta = _slot(K.BETA, "rocking angle (rad)")
+    beta_dot = _slot(K.BETAD, "rocking rate (rad/s)")
+    W1 = _slot(K.W1, "friction work, lower interface (J)")
+    W2 = _slot(K.W2, "friction work, upper interface (J)")
+    E_input = _slot(K.EIN, "energy input (J)")
+    E_reseat = _slot(K.ERS, "kinetic energy removed by re-seating and landing (J)")
+    beta1 = _slot(K.B1, "phase-1 pivot rotation of the last step (rad)")
+    beta2 = _slot(K.B2, "phase-2 counter-rotation of the last step (rad)")
+    pad_tilt = _slot(K.PTILT, "pad tilt of the last step (rad)")
+    ds1 = _slot(K.DS1, "arc slid on the lower plate in the last step (m)")
+    ds2 = _slot(K.DS2, "arc slid on the upper plate in the last step (m)")
+    slip1 = _slot(K.SL1, "cumulative sliding path, lower (m)")
+    slip2 = _slot(K.SL2, "cumulative sliding path, upper (m)")
+    Ff1 = _slot(K.FF1, "friction force, lower interface (N)")
+    Ff2 = _slot(K.FF2, "friction force, upper interface (N)")
+    F = _slot(K.FF, "horizontal force of the bearing (N)")
+    N1 = _slot(K.N1, "normal force, lower interface (N)")
+    N2 = _slot(K.N2, "normal force, upper interface (N)")
+    slip_v1 = _slot(K.SV1, "slip speed, lower interface (m/s)")
+    slip_v2 = _slot(K.SV2, "slip speed, upper interface (m/s)")
 
     def __init__(self, geom: DeviceGeometry, ground: GroundMotion,
                  theta0: float = 0.0, theta_dot0: float = 0.0):
@@ -212,47 +222,32 @@ class TwoPhaseStepper:
         self._t = float_array(ground.t)
         self._d = float_array(ground.d)
         self._a_step = float_array(ground.a_step)
-        # constants of the per-step path, as plain floats
-        self._L, self._rho = geom.L, geom.rho
-        self._I, self._S = geom.I, geom.S
-        self._M, self._m, self._J = geom.mass, geom.pad_mass, geom.pad_inertia
-        self._g = geom.g
-        self._R1, self._R2 = geom.R1, geom.R2
+        self.C = C = [0.0] * K.N_CONST
+        C[K.CL], C[K.CRHO], C[K.CI], C[K.CS] = geom.L, geom.rho, geom.I, geom.S
+        C[K.CM], C[K.Cm], C[K.CJ], C[K.CG] = geom.mass, geom.pad_mass, geom.pad_inertia, geom.g
+        C[K.CR1], C[K.CR2] = geom.R1, geom.R2
         c = geom.pad_corners_body()
-        self._corner = (geom.a, c["A"][1], c["C"][1], geom.pad_height, geom.R2)
-        self._corner_height = c["C"][1] - c["A"][1]  # h' = eta_t - eta_b
-        # the phase-1 chains of Eq. (7) in the pad frame, A-C and B-D
-        self._body_chains = (pivot_chain(geom, 0.0, DIAGONAL_AC),
-                             pivot_chain(geom, 0.0, DIAGONAL_BD))
+        C[K.CA:K.CR2C + 1] = (geom.a, c["A"][1], c["C"][1], geom.pad_height, geom.R2)
+        C[K.CHC] = c["C"][1] - c["A"][1]                  # h' = eta_t - eta_b
         # kinetic-energy weight of the translating parts (superstructure, pad centroid)
-        self._I_trans = self._M * self._L ** 2 + self._m * self._rho ** 2
+        C[K.CIT] = geom.mass * geom.L ** 2 + geom.pad_mass * geom.rho ** 2
+        C[K.CDT], C[K.TWO], C[K.CGA] = self.dt, 2.0, geom.a
+        # the phase-1 chains of Eq. (7) in the pad frame, A-C and B-D
+        C[K.CBC:K.CBC + 7] = pivot_chain(geom, 0.0, DIAGONAL_AC)
+        C[K.CBC + 7:K.CBC + 14] = pivot_chain(geom, 0.0, DIAGONAL_BD)
 
-        self.n = 0
-        self.theta = float(theta0)
-        self.theta_dot = float(theta_dot0)
-        self.mode = STICK if theta_dot0 == 0.0 else SLIP
-        self.diagonal = DIAGONAL_AC if theta_dot0 >= 0.0 else DIAGONAL_BD
-        # rocking state: the pad pivots on a bottom corner (Eq. 7 chain)
-        self.rocking = False
-        self.beta = 0.0
-        self.beta_dot = 0.0
-        self._chain = None
-        # cumulative energies (J)
-        self.W1 = self.W2 = 0.0
-        self.E_input = 0.0
-        self.E_reseat = 0.0
-        # last-step diagnostics
-        self.beta1 = self.beta2 = self.pad_tilt = 0.0
-        self.ds1 = self.ds2 = 0.0
-        self.slip1 = self.slip2 = 0.0  # cumulative sliding path per interface (m)
-        self.Ff1 = self.Ff2 = 0.0
-        self.F = 0.0
+        self.S = S = [0.0] * K.N_STATE
+        self._row = [0.0] * K.N_VALUES
+        S[K.SN] = 0
+        S[K.TH], S[K.THD] = float(theta0), float(theta_dot0)
+        S[K.MODE] = STICK if theta_dot0 == 0.0 else SLIP
+        S[K.DIAG] = DIAGONAL_AC if theta_dot0 >= 0.0 else DIAGONAL_BD
         # an initial displacement or velocity is energy put in before t = 0
-        self.E_input = self.kinetic_energy() + self.potential_energy()
+        S[K.EIN] = self.kinetic_energy() + self.potential_energy()
         a0 = self._a_step[0] if self._a_step else 0.0
-        self.N1, self.N2 = seated_normal_forces(geom, self.theta, self.theta_dot, a0)
-        self.slip_v1 = self._R1 * abs(self.theta_dot)
-        self.slip_v2 = self._R2 * abs(self.theta_dot)
+        S[K.N1], S[K.N2] = seated_normal_forces(geom, self.theta, self.theta_dot, a0)
+        S[K.SV1] = geom.R1 * abs(self.theta_dot)
+        S[K.SV2] = geom.R2 * abs(self.theta_dot)
 
     # ------------------------------------------------------------------
     # protocol
@@ -260,373 +255,90 @@ class TwoPhaseStepper:
     @property
     def s1(self) -> float:
         """Footprint arc position on the lower plate, R1 theta (m)."""
-        return self._R1 * self.theta
+        return self.C[K.CR1] * self.S[K.TH]
 
     @property
     def s2(self) -> float:
         """Footprint arc position on the upper plate, R2 theta (m)."""
-        return self._R2 * self.theta
+        return self.C[K.CR2] * self.S[K.TH]
 
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         """Advance one step with mu1, mu2 held; return the friction work (J)
         of the lower and upper interface in the step."""
-        if self.n >= self.n_steps:
+        S = self.S
+        if S[0] >= self.n_steps:                     # S[K.SN]
             raise IndexError(f"all {self.n_steps} steps of the loading are taken")
-        a = self._a_step[self.n]
-        vx0 = self._horizontal_momentum()
-        W1_0, W2_0 = self.W1, self.W2
-        if self.rocking:
-            self._tilt_step(a, self.dt, mu1, mu2)
-        else:
-            self._seated_step(a, self.dt, mu1, mu2, rocking_allowed=True)
-        # force the bearing transmits: momentum balance of the moving parts over the step
-        self.F = -((self._M + self._m) * a + (self._horizontal_momentum() - vx0) / self.dt)
-        self.n += 1
-        return self.W1 - W1_0, self.W2 - W2_0
+        dW = _kstep(self.C, S, self._a_step, mu1, mu2)
+        if S[34] != 0.0:                             # S[K.ERR]
+            self.raise_error()
+        return dW
+
+    def raise_error(self) -> None:
+        """The exception the step's error flag S[ERR] stands for."""
+        S = self.S
+        if S[K.ERR] == K.ERR_OVERTURNED:
+            raise PadOverturned(f"pad overturned at t = {self._t[int(S[K.SN])]:.6g} s "
+                                f"(beta = {S[K.ERRV]:.4g} rad)")
+        raise ZeroDivisionError("float division by zero")
 
     def values(self) -> tuple:
         """Current values of ``columns`` (phase and diagonal as int codes)."""
-        s = self
-        u, z, v = s._superstructure_relative()
-        return (
-            s._t[s.n], s._d[s.n], u, v, s.F, z, s.theta, s.beta1,
-            s._R1 * s.theta, s._R2 * s.theta, s.N1, s.N2, s.W1, s.W2, s.mode,
-            s.E_input, s.kinetic_energy(), s.potential_energy(), s.E_reseat,
-            s.beta1, s.beta2, s.pad_tilt, s.diagonal, s.ds1, s.ds2, s.Ff1, s.Ff2,
-            s.theta_dot, s.slip1, s.slip2, s.tip_ratio(),
-        )
+        out = self._row
+        K.values(self.C, self.S, self._t, self._d, out)
+        out[14], out[22] = int(out[14]), int(out[22])
+        return tuple(out)
 
     def tip_ratio(self) -> float:
         """Forward-tipping ratio of the last step: tangential force carried to
         the superstructure times the corner height h' over N2 2a. Above 1 the
         friction couple would tip the pad on its leading corner, outside what
         this model represents (docs/two_phase.md section 6, item 5)."""
-        if self.N2 <= 0.0:
-            return 0.0
-        F_t = self.Ff2 if self.mode == TILT else self.Ff1 + self.Ff2
-        return abs(F_t) * self._corner_height / (self.N2 * 2.0 * self.geom.a)
+        return self.values()[30]
 
     @property
     def u(self) -> float:
         """Relative displacement of the superstructure (m)."""
-        return self._superstructure_relative()[0]
+        return self.values()[2]
 
-    _STATE = ("n", "theta", "theta_dot", "mode", "diagonal", "rocking", "beta", "beta_dot",
-              "_chain", "W1", "W2", "E_input", "E_reseat", "beta1", "beta2",
-              "pad_tilt", "ds1", "ds2", "slip1", "slip2", "Ff1", "Ff2", "F", "N1", "N2",
-              "slip_v1", "slip_v2")
+    @property
+    def _chain(self):
+        """The rocking chain (I_P, X0, Z0, rGx, rGz, rQx, rQz, sign), None when seated."""
+        return tuple(self.S[K.CH:K.CH + 8]) if self.S[K.ROCK] else None
 
     def save(self) -> tuple:
-        return tuple(getattr(self, k) for k in self._STATE)
+        S = self.S
+        out = []
+        for _, i, kind in _SAVED:
+            if kind is None:
+                out.append(tuple(S[K.CH:K.CH + 8]) if S[K.ROCK] else None)
+            else:
+                out.append(kind(S[i]))
+        return tuple(out)
 
     def restore(self, snap: tuple) -> None:
-        for k, v in zip(self._STATE, snap):
-            setattr(self, k, v)
+        S = self.S
+        for (_, i, kind), v in zip(_SAVED, snap):
+            if kind is None:
+                S[K.CH:K.CH + 8] = v if v is not None else (0.0,) * 8
+            else:
+                S[i] = v
+        S[K.ERR] = S[K.ERRV] = 0.0
 
     # ------------------------------------------------------------------
-    # energies (ground frame) and positions
+    # energies (ground frame)
     # ------------------------------------------------------------------
     def kinetic_energy(self) -> float:
         """Relative kinetic energy: I theta'^2 / 2 seated, I_P beta'^2 / 2 rocking."""
-        if self.rocking:
-            return 0.5 * self._chain[0] * self.beta_dot ** 2
-        return 0.5 * self._I * self.theta_dot ** 2
+        K.values(self.C, self.S, self._t, self._d, self._row)
+        return self._row[16]
 
     def potential_energy(self) -> float:
         """g (M z_s + m z_G) above the centred seated device: S g (1 - cos theta)
         seated, plus the rise of the rocking chain's first moment."""
-        E = self._S * self._g * (1.0 - math.cos(self.theta))
-        if self.rocking:
-            _, X0, Z0 = self._chain[:3]
-            b = self.beta
-            E += self._g * (math.sin(b) * X0 + (math.cos(b) - 1.0) * Z0)
-        return E
+        K.values(self.C, self.S, self._t, self._d, self._row)
+        return self._row[17]
 
     def energy_residual(self) -> float:
         """E_input - (E_kin + E_pot + W1 + W2 + E_reseat) (J): the ledger."""
         return self.E_input - (self.kinetic_energy() + self.potential_energy()
                                + self.W1 + self.W2 + self.E_reseat)
-
-    def _horizontal_momentum(self) -> float:
-        """M v_s + m v_G, horizontal, relative to the ground (kg m/s)."""
-        if self.rocking:
-            _, X0, Z0 = self._chain[:3]
-            b = self.beta
-            return -self.beta_dot * (math.sin(b) * X0 + math.cos(b) * Z0)
-        return self._S * math.cos(self.theta) * self.theta_dot
-
-    def _superstructure_relative(self) -> tuple[float, float, float]:
-        """(u, uplift, horizontal velocity) of the superstructure relative to the ground."""
-        L, th = self._L, self.theta
-        u = L * math.sin(th)
-        z = L * (1.0 - math.cos(th))
-        v = L * math.cos(th) * self.theta_dot
-        if self.rocking:
-            rQx, rQz = self._chain[5], self._chain[6]
-            c, s = math.cos(self.beta), math.sin(self.beta)
-            u += (c - 1.0) * rQx - s * rQz
-            z += s * rQx + (c - 1.0) * rQz
-            v = -self.beta_dot * (s * rQx + c * rQz)
-        return u, z, v
-
-    # ------------------------------------------------------------------
-    # the step
-    # ------------------------------------------------------------------
-    def _seated_step(self, a: float, h: float, mu1: float, mu2: float,
-                     rocking_allowed: bool) -> None:
-        """One step of length h from a seated state: phase 1 (stick trial,
-        rocking check, or slip along the tangent) then phase 2 (re-seat).
-
-        If the relative velocity reaches zero inside the step (arrest or
-        reversal), the step is split at that instant: each part is a
-        two-phase step with one sign of friction, so the slip of each part is
-        its |d theta| and the ledger closes at the event too.
-        """
-        th0, v0 = self.theta, self.theta_dot
-        # seated_normal_forces, inlined with the cached constants (hot path)
-        g_axis = self._g * math.cos(th0) - a * math.sin(th0)
-        w2 = v0 * v0
-        N2 = self._M * (g_axis + self._L * w2)
-        N1 = N2 + self._m * (g_axis + self._rho * w2)
-        if N2 < 0.0:
-            N1, N2 = max(N1, 0.0), 0.0
-        elif N1 < 0.0:
-            N1 = 0.0
-        self.N1, self.N2 = N1, N2
-        f1, f2 = mu1 * N1 * self._R1, mu2 * N2 * self._R2  # friction moments about the centres
-        cap = f1 + f2  # = F_c L: both interfaces capped together, never one alone
-
-        v1, dth, lam = self._moreau_trial(th0, v0, a, h, cap)
-        if v0 != 0.0 and (v1 == 0.0 or (v1 > 0.0) != (v0 > 0.0)):
-            tau, dth = self._arrest(th0, v0, a, h, cap)
-            sign = 1.0 if v0 > 0.0 else -1.0
-            self.Ff1, self.Ff2 = sign * f1 / self._L, sign * f2 / self._L
-            self._two_phase_update(th0, dth, 0.0, a, f1, f2)
-            self.mode = STICK
-            if h - tau > 0.0:  # the rest of the step starts from rest (and labels it)
-                self._seated_step(a, h - tau, mu1, mu2, rocking_allowed)
-            return
-        self.Ff1, self.Ff2 = lam * f1 / self._L, lam * f2 / self._L
-
-        if v1 == 0.0:  # v0 == 0 too: the joints hold over the whole step
-            if rocking_allowed and self._start_rocking(a):
-                self._tilt_step(a, h, mu1, mu2)
-                return
-            self.mode = STICK
-            self.beta1 = self.beta2 = self.pad_tilt = 0.0
-            self.ds1 = self.ds2 = 0.0
-            self.slip_v1 = self.slip_v2 = 0.0
-            return
-        self._two_phase_update(th0, dth, v1, a, f1, f2)
-        self.mode = SLIP
-
-    def _moreau_trial(self, th0: float, v0: float, a: float, h: float,
-                      cap: float) -> tuple[float, float, float]:
-        """Phase 1 stick trial (Moreau) on the seated manifold: returns
-        (theta' at the end, d theta, friction multiplier lambda in Sgn).
-
-        The d'Alembert and gravity terms are discrete gradients of their
-        potentials S sin(theta), S (1 - cos(theta)) along the arc, so the
-        kinetic energy change equals the work along it exactly.
-        """
-        S, g = self._S, self._g
-        hI = h / self._I
-        dth = h * v0
-        v1, lam = v0, 0.0
-        for _ in range(_FIXED_POINT_ITERS):
-            mid = th0 + 0.5 * dth
-            drive = -S * _sinc(0.5 * dth) * (a * math.cos(mid) + g * math.sin(mid))
-            v_free = v0 + hI * drive
-            if abs(v_free) <= hI * cap:
-                v1, lam = 0.0, (v_free / (hI * cap) if cap > 0.0 else 0.0)
-            else:
-                lam = 1.0 if v_free > 0.0 else -1.0
-                v1 = v_free - hI * cap * lam
-            dth_new = 0.5 * h * (v0 + v1)
-            if abs(dth_new - dth) <= _FIXED_POINT_TOL:
-                return v1, dth_new, lam
-            dth = dth_new
-        return v1, dth, lam
-
-    def _arrest(self, th0: float, v0: float, a: float, h: float,
-                cap: float) -> tuple[float, float]:
-        """Time tau in (0, h] at which the sliding motion (friction at the cap,
-        opposing v0) brings theta' to zero, and the d theta by then."""
-        S, g, I = self._S, self._g, self._I
-        sign = 1.0 if v0 > 0.0 else -1.0
-        tau = h
-        for _ in range(_FIXED_POINT_ITERS):
-            dth = 0.5 * tau * v0
-            mid = th0 + 0.5 * dth
-            drive = -S * _sinc(0.5 * dth) * (a * math.cos(mid) + g * math.sin(mid))
-            decel = drive - cap * sign
-            tau_new = -v0 * I / decel if decel * sign < 0.0 else h
-            tau_new = min(max(tau_new, 0.0), h)
-            if abs(tau_new - tau) <= 1e-15 * h:
-                tau = tau_new
-                break
-            tau = tau_new
-        return tau, 0.5 * tau * v0
-
-    def _two_phase_update(self, th0: float, dth: float, v1: float, a: float,
-                          f1: float, f2: float) -> None:
-        """Phases 1 and 2 of a sliding step: the superstructure has moved by
-        L dth along the tangent at theta_n with rate v1 at the end."""
-        # Phase 1: the trailing corner pivots to keep the opposite top corner
-        # on the upper surface; the plates fix C1C2(t_n+1) and theta_n+1.
-        I, S = self._I, self._S
-        self.beta1 = corner_pivot_rotation(*self._corner, self._L * dth)
-        if dth != 0.0:
-            self.diagonal = DIAGONAL_AC if dth > 0.0 else DIAGONAL_BD
-        dphi = math.atan(dth)
-        th1 = th0 + dphi
-        # Phase 2: re-seat. Counter-rotation beta2 takes the pad axis onto
-        # C1C2(t_n+1); the slip of each interface is its net arc, counted once.
-        self.beta2 = dphi - self.beta1
-        self.pad_tilt = -self.beta2
-        ads = abs(dphi)
-        self.W1 += f1 * ads
-        self.W2 += f2 * ads
-        self.ds1, self.ds2 = self._R1 * dphi, self._R2 * dphi
-        self.slip1 += self._R1 * ads
-        self.slip2 += self._R2 * ads
-        # velocity projection (kinetic-energy metric) onto the tangent at th1:
-        # translations lose their component along C1C2, the pad spin is kept
-        v_proj = v1 * (self._I_trans * math.cos(dphi) + self._J) / I
-        self.E_reseat += 0.5 * I * (v1 * v1 - v_proj * v_proj)
-        self.E_input -= a * S * (math.sin(th1) - math.sin(th0))
-        self.theta, self.theta_dot = th1, v_proj
-        self.slip_v1 = self._R1 * abs(v_proj)
-        self.slip_v2 = self._R2 * abs(v_proj)
-
-    def _start_rocking(self, a: float) -> bool:
-        """Rocking check (model.md 3, step 2): does Eq. (7) give the pad a
-        beta'' opening the gap at beta = 0 about a bottom corner?
-
-        The chains are kept in the pad frame (theta = 0) and turned by theta:
-        the first moments and arms rotate rigidly, I_P does not change."""
-        c, s = math.cos(self.theta), math.sin(self.theta)
-        g = self._g
-        for diagonal, sign in ((DIAGONAL_AC, 1.0), (DIAGONAL_BD, -1.0)):
-            I_P, Xb, Zb, rGx, rGz, rQx, rQz = self._body_chains[diagonal]
-            X0, Z0 = c * Xb - s * Zb, s * Xb + c * Zb
-            if sign * rocking_acceleration(I_P, X0, Z0, a, g) > 0.0:
-                self._chain = (I_P, X0, Z0, c * rGx - s * rGz, s * rGx + c * rGz,
-                               c * rQx - s * rQz, s * rQx + c * rQz, sign)
-                self.diagonal = diagonal
-                self.rocking = True
-                self.beta = self.beta_dot = 0.0
-                return True
-        return False
-
-    def _tilt_step(self, a: float, h: float, mu1: float, mu2: float) -> None:
-        """The rocking chain of Eq. (7) over a step of length h; on landing
-        (beta back to 0) the impact re-seats the device and the rest of the
-        step is a seated step."""
-        I_P, X0, Z0 = self._chain[:3]
-        sign = self._chain[7]
-        g = self._g
-        b0, w0 = self.beta, self.beta_dot
-        db = h * w0
-        for _ in range(_FIXED_POINT_ITERS):
-            mid = b0 + 0.5 * db
-            c, s = math.cos(mid), math.sin(mid)
-            # discrete gradient of Eq. (7): the first moments at the midpoint
-            # times sinc, so the step's work equals the potential's change
-            torque = _sinc(0.5 * db) * (a * (s * X0 + c * Z0) - g * (c * X0 - s * Z0))
-            w1 = w0 + h * torque / I_P
-            db_new = 0.5 * h * (w0 + w1)
-            if abs(db_new - db) <= _FIXED_POINT_TOL:
-                db = db_new
-                break
-            db = db_new
-        b1 = b0 + db
-        self.mode = TILT
-        self.beta2 = 0.0
-        self.ds1 = self.ds2 = 0.0
-        self.slip_v1 = self.slip_v2 = 0.0
-        if sign * b1 > 0.0:
-            if sign * (math.cos(b1) * X0 - math.sin(b1) * Z0) <= 0.0:
-                raise PadOverturned(f"pad overturned at t = {self._t[self.n]:.6g} s "
-                                    f"(beta = {b1:.4g} rad)")
-            self.E_input -= a * ((math.cos(b1) - math.cos(b0)) * X0
-                                 - (math.sin(b1) - math.sin(b0)) * Z0)
-            self.beta, self.beta_dot = b1, w1
-            self.beta1 = b1
-            self.pad_tilt = b1
-            self.N1, self.N2 = self._chain_normal_forces(a)
-            return
-        self._land(a, h, b0, w0, mu1, mu2)
-
-    def _chain_normal_forces(self, a: float) -> tuple[float, float]:
-        """Normal forces of the rocking chain at the pivot (N1) and at the top
-        corner (N2), from the accelerations of Eq. (7) and each body's
-        momentum balance; the normals are those of the plates at the corners
-        (the plates do not rotate, so they keep their seated directions).
-        Sets Ff1, Ff2: the tangential forces the pinned joints carry (the
-        model does not let them slip; a test checks |Ff_i| <= mu_i N_i)."""
-        I_P, X0, Z0, rGx0, rGz0, rQx0, rQz0, sign = self._chain
-        b, w, g = self.beta, self.beta_dot, self._g
-        c, s = math.cos(b), math.sin(b)
-        alpha = rocking_acceleration(I_P, c * X0 - s * Z0, s * X0 + c * Z0, a, g)
-        rGx, rGz = c * rGx0 - s * rGz0, s * rGx0 + c * rGz0
-        rQx, rQz = c * rQx0 - s * rQz0, s * rQx0 + c * rQz0
-        w2 = w * w
-        M, m = self._M, self._m
-        # forces the pad exerts on RB3+4 and the lower plate exerts on the pad
-        FMx = M * (a - alpha * rQz - w2 * rQx)
-        FMz = M * (g + alpha * rQx - w2 * rQz)
-        FPx = FMx + m * (a - alpha * rGz - w2 * rGx)
-        FPz = FMz + m * (g + alpha * rGx - w2 * rGz)
-        ct, st = math.cos(self.theta), math.sin(self.theta)
-        xa, R1, R2 = self.geom.a, self._R1, self._R2
-        eta1 = math.sqrt(R1 * R1 - xa * xa)
-        eta2 = math.sqrt(R2 * R2 - xa * xa)
-        # pad-frame normals: lower plate at the pivot (+-a, eta1)/R1 pointing to
-        # C1, upper plate at the top corner (-+a, eta2)/R2 pointing away from C2
-        n1x, n1z = sign * xa / R1, eta1 / R1
-        n2x, n2z = sign * xa / R2, eta2 / R2
-        # world normals, and the tangents (normal turned clockwise, along +x
-        # when seated at the centre) for the friction the pinned joints need
-        w1x, w1z = ct * n1x - st * n1z, st * n1x + ct * n1z
-        w2x, w2z = ct * n2x - st * n2z, st * n2x + ct * n2z
-        N1 = FPx * w1x + FPz * w1z
-        N2 = FMx * w2x + FMz * w2z
-        # friction on the pad at the pivot (from RB1) and on RB3+4 at the corner
-        self.Ff1 = FPx * w1z - FPz * w1x
-        self.Ff2 = FMx * w2z - FMz * w2x
-        return N1, N2
-
-    def _land(self, a: float, h: float, b0: float, w0: float, mu1: float, mu2: float) -> None:
-        """The pad lands within the step: find the landing time with the same
-        discrete gradient (end point beta = 0 known), project the velocities
-        onto the seated tangent (impact loss, E_reseat), finish the step seated."""
-        I_P, X0, Z0 = self._chain[:3]
-        g = self._g
-        mid = 0.5 * b0
-        c, s = math.cos(mid), math.sin(mid)
-        torque = _sinc(mid) * (a * (s * X0 + c * Z0) - g * (c * X0 - s * Z0))
-        # b0 + tau w0 + tau^2 torque / (2 I_P) = 0, smallest root in (0, h]
-        tau = _smallest_positive_root(0.5 * torque / I_P, w0, b0, default=h)
-        tau = min(max(tau, 0.0), h)
-        w_land = w0 + tau * torque / I_P
-        self.E_input -= a * ((1.0 - math.cos(b0)) * X0 + math.sin(b0) * Z0)
-        # impact: chain velocities (pad spin w, centroid w k x r_G, RB3+4 w k x r_Q)
-        # projected in the kinetic-energy metric onto the seated tangent field
-        # (L t for RB3+4, rho t for the centroid, spin 1), t = (cos th, sin th)
-        _, _, _, rGx, rGz, rQx, rQz, _ = self._chain
-        ct, st = math.cos(self.theta), math.sin(self.theta)
-        tG = -rGz * ct + rGx * st
-        tQ = -rQz * ct + rQx * st
-        p = w_land * (self._M * self._L * tQ + self._m * self._rho * tG + self._J)
-        v_seat = p / self._I
-        self.E_reseat += 0.5 * I_P * w_land * w_land - 0.5 * self._I * v_seat * v_seat
-        self.rocking = False
-        self.beta = self.beta_dot = 0.0
-        self.theta_dot = v_seat
-        self._chain = None
-        beta_land = self.beta1
-        if h - tau > 0.0:
-            self._seated_step(a, h - tau, mu1, mu2, rocking_allowed=False)
-        self.mode = TILT  # the step is labelled by its rocking part
-        self.beta1 = beta_land

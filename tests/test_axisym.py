@@ -317,60 +317,6 @@ def test_modal_stepping_equals_nodal_stepping(scheme, back):
     assert np.array_equal(fast.integ.mass(np.ones(n)), ref.integ.mass(np.ones(n)))
 
 
-def _jit_or_skip():
-    from fpd.thermal.axisym import jit_kernels
-    if jit_kernels() is None:
-        pytest.skip("numba not installed (or FPD_NO_JIT)")
-
-
-def test_jit_pattern_matches_pure_bit_for_bit():
-    """thermal/_axisym_jit.pattern is TopLoad.pattern's numpy path as one
-    loop: bit-for-bit on graded top meshes, centred, c < a, c = a, c > a,
-    breakpoints on nodes, footprints hanging over the edge or off the plate."""
-    _jit_or_skip()
-    from fpd.thermal.axisym import jit_kernels
-    rng = np.random.default_rng(7)
-    for _ in range(60):
-        n = int(rng.integers(3, 250))
-        h = rng.uniform(1.0, 1.08) ** np.arange(n)
-        R = rng.uniform(0.05, 0.6)
-        r = np.concatenate(([0.0], np.cumsum(h))) * R / h.sum()
-        fn = np.column_stack((np.arange(n), np.arange(1, n + 1)))
-        pure, fast = TopLoad(r, fn), TopLoad(r, fn, jit_kernels())
-        assert fast._kern is not None and pure._kern is None
-        a = rng.uniform(0.005, 0.2)
-        node = r[rng.integers(0, n + 1, 3)]
-        for c in np.r_[rng.uniform(0, 1.5 * R, 12), 0.0, 1e-13 * a, a, a * (1 - 1e-12), a * (1 + 1e-12),
-                       node, np.abs(node - a), node + a, R + a]:
-            np.testing.assert_array_equal(fast.pattern(c, a), pure.pattern(c, a))
-
-
-@pytest.mark.parametrize("scheme", ["bdf2", "cn", "be"])
-@pytest.mark.parametrize("back", ["convection", "fixed"])
-def test_jit_plate_matches_pure_bit_for_bit(scheme, back):
-    """The modal update kernels and the pattern kernel: the plate's numbers
-    bit for bit, through jumps, a moving footprint and save/restore."""
-    _jit_or_skip()
-    p = PlateParams(model="axisym", plate_radius=0.2, plate_thickness=0.03, a_contact_m=0.05,
-                    nr=30, nz=12, h_conv=500.0, back=back, T_back_C=30.0, scheme=scheme)
-    pure, fast = AxisymPlate(p, 0.02, jit=False), AxisymPlate(p, 0.02, jit=True)
-    assert pure.modes is not None and fast.integ._kern is not None and pure.integ._kern is None
-    snaps = None
-    for i in range(250):
-        if i == 150:
-            snaps = (pure.save(), fast.save())
-        centre = 0.26 * math.sin(0.03 * i)
-        power = 2.0e4 * (1.2 + math.cos(0.2 * i)) * (i % 53 < 40)
-        assert pure.step(power, centre) == fast.step(power, centre), i
-        assert (pure.stored_heat(), pure.heat_lost()) == (fast.stored_heat(), fast.heat_lost()), i
-    pure.restore(snaps[0])
-    fast.restore(snaps[1])
-    for i in range(60):
-        assert pure.step(3e4, 0.01 * i) == fast.step(3e4, 0.01 * i)
-    np.testing.assert_array_equal(pure.temperature(), fast.temperature())
-    assert pure.heat_in() == fast.heat_in()
-
-
 def test_default_mesh_resolves_a_small_footprint():
     """Issue 13: a 15 mm disk on a 0.4 m plate (q = 7.5e5 W/m2, k 18, rho 7900,
     c 480, 0.09 m thick, adiabatic) with the default mesh settings (nr = 0:

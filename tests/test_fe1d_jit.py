@@ -1,15 +1,18 @@
-"""The optional numba kernel of the fe1d column gives the pure path's
-numbers bit for bit (it calls the same BLAS/LAPACK routines in the same
-order), through start-ups, load jumps, save/restore and every back face."""
+"""The fe1d column kernel (thermal/column_kernel.py) compiled gives the pure
+run's numbers bit for bit (the one source; its two primitive backends call
+the same BLAS/LAPACK routines), through start-ups, load jumps,
+save/restore, every scheme and back face, and numpy's products beyond
+BLAS_MAX_ROWS rows."""
 import dataclasses
 
 import numpy as np
 import pytest
 
+from fpd import kernels
 from fpd.thermal import fe1d
 from fpd.thermal.params import PlateParams
 
-pytestmark = pytest.mark.skipif(fe1d.jit_kernels() is None, reason="numba not installed (or FPD_NO_JIT)")
+pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba not installed (or FPD_NO_JIT)")
 
 
 def loads(n=3000):
@@ -21,7 +24,8 @@ def loads(n=3000):
 
 @pytest.mark.parametrize("back,scheme,n_el", [("convection", "bdf2", 100), ("adiabatic", "bdf2", 40),
                                              ("fixed", "bdf2", 100), ("convection", "cn", 100),
-                                             ("convection", "bdf2", 350)])
+                                             ("convection", "bdf2", 350), ("fixed", "be", 30),
+                                             ("fixed", "cn", 320)])
 def test_jit_matches_pure_bit_for_bit(back, scheme, n_el):
     p = dataclasses.replace(PlateParams(model="fe1d"), back=back, scheme=scheme, n_elements=n_el,
                             h_conv=50.0, plate_thickness=0.05, grading=1.05 if n_el < 300 else 1.01)
@@ -44,14 +48,29 @@ def test_jit_matches_pure_bit_for_bit(back, scheme, n_el):
 
 def test_kernel_used_on_the_default_column():
     p = PlateParams(model="fe1d")
-    assert fe1d.FE1DPlate(p, 1e-3).integ._kern is not None
-    assert fe1d.FE1DPlate(p, 1e-3, jit=False).integ._kern is None
+    assert fe1d.FE1DPlate(p, 1e-3).integ.compiled
+    assert not fe1d.FE1DPlate(p, 1e-3, jit=False).integ.compiled
 
 
 def test_pure_path_reproduces_the_fingerprints(monkeypatch):
     from tests.test_speed_equivalence import DATA, assert_same
     from tests.speed_cases import fingerprint, run_case
-    monkeypatch.setattr(fe1d._KERNELS, "loaded", False)
+    monkeypatch.setenv("FPD_NO_JIT", "1")
     ref = np.load(DATA)
     data, _, _ = fingerprint(run_case("default"))
     assert_same(data, ref["default/data"])
+
+
+def test_a_plate_survives_pickling():
+    """The column holds its kernel module (not picklable): it is found again
+    on unpickling, and the copy steps on exactly as the original."""
+    import pickle
+    for jit in (False, True):
+        a = fe1d.FE1DPlate(PlateParams(model="fe1d"), 1e-3, jit=jit)
+        for q in loads(300):
+            a.step(q, 0.0)
+        b = pickle.loads(pickle.dumps(a))
+        assert b.integ.compiled == jit and b.integ.u is b.integ.V[0]
+        for q in loads(600)[300:]:
+            assert a.step(q, 0.0) == b.step(q, 0.0)
+        assert a.stored_heat() == b.stored_heat() and a.heat_lost() == b.heat_lost()

@@ -1,5 +1,5 @@
-"""The compiled loop (coupling/_loop_jit.py, issue 7) and its kernels give
-the Python loop's and the Python models' numbers bit for bit: the two-phase
+"""The compiled loop (coupling/loop_kernel.py, issue 7) and the compiled
+kernels give the Python loop's and the pure kernels' numbers bit for bit: the two-phase
 step (seated, arrest, rocking, landing, overturning), the friction laws,
 whole coupled runs (fe1d, lumped, no heat, mixed plates, fixed-point source,
 csv_every), the state left in the Python objects, failures, frames and the
@@ -14,9 +14,11 @@ from fpd.coupling import scene as scn
 from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 
-pytestmark = pytest.mark.skipif(fast_loop.kernels() is None, reason="numba not installed (or FPD_NO_JIT)")
+from fpd import kernels
 
-from fpd.mechanics import _two_phase_jit as K  # noqa: E402
+pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba not installed (or FPD_NO_JIT)")
+
+from fpd.mechanics import two_phase_kernel as K  # noqa: E402
 from fpd.mechanics.friction import Constant, Kumar2015, Linear, Table  # noqa: E402
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC  # noqa: E402
 from fpd.mechanics.two_phase import PadOverturned, TwoPhaseStepper  # noqa: E402
@@ -27,13 +29,18 @@ TALL_PAD = DeviceGeometry("DFP", R1=2.2, R2=2.2, pad_height=0.50, pad_diameter=0
 
 
 # -- the two-phase step ------------------------------------------------------------------
+def _compiled():
+    return kernels.compiled("fpd.mechanics.two_phase_kernel")
+
+
 def _kernel_vs_python(geom, ground, mu1, mu2):
+    """The compiled kernel on float64 arrays against the stepper (the pure
+    kernel on its list)."""
     st = TwoPhaseStepper(geom, ground)
-    C, G = K.pack_constants(st), K.ground_arrays(st)
-    S = np.zeros(K.N_STATE)
-    K.pack_state(st, S)
+    C, S = np.array(st.C), np.array(st.S, dtype=float)
+    A, T, D = (np.asarray(x, dtype=float) for x in (st._a_step, st._t, st._d))
     rows = np.zeros((st.n_steps, K.N_VALUES))
-    m = K.run_steps(C, S, G, mu1, mu2, st.n_steps, rows)
+    m = _compiled().run_steps(C, S, A, T, D, mu1, mu2, st.n_steps, rows)
     ref, failure = [], None
     try:
         for _ in range(st.n_steps):
@@ -45,9 +52,7 @@ def _kernel_vs_python(geom, ground, mu1, mu2):
     assert len(ref) == m
     np.testing.assert_array_equal(rows[:m], ref)
     if failure is None:
-        S_py = np.zeros(K.N_STATE)
-        K.pack_state(st, S_py)
-        np.testing.assert_array_equal(S, S_py)
+        np.testing.assert_array_equal(S, np.array(st.S, dtype=float))
     return ref, S, failure
 
 
@@ -71,15 +76,16 @@ def test_step_kernel_flags_the_overturn_python_raises():
 
 
 def test_state_round_trip():
+    """The state the compiled loop writes back (floats) is the state: save()
+    gives the same snapshot, with the same types."""
     st = TwoPhaseStepper(TALL_PAD, pulse(1e-3, 0.3 * G_ACC, 0.3, 1.5))
     for _ in range(400):                 # inside the rocking
         st.step(0.6, 0.6)
     assert st.rocking
     snap = st.save()
-    S = np.zeros(K.N_STATE)
-    K.pack_state(st, S)
+    S = np.array(st.S, dtype=float)
     st2 = TwoPhaseStepper(TALL_PAD, pulse(1e-3, 0.3 * G_ACC, 0.3, 1.5))
-    K.unpack_state(st2, S)
+    st2.S[:] = S.tolist()
     assert st2.save() == snap
     assert [type(x) for x in st2.save()] == [type(x) for x in snap]
 
@@ -92,13 +98,14 @@ LAWS = [Constant(0.05), Linear(0.06, 20.0, -2e-4, 0.02), Kumar2015(0.06),
 
 @pytest.mark.parametrize("law", LAWS, ids=lambda x: type(x).__name__)
 def test_friction_law_kernel_matches_python(law):
-    P = K.pack_law(law)
+    P = np.array(law.P)
+    law_mu = kernels.compiled("fpd.mechanics.friction_kernel").law_mu
     rng = np.random.default_rng(3)
     T = np.r_[rng.uniform(-50, 400, 300), 20.0, 100.0, 250.0, 50.0, -1e3, 1e4]
     p = rng.uniform(0, 80e6, len(T))
     v = rng.uniform(-0.5, 0.5, len(T))
     for Ti, pi, vi in zip(T.tolist(), p.tolist(), v.tolist()):
-        assert K.law_mu(P, Ti, pi, vi) == law(Ti, pi, vi), (Ti, pi, vi)
+        assert law_mu(P, Ti, pi, vi) == law(Ti, pi, vi), (Ti, pi, vi)
 
 
 # -- whole runs ------------------------------------------------------------------------------
@@ -117,7 +124,7 @@ def _sim(scene, over, friction=None, tmp=None):
 
 def _python_loop(monkeypatch, sim, **kw):
     with monkeypatch.context() as m:
-        m.setattr(fast_loop.kernels, "loaded", False)
+        m.setattr(fast_loop, "enabled", False)
         return simulate(sim, **kw)
 
 
@@ -154,6 +161,10 @@ RUNS = {
     "kumar-pv": ("default", ["solver.duration=8", "friction.use_pressure=true", "friction.use_velocity=true"]),
     "strong": ("default", ["solver.duration=10", "loading.scale=2.0", "friction.upper.mu_ref=0.04"]),
     "northridge": ("northridge-dfp", ["solver.duration=5", "mechanics.model=two-phase"]),
+    # every fe1d scheme and back face runs compiled (one column kernel)
+    "fe1d-cn": ("default", ["solver.duration=5", "thermal.scheme=cn"]),
+    "fe1d-fixed-be": ("default", ["solver.duration=5", "thermal.back=fixed", "thermal.scheme=be"]),
+    "fe1d-fixed-bdf2": ("default", ["solver.duration=5", "thermal.back=fixed", "thermal.upper.back=adiabatic"]),
 }
 
 
@@ -246,7 +257,9 @@ def test_not_compiled_where_the_python_loop_is_needed(monkeypatch):
 
     assert cols_ok(_sim("default", ["solver.duration=2"]))
     assert not cols_ok(_sim("default", ["solver.duration=2", "mechanics.model=seated"]))
-    assert not cols_ok(_sim("default", ["solver.duration=2", "thermal.scheme=cn"]))
+    assert not cols_ok(_sim("default", ["solver.duration=2", "coupling.scheme=iterated"]))
+    assert not cols_ok(_sim("default", ["solver.duration=2", "thermal.model=axisym", "thermal.nr=10",
+                                        "thermal.nz=4"]))
     sim = _sim("default", ["solver.duration=2"])
     monkeypatch.setattr(sim.mechanics, "step", sim.mechanics.step)
     assert not cols_ok(sim)
@@ -330,3 +343,23 @@ def test_streamed_history_and_ctrl_c_while_a_block_is_taken(monkeypatch, tmp_pat
             assert a.status == "interrupted" and a.n_rows == 3 * 64 == a.steps + 1
         else:
             assert a.status == "ok" and len(calls_a) > 20
+
+
+@pytest.mark.parametrize("kind,scale", [("DFP", 1.0), ("SFP", 2.5)])
+def test_seated_kernel_compiled_matches_the_stepper(kind, scale):
+    """mechanics/seated_kernel.py compiled on float64 arrays against
+    SeatedStepper (the same source run as Python on its list)."""
+    from fpd.mechanics.seated import SeatedStepper
+    geom = DeviceGeometry(kind, R1=2.2, R2=2.2 if kind == "DFP" else None, pad_height=0.10, pad_diameter=0.25,
+                          pad_mass=30.0, mass=1.0e5)
+    st = SeatedStepper(geom, elcentro(1e-3, scale, duration=10.0))
+    SK = kernels.compiled("fpd.mechanics.seated_kernel")
+    C, S, A = np.array(st.C), np.array(st.S, dtype=float), np.asarray(st._a_step, dtype=float)
+    xg = np.asarray(st._xg, dtype=float)
+    row = np.zeros(SK.N_VALUES)
+    for _ in range(st.n_steps):
+        dw = st.step(0.05, 0.04)
+        assert SK.step(C, S, A, 0.05, 0.04) == dw
+        SK.values(C, S, xg[int(S[SK.SN])], row)
+        assert row.tolist() == list(st.values())
+    assert S.tolist() == [float(x) for x in st.S]

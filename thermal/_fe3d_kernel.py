@@ -22,7 +22,7 @@ heat capacities m are separable (products of per-direction factors), so the
 step reads only v, Fa and Fb: one fused pass that also projects the new state
 on the sliding face and on the heat-capacity functional (the footprint mean
 and the stored heat need nothing more). Plain loops: fast compiled by numba
-(thermal/_fe3d_jit.py); the numpy path (FPD_NO_JIT, or no numba) runs the same
+(fpd.kernels.compiled); the numpy path (FPD_NO_JIT, or no numba) runs the same
 loops in Python, correct but ~100 times slower.
 """
 __kernel__ = True

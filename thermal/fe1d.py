@@ -21,24 +21,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.linalg import blas, lapack
+from scipy.linalg import lapack
 
 from fpd.meshes.line import line_mesh
-from fpd.thermal.jit import OptionalKernels
+from fpd.thermal import column_kernel as CK
 from fpd.thermal.params import PlateParams
-from fpd.thermal.stepping import START_STEPS, Integrator
+from fpd.thermal.stepping import SCHEMES, START_STEPS, START_SUBSTEPS
 
 BACKS = ("convection", "adiabatic", "fixed")
 SOURCES = ("follow-pad", "fixed-point")
-
-_KERNELS = OptionalKernels("fpd.thermal._column_jit", warm=True)
-
-
-def jit_kernels():
-    """thermal._column_jit if numba is installed and FPD_NO_JIT is unset, else None."""
-    k = _KERNELS()
-    return k[0] if k else None
-
 
 def assemble_column(z: np.ndarray, rho_c: float, k: float, area: float):
     """Consistent P1 mass and stiffness of the column as tridiagonals
@@ -76,85 +67,78 @@ def check_params(p: PlateParams) -> None:
         raise ValueError(f"thermal.source must be one of {SOURCES}, got {p.source!r}")
 
 
-class ColumnIntegrator(Integrator):
-    """The Integrator specialised to the column (same schemes, same ledger):
-    the load sits on the surface node, convection and the fixed temperature
-    on the back node, so the hot loop is two banded BLAS products, one
-    dpttrs and scalar ledger updates; no per-step skfem, no sparse matrices."""
+def column_kernels(jit: bool | None = None):
+    """The column kernel module: its numba copy (fpd/kernels.py) when ``jit``
+    is True, or None and numba is available (FPD_NO_JIT unset); else the pure
+    module. ``jit=True`` without numba raises ImportError."""
+    from fpd import kernels
+
+    if jit or (jit is None and kernels.available()):
+        try:
+            return kernels.compiled("fpd.thermal.column_kernel")
+        except ImportError:
+            if jit:
+                raise ImportError("fe1d: jit=True needs numba") from None
+    return CK
+
+
+def _slot(i: int, kind=float):
+    return property(lambda self: kind(self.P[i]), lambda self, v: self.P.__setitem__(i, v))
+
+
+class ColumnIntegrator:
+    """The column's state as thermal/column_kernel.py reads it (same schemes,
+    start-up and ledger as thermal.stepping.Integrator): arrays Mb, Ab, FAC,
+    V (u and du are rows of it), I and the scalars P (a list on the pure
+    path, float64 on the compiled one). Stepping is the kernel's."""
+
+    heat_in = _slot(CK.P_HIN)
+    heat_lost = _slot(CK.P_HLOST)
+    loss_prev = _slot(CK.P_LP)
+    load_scale = _slot(CK.P_LS)
+    steps = _slot(CK.P_STEPS, int)
+    half_steps = _slot(CK.P_HALF, int)
+    _start_left = _slot(CK.P_SL, int)
 
     def __init__(self, tri, conv_back: float, nf: int, u0, dt, scheme, jump_rtol, rannacher=True,
                  jit: bool | None = None):
+        if scheme not in SCHEMES:
+            raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
+        if not dt > 0:
+            raise ValueError(f"dt must be > 0, got {dt}")
         dM, eM, dA, eA = tri
         n = len(dM)
-        # upper band storage, Fortran order so that f2py passes it without a copy
-        self._Mb = np.zeros((2, n), order="F")
-        self._Mb[1], self._Mb[0, 1:] = dM, eM
-        self._Ab = np.zeros((2, n), order="F")
-        self._Ab[1], self._Ab[0, 1:] = dA, eA
-        self._tri = tri
-        # reference-BLAS dsbmv costs ~25 ns per row; numpy's tridiagonal
-        # product wins beyond a few hundred rows (measured, docs/thermal.md)
-        self._use_blas = n <= 300
-        self._t1 = np.empty(n - 1)
-        conv = np.zeros(n)
-        conv[-1] = conv_back
-        self._cb = conv_back
-        mD, aD = np.zeros(n), np.zeros(n)
+        self._tri, self.nf = tri, nf
+        self.dt, self.scheme, self.jump_rtol = float(dt), scheme, jump_rtol
+        self.rannacher = rannacher
+        self.start_substeps = START_SUBSTEPS
+        self.kern = column_kernels(jit)
+        self.compiled = self.kern is not CK
+        # upper band storage, Fortran order so that BLAS reads it without a copy
+        self.Mb = np.zeros((2, n), order="F")
+        self.Mb[1], self.Mb[0, 1:] = dM, eM
+        self.Ab = np.zeros((2, n), order="F")
+        self.Ab[1], self.Ab[0, 1:] = dA, eA
+        h = self.dt
+        gammas = {"be": h, "cn": 0.5 * h, "bdf2": 2.0 * h / 3.0}
+        fac = [None] * 6
+        for row, gamma in ((CK.F_SUB, h / self.start_substeps), (CK.F_MAIN, gammas[scheme]), (CK.F_H, h)):
+            fac[row], fac[row + 1] = (np.ascontiguousarray(x, dtype=float) for x in self._factor(gamma))
+        self.FAC = tuple(fac)
+        self.I = np.array([n, 1, 2, 1, 1, 0, ord("U"), nf], dtype=np.int32)
+        self.V = tuple(np.zeros(n) for _ in range(6))
+        self.u, self.du = self.V[CK.V_U], self.V[CK.V_DU]
+        self.u[:] = u0
+        self.V[CK.V_M1][:] = self.mass(np.ones(n))          # M 1 = M^T 1
+        P = [0.0] * CK.N_P
+        P[CK.P_SCHEME] = {"be": CK.BE, "cn": CK.CN, "bdf2": CK.BDF2}[scheme]
+        P[CK.P_RANN] = 1.0 if rannacher else 0.0
+        P[CK.P_M], P[CK.P_START] = self.start_substeps, START_STEPS.get(scheme, 0)
+        P[CK.P_H], P[CK.P_CB], P[CK.P_JR], P[CK.P_NF] = h, conv_back, jump_rtol, nf
         if nf < n:
-            mD[-2:] = eM[-1], dM[-1]
-            aD[-2:] = eA[-1], dA[-1]
-        self._mD1 = mD[-2]
-        self._aD = (aD[-2], aD[-1])
-        super().__init__(self._mass, self._stiff, self._factor, conv, nf, mD, aD,
-                         u0, dt, scheme, jump_rtol, rannacher)
-        self._q = 0.0
-        self._c23 = None
-        self._factors = {}
-        # the numba path (bdf2 without a Dirichlet node; start-up steps stay
-        # pure): constants K and state W packed as _column_jit expects, with
-        # u and du views of W so that both paths share the state
-        kern = jit_kernels() if jit is None or jit else None
-        if jit and kern is None:
-            raise ImportError("fe1d: jit=True needs numba")
-        # (beyond 300 rows the pure path's products are numpy's, not dsbmv)
-        self._kern = kern if (kern is not None and scheme == "bdf2" and nf == n and self._use_blas) else None
-        self._stored_ok = False
-        if self._kern is not None:
-            self._K = np.zeros(7 * n)
-            self._K[:2 * n] = self._Mb.ravel(order="F")
-            self._K[2 * n:4 * n] = self._Ab.ravel(order="F")
-            self._K[6 * n:] = self._m1
-            self._W = np.zeros(3 * n + kern.N_SCALARS)
-            self._W[:n], self._W[n:2 * n] = self.u, self.du
-            self.u, self.du = self._W[:n], self._W[n:2 * n]
-            self._I = np.array([n, 1, 2, 1, 1, 0, ord("U")], dtype=np.int32)
-            self._sc = 3 * n
-            self._bdf2_kernel = kern.bdf2_column
-
-    def _band(self, alpha: float, band: np.ndarray, x: np.ndarray, y=None) -> np.ndarray:
-        """alpha B x (+ y, in place, when y is given) for a tridiagonal B in
-        upper band storage."""
-        if self._use_blas:
-            if y is None:
-                return blas.dsbmv(1, alpha, band, x)
-            return blas.dsbmv(1, alpha, band, x, beta=1.0, y=y, overwrite_y=1)
-        t = self._t1
-        out = np.multiply(band[1], x)
-        np.multiply(band[0, 1:], x[1:], out=t)
-        out[:-1] += t
-        np.multiply(band[0, 1:], x[:-1], out=t)
-        out[1:] += t
-        out *= alpha
-        if y is None:
-            return out
-        y += out
-        return y
-
-    def _mass(self, x):
-        return self._band(1.0, self._Mb, x)
-
-    def _stiff(self, x):
-        return self._band(1.0, self._Ab, x)
+            P[CK.P_MD1], P[CK.P_AD0], P[CK.P_AD1] = eM[-1], eA[-1], dA[-1]
+        P[CK.P_E0] = float(self.V[CK.V_M1] @ self.V[CK.V_U])
+        self.P = np.array(P) if self.compiled else P
 
     def _factor(self, gamma: float):
         dM, eM, dA, eA = self._tri
@@ -162,149 +146,40 @@ class ColumnIntegrator(Integrator):
         df, ef, info = lapack.dpttrf(dM[:nf] + gamma * dA[:nf], eM[:nf - 1] + gamma * eA[:nf - 1])
         if info != 0:
             raise np.linalg.LinAlgError(f"dpttrf failed (info={info})")
-        self._factors[gamma] = (df, ef)
-        dpttrs = lapack.dpttrs
-        return lambda rhs: dpttrs(df, ef, rhs)[0]
+        return df, ef
 
-    def _reaction(self, Mdu_last: float, h: float, uth_2: float, uth_1: float) -> float:
-        # 1_D^T residual on the back node (no load there)
-        return self._mD1 * Mdu_last + h * (self._aD[0] * uth_2 + self._aD[1] * uth_1)
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        del state["kern"]                # a module: found again on unpickling
+        return state
 
-    def _be1(self, h: float, q: float) -> float:
-        nf, u = self.nf, self.u
-        rhs = self._band(-h, self._Ab, u)
-        rhs[0] += h * q
-        du = self.solver(h)(rhs[:nf])
-        u[:nf] += du
-        self.du[:nf] = du
-        s = h * self._cb * u[-1]
-        if nf < len(u):
-            s -= self._reaction(du[-1], h, u[-2], u[-1])
-        self.heat_in += h * q
-        self.heat_lost += s
-        return s
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.kern = column_kernels(True) if self.compiled else CK
 
-    def _cn1(self, h: float, q: float) -> None:
-        nf, u = self.nf, self.u
-        rhs = self._band(-h, self._Ab, u)
-        rhs[0] += h * q
-        u2, u1 = u[-2], u[-1]
-        du = self.solver(0.5 * h)(rhs[:nf])
-        u[:nf] += du
-        self.du[:nf] = du
-        s = 0.5 * h * self._cb * (u1 + u[-1])
-        if nf < len(u):
-            s -= self._reaction(du[-1], h, 0.5 * (u2 + u[-2]), u[-1])
-        self.heat_in += h * q
-        self.heat_lost += s
-
-    def _bdf21(self, h: float, q: float) -> None:
-        nf, u = self.nf, self.u
-        c23 = self._c23 if self._c23 is not None else self._bdf2_setup(h)
-        if self._kern is not None:
-            W = self._W
-            self._bdf2_kernel(self._K, W, self._I, c23, 1.5 * q - 0.5 * self._q, h * self._cb)
-            self._stored_ok = True
-            loss = (2.0 / 3.0) * (W[self._sc + 2] + 0.5 * self.loss_prev)
-            self.loss_prev = loss
-            self.heat_in += h * q
-            self.heat_lost += loss
-            return
-        rhs = self._band(-c23, self._Ab, u)
-        rhs = self._band(1.0 / 3.0, self._Mb, self.du, rhs)
-        rhs[0] += c23 * (1.5 * q - 0.5 * self._q)
-        du = self._bdf2_solve(rhs[:nf])
-        u[:nf] += du
-        if nf == len(u):
-            last_prev = 0.0
-            self.du[:] = du
-            s = h * self._cb * u[-1]
-        else:
-            last_prev = self.du[nf - 1]
-            self.du[:nf] = du
-            s = h * self._cb * u[-1] - self._reaction(1.5 * du[-1] - 0.5 * last_prev, h, u[-2], u[-1])
-        loss = (2.0 / 3.0) * (s + 0.5 * self.loss_prev)
-        self.loss_prev = loss
-        self.heat_in += h * q
-        self.heat_lost += loss
-
-    def _bdf2_setup(self, h: float) -> float:
-        self._c23 = 2.0 * h / 3.0
-        self._bdf2_solve = self.solver(self._c23)
-        if self._kern is not None:
-            df, ef = self._factors[self._c23]
-            n = len(self.u)
-            self._K[4 * n:5 * n] = df
-            self._K[5 * n:6 * n - 1] = ef
-        return self._c23
-
-    def _jump(self, q: float) -> bool:
-        """Integrator.is_jump for the scalar surface load."""
-        if abs(q) > self.load_scale:
-            self.load_scale = abs(q)
-        return abs(q - self._q) > self.jump_rtol * self.load_scale
+    def mass(self, x):
+        """M x (full length)."""
+        y = np.zeros(len(x))
+        CK.band_mv(self.I, self.V[CK.V_SC], 1.0, self.Mb, np.asarray(x, dtype=float), 0.0, y)
+        return y
 
     def step_surface(self, q: float) -> None:
-        """Advance dt with the power q (W) into the surface node (schemes and
-        start-up as Integrator.step). Returns u[0] on the kernel's fast path,
-        else None."""
-        if (self._kern is not None and self._c23 is not None and self.rannacher
-                and self._start_left <= 0 and self.steps > 0):
-            # the common BDF2 step, inlined (same operations as below); a jump
-            # falls through to the start-up, whose _jump gives the same answer
-            aq = abs(q)
-            if aq > self.load_scale:
-                self.load_scale = aq
-            if not abs(q - self._q) > self.jump_rtol * self.load_scale:
-                h = self.dt
-                W = self._W
-                u0 = self._bdf2_kernel(self._K, W, self._I, self._c23, 1.5 * q - 0.5 * self._q, h * self._cb)
-                self._stored_ok = True
-                loss = (2.0 / 3.0) * (W[self._sc + 2] + 0.5 * self.loss_prev)
-                self.loss_prev = loss
-                self.heat_in += h * q
-                self.heat_lost += loss
-                self._q = q
-                self.b[0] = q
-                self.steps += 1
-                return u0
-        h = self.dt
-        sch = self.scheme
-        self._stored_ok = False
-        if sch == "be":
-            self._be1(h, q)
-        elif self.rannacher and (self._start_left > 0 or self.steps == 0 or self._jump(q)):
-            if self.steps == 0 or self._jump(q):
-                self._start_left = START_STEPS[sch]
-            self._start_left -= 1
-            nf = self.nf
-            u_before = self.u[:nf].copy()
-            m = self.start_substeps
-            loss = 0.0
-            for _ in range(m):
-                loss += self._be1(h / m, q)
-            self.du[:nf] = self.u[:nf] - u_before
-            self.loss_prev = loss
-            self.half_steps += m
-        elif sch == "cn":
-            self._cn1(h, q)
-        elif self.steps == 0:
-            self.loss_prev = self._be1(h, q)
-        else:
-            self._bdf21(h, q)
-        self._q = q
-        self.b[0] = q
-        self.steps += 1
+        """Advance dt with the power q (W) into the surface node."""
+        self.kern.step(self.Mb, self.Ab, self.FAC, self.V, self.I, self.P, q)
+
+    def save(self):
+        return (self.u.copy(), self.du.copy(), tuple(float(self.P[i]) for i in CK.STATE))
 
     def restore(self, snap) -> None:
-        super().restore(snap)
-        self._q = self.b[0]
-        self._stored_ok = False
+        u, du, state = snap
+        self.u[:] = u
+        self.du[:] = du
+        for i, v in zip(CK.STATE, state):
+            self.P[i] = v
 
     def stored(self) -> float:
-        if self._stored_ok:                 # m1 . u from the kernel's ddot
-            return float(self._W[self._sc + 3] - self._e0)
-        return super().stored()
+        """1^T M (u - u_0) (J): the rho c integral of the temperature rise."""
+        return float(self.kern.stored(self.V, self.I, self.P))
 
 
 class FE1DPlate:
@@ -336,6 +211,9 @@ class FE1DPlate:
             u0[-1] = p.T_back_C - p.T_air_C
         self._tri = (dM, eM, dA, eK)
         self.integ = ColumnIntegrator(self._tri, conv_back, nf, u0, self.dt, p.scheme, jump_rtol, rannacher, jit)
+        P = self.integ.P
+        P[CK.P_TAIR], P[CK.P_FIXED] = self._T_air, 1.0 if self._fixed_point else 0.0
+        P[CK.P_R0], P[CK.P_AC] = p.radius_m, p.a_contact_m
 
     # -- PlateModel interface ---------------------------------------------------
     def covered(self, centre_m: float) -> bool:
@@ -349,12 +227,8 @@ class FE1DPlate:
     def step(self, power_W: float, centre_m: float = 0.0) -> float:
         """Advance dt with power_W over the footprint at centre_m; return the
         column's surface temperature (degC) at the end of the step."""
-        if self._fixed_point and not self.covered(centre_m):
-            power_W = 0.0
-        u0 = self.integ.step_surface(float(power_W))
-        if u0 is not None:
-            return u0 + self._T_air
-        return float(self.integ.u[0] + self._T_air)
+        it = self.integ
+        return it.kern.plate_step(it.Mb, it.Ab, it.FAC, it.V, it.I, it.P, float(power_W), centre_m)
 
     def surface_temperature(self) -> float:
         return float(self.integ.u[0] + self.params.T_air_C)
@@ -367,7 +241,7 @@ class FE1DPlate:
         return self.integ.stored()
 
     def heat_lost(self) -> float:
-        return self.integ.heat_lost
+        return float(self.integ.P[CK.P_HLOST])
 
     def heat_in(self) -> float:
         return self.integ.heat_in

@@ -45,25 +45,34 @@ import numpy as np
 from scipy.linalg import eigh
 
 from fpd.meshes.box import box_nodes, hex_mesh
-from fpd.thermal.jit import OptionalKernels
 from fpd.thermal.params import PlateParams
 
-_KERNELS = OptionalKernels("fpd.thermal._fe3d_jit", warm=True)
 NG = 6                                   # Gauss points per footprint quadrature interval
 _GL = np.polynomial.legendre.leggauss(NG)
 
 
+_WARM = set()
+
+
 def kernels(jit: bool | None = None):
-    """The compiled kernel module (numba), or the pure one."""
-    if jit is False:
-        from fpd.thermal import _fe3d_kernel
-        return _fe3d_kernel
-    k = _KERNELS()
-    if k:
-        return k[0].K
-    if jit:
-        raise ImportError("fe3d: jit=True needs numba")
+    """The fe3d kernel module: its numba copy (fpd/kernels.py: the same
+    source) when ``jit`` is True, or None and numba is available
+    (FPD_NO_JIT unset); else the pure module. ``jit=True`` without numba
+    raises ImportError."""
+    from fpd import kernels as kern
     from fpd.thermal import _fe3d_kernel
+
+    if jit or (jit is None and kern.available()):
+        try:
+            k = kern.compiled("fpd.thermal._fe3d_kernel")
+        except ImportError:
+            if jit:
+                raise ImportError("fe3d: jit=True needs numba") from None
+        else:
+            if id(k) not in _WARM:      # compile (or load) before the time loop, not on its first step
+                k.warm_up()
+                _WARM.add(id(k))
+            return k
     return _fe3d_kernel
 
 

@@ -1,0 +1,67 @@
+"""The linear-algebra and vector primitives of the fe1d column step, pure backend.
+
+thermal/column_kernel.py (the scheme, start-up, jump test and ledger,
+written once) calls these (numpy's whole-array operations here, loops in
+the compiled twin, where an array expression would cost more than the loop); the compiled path swaps this module for
+thermal/column_blas_numba.py (``__compiled_backend__``, fpd/kernels.py),
+which calls the same BLAS/LAPACK routines of scipy's library through
+pointers, so both paths give the same numbers bit for bit. The arguments
+``I`` (int32: n, k=1, lda=2, inc=1, nrhs=1, info, ord('U'), nf) and ``sc``
+(float scratch) are what the pointer calls need; here they are unused.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import blas, lapack
+
+__compiled_backend__ = "fpd.thermal.column_blas_numba"
+
+# reference-BLAS dsbmv costs ~25 ns per row; numpy's tridiagonal product
+# wins beyond a few hundred rows (measured, docs/thermal.md)
+BLAS_MAX_ROWS = 300
+_dsbmv, _dpttrs = blas.dsbmv, lapack.dpttrs     # f2py wrappers, called with positional arguments (faster)
+
+
+def band_mv(I, sc, alpha, band, x, beta, y):
+    """y = alpha B x (beta == 0) or y += alpha B x (beta == 1), B tridiagonal
+    symmetric in upper band storage (2, n)."""
+    if x.shape[0] <= BLAS_MAX_ROWS:
+        _dsbmv(1, alpha, band, x, 1, 0, beta, y, 1, 0, 0, 1)     # (..., beta, y, incy, offy, lower, overwrite_y)
+        return
+    t = np.multiply(band[0, 1:], x[1:])
+    out = np.multiply(band[1], x)
+    out[:-1] += t
+    np.multiply(band[0, 1:], x[:-1], out=t)
+    out[1:] += t
+    out *= alpha
+    if beta == 0.0:
+        y[:] = out
+    else:
+        y += out
+
+
+def pt_solve(I, d, e, rhs, nf):
+    """rhs[:nf] = (L D L^T)^-1 rhs[:nf] in place, (d, e) the factor of dpttrf
+    (lengths nf, nf - 1)."""
+    _dpttrs(d, e, rhs if nf == rhs.shape[0] else rhs[:nf], 1)     # overwrite_b
+
+
+def dot(I, x, y):
+    """x . y (the BLAS ddot the compiled backend calls)."""
+    return float(x @ y)
+
+
+def accept(u, du, x, nf):
+    """u[:nf] += x[:nf]; du[:nf] = x[:nf] (the increment taken)."""
+    u[:nf] += x[:nf]
+    du[:nf] = x[:nf]
+
+
+def copy(dst, src, nf):
+    """dst[:nf] = src[:nf]."""
+    dst[:nf] = src[:nf]
+
+
+def difference(dst, a, b, nf):
+    """dst[:nf] = a[:nf] - b[:nf]."""
+    dst[:nf] = a[:nf] - b[:nf]
