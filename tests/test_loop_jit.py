@@ -258,7 +258,7 @@ def test_not_compiled_where_the_python_loop_is_needed(monkeypatch):
     assert cols_ok(_sim("default", ["solver.duration=2"]))
     assert not cols_ok(_sim("default", ["solver.duration=2", "mechanics.model=seated"]))
     assert not cols_ok(_sim("default", ["solver.duration=2", "coupling.scheme=iterated"]))
-    assert not cols_ok(_sim("default", ["solver.duration=2", "thermal.model=axisym", "thermal.nr=10",
+    assert not cols_ok(_sim("default", ["solver.duration=2", "thermal.model=axisym", "thermal.nr=40",
                                         "thermal.nz=4"]))
     sim = _sim("default", ["solver.duration=2"])
     monkeypatch.setattr(sim.mechanics, "step", sim.mechanics.step)

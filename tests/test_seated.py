@@ -77,12 +77,12 @@ def test_test_machine_ledger_closes_when_the_machine_stops(cycles):
     prog = sine_programme(0.2, 0.4, cycles, 1e-3, duration=8.0)
     tm = SeatedTestMachine(geom, prog, "riding-mass")
     h = run(tm, MU, MU, record=("E_input", "E_kin"))
-    assert tm.theta_dot == 0.0 and h["E_kin"].max() > 0.05 * tm.E_inputput      # it moved, then stopped
-    assert abs(tm.energy_residual()) < 1e-6 * tm.E_inputput
+    assert tm.theta_dot == 0.0 and h["E_kin"].max() > 0.05 * tm.E_input      # it moved, then stopped
+    assert abs(tm.energy_residual()) < 1e-6 * tm.E_input
     tm = SeatedTestMachine(geom, prog)
     h = run(tm, MU, MU, record=("E_input", "E_kin"))
     assert tm.theta_dot == 0.0 and h["E_kin"].max() > 0
-    assert abs(tm.energy_residual()) < 1e-6 * tm.E_inputput
+    assert abs(tm.energy_residual()) < 1e-6 * tm.E_input
 
 
 def test_frictionless_free_vibration_period():
