@@ -31,8 +31,8 @@ import numpy as np
 
 from . import scene as scn
 from .output import ResultsFolder
-from .studies import (EXIT_FAILED, EXIT_OK, _plt, _say, fmt, md_table, min_heat_capacity, out_dir, run_case,
-                      write_rows)
+from .study_runner import (EXIT_FAILED, EXIT_OK, _plt, _say, fmt, md_table, min_heat_capacity, out_dir, run_case,
+                           write_rows)
 
 CATALOGUE = scn.SCENES_DIR / "stability"
 MECH_TOL = 2e-2

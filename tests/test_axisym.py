@@ -312,7 +312,7 @@ def test_modal_stepping_equals_nodal_stepping(scheme, back):
     for q in ("stored_heat", "heat_lost"):
         assert abs(getattr(fast, q)() - getattr(ref, q)()) < 1e-12 * hin
     assert abs(fast.heat_in() - fast.stored_heat() - fast.heat_lost()) < 1e-12 * hin
-    # the nodal capacities (coupling/studies.py reads integ.mass) do not depend on the basis
+    # the nodal capacities (coupling/study_runner.py reads integ.mass) do not depend on the basis
     n = len(ref.integ.u)
     assert np.array_equal(fast.integ.mass(np.ones(n)), ref.integ.mass(np.ones(n)))
 
