@@ -186,7 +186,10 @@ def test_sigint_keeps_history(tmp_path):
     proc.send_signal(signal.SIGINT)
     stdout, stderr = proc.communicate(timeout=60)
     s = _check_interrupted(proc, out, stdout, stderr)
-    assert "interrupted at step" in stderr and len(stderr.splitlines()) == 1
+    # one line for the interruption (the one-line compile notice may come first, on a cold cache)
+    from fpd.jitcache import NOTICE
+    lines = [ln for ln in stderr.splitlines() if ln != NOTICE]
+    assert "interrupted at step" in stderr and len(lines) == 1
 
 
 def test_second_sigint_while_writing_keeps_history(tmp_path):
