@@ -59,20 +59,22 @@ def compiled(name: str) -> types.ModuleType:
     kernel keeps the globals it was compiled with, see ``fresh``)."""
     if name in _compiled:
         return _compiled[name]
-    from fpd import jitcache
-    jitcache.announce([name])       # "compiling kernels once", when numba has no cache for it yet
     import numba
 
     pure = importlib.import_module(name)
     if not is_kernel_module(pure):
         raise TypeError(f"{name} is not a kernel module (it must set __kernel__ = True)")
+    jit_options = getattr(pure, "__jit_options__", {})
+    if jit_options.get("inline") != "always":     # inlined kernels leave no cache of their own
+        from fpd import jitcache
+        jitcache.announce([name])   # "compiling kernels once", when numba has no cache for it yet
     spec = importlib.util.spec_from_file_location(name + _SUFFIX, pure.__file__)
     mod = importlib.util.module_from_spec(spec)
     mod.__package__ = pure.__package__      # relative imports resolve as in the pure module
     sys.modules[spec.name] = mod
     spec.loader.exec_module(mod)
     _compiled[name] = mod                   # before rewiring: kernel modules may import each other
-    options = dict(JIT_OPTIONS, **getattr(pure, "__jit_options__", {}))
+    options = dict(JIT_OPTIONS, **jit_options)
     options["cache"] = options["cache"] and not os.environ.get("FPD_JIT_NO_CACHE")
     deps = [pure.__file__]
     for key, val in list(vars(mod).items()):
