@@ -457,7 +457,8 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "reference.samples": ("", "Times sampled (up to 50)."),
     "coupling_iterations.total": ("", "iterated coupling: iterations over the run."),
     "coupling_iterations.max_per_step": ("", "iterated coupling: most iterations in one step."),
-    "record.name": ("", "Record name (packaged name or file)."),
+    "record.name": ("", 'Record name (packaged name or file; a record_set member: "<set>:<record_id><component>", '
+                        'e.g. "p695-far-field:12b").'),
     "record.points": ("", "Samples in the record."),
     "record.dt_s": ("s", "Record sampling interval."),
     "record.pga_g": ("g", "Peak ground acceleration of the record (unscaled; a record_set member: of the "
