@@ -212,7 +212,9 @@ def bidirectional_loading_of(scene: Scene, dt: float):
         except gmod.RecordError as exc:
             raise SceneError(f"{exc} (loading.{key})") from None
         length = duration if duration is not None else float(gx.t[-1])
-        gy = gmod.ground_motion_from_samples(ld.get("record", ld.get("file_y")), rec.t, rec.a_g * G_ACC * ld["scale"],
+        # the pair scaled as one: target_pga_g's factor is the x record's (the pair keeps its proportions)
+        factor = ld["scale"] * (_target_factor(ld, gx.record) if hasattr(gx, "record") else 1.0)
+        gy = gmod.ground_motion_from_samples(ld.get("record", ld.get("file_y")), rec.t, rec.a_g * G_ACC * factor,
                                              dt, length, baseline=ld["baseline"])
         gy.record = rec
     else:
@@ -259,6 +261,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
             if g is not None and hasattr(g, "record"):
                 info[comp] = {"name": g.name, "points": len(g.record.t), "dt_s": g.record.dt,
                               "pga_g": g.record.pga_g, "scale": ld["scale"],
+                              "scaled_pga_g": g.record.pga_g * ld["scale"] * _target_factor(ld, gx.record),
                               "baseline_b1_mps2": g.baseline[0], "baseline_b2_mps3": g.baseline[1]}
         if ld["kind"] == "record":
             info["record"]["angle_deg"] = ld["angle_deg"]

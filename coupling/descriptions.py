@@ -159,9 +159,12 @@ KEYS: dict[str, tuple[str, str]] = {
                                           '"riding-mass": the superstructure rides up and down on the bearing '
                                           'with its weight and its inertia, its vertical acceleration adding '
                                           'M (u\'\' sin theta + L theta\'^2) to the normal forces (docs/model.md, '
-                                          '"The test machine"). Read by the planar DFP / SFP test machine '
-                                          '(a sine along x); the bidirectional test machine, the TFP and the '
-                                          'flat bearing do not use it.'),
+                                          '"The test machine"). Default: "constant" on the planar DFP / SFP '
+                                          'test machine (a sine along x); an orbit (circle, figure-eight, a '
+                                          'turned sine) runs the bidirectional machine, which carries the '
+                                          'riding mass: "riding-mass" (the default there; "constant" is refused). '
+                                          'The TFP and the flat bearing refuse the key (their machine passes '
+                                          'the superstructure\'s weight and inertia down the stack).'),
     "loading.pulse.shape": ("", '"step": the ground velocity jumps to velocity_mps at t0_s and stays; "cosine": '
                                 'one-sided fling V/2 (1 - cos(2 pi tau / Tp)) for one period; "sine": '
                                 'forward-directivity cycle V sin(2 pi tau / Tp).'),
@@ -465,7 +468,7 @@ SUMMARY: dict[str, tuple[str, str]] = {
                           "normalised component when loading.normalize)."),
     "record.scale": ("", "loading.scale applied."),
     "record.scaled_pga_g": ("g", "Peak ground acceleration as run (before the baseline correction): pga_g x "
-                                 "loading.scale x the loading.target_pga_g factor (planar runs)."),
+                                 "loading.scale x the loading.target_pga_g factor."),
     "record.baseline_b1_mps2": ("m/s2", "Baseline correction: b1 of the velocity drift b1 t + b2 t^2 removed "
                                         "(the acceleration b1 + 2 b2 t is subtracted)."),
     "record.baseline_b2_mps3": ("m/s3", "Baseline correction: b2 of the velocity drift b1 t + b2 t^2 removed."),
@@ -477,6 +480,9 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "record_y.pga_g": ("g", "Bidirectional record: peak ground acceleration of the y record (unscaled, before "
                             "the turn)."),
     "record_y.scale": ("", "Bidirectional record: loading.scale applied to the y record."),
+    "record_y.scaled_pga_g": ("g", "Bidirectional record: peak ground acceleration of the y record as run: "
+                                   "pga_g x scale x the pair's loading.target_pga_g factor (the x record's: "
+                                   "the pair is scaled as one and keeps its proportions)."),
     "record_y.baseline_b1_mps2": ("m/s2", "Bidirectional record: b1 of the y record's baseline correction."),
     "record_y.baseline_b2_mps3": ("m/s3", "Bidirectional record: b2 of the y record's baseline correction."),
     "bidirectional.normal_force": ("", 'Bidirectional stepper: the normal-force scheme that ran ("midpoint", '

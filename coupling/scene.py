@@ -145,7 +145,7 @@ LOADING_KEYS = {
                      "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos),
                      "direction_deg": ("float", 0.0, None),
                      # the machine holds the vertical load (force control), or the mass rides on the bearing
-                     "vertical": (("constant", "riding-mass"), "constant", None)},
+                     "vertical": (("constant", "riding-mass"), None, None)},
     "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
               "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
@@ -610,6 +610,15 @@ def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
     two_d = is_bidirectional(data)
     if "normal_force" not in mech:
         mech["normal_force"] = "midpoint" if two_d else "start"
+    ld = data["loading"]
+    if ld["kind"] == "displacement":
+        # the planar machine holds the vertical load by default; the orbit machine
+        # (mechanics/bidirectional.py) carries the superstructure as a riding mass
+        if not two_d:
+            ld.setdefault("vertical", "constant")
+        elif ld.setdefault("vertical", "riding-mass") != "riding-mass":
+            ctx.fail("loading.vertical", ld["vertical"], 'must be "riding-mass" (or left out) for an orbit: the '
+                     "bidirectional test machine carries the superstructure as a riding mass in this version")
     if not two_d:
         return
     if data["coupling"]["substeps"] > 1:

@@ -62,6 +62,9 @@ def planar_only(ctx, data, device: str) -> None:
         if ld.get("angle_deg", 0.0) != 0.0:
             ctx.fail("loading.angle_deg", ld["angle_deg"], f"must be 0: {why}")
     if ld["kind"] == "displacement":
+        if ld.get("vertical") is not None:
+            ctx.fail("loading.vertical", ld["vertical"], f"is a key of the DFP / SFP test machine; the {device}'s "
+                     "machine passes the superstructure's weight and inertia down the stack (leave it out)")
         if ld.get("waveform", "sine") != "sine":
             ctx.fail("loading.waveform", ld["waveform"], f'must be "sine": {why}')
         if ld.get("direction_deg", 0.0) != 0.0:

@@ -373,3 +373,17 @@ def test_tfp_refuses_a_record_pair(override, key):
     with pytest.raises(scn.SceneError) as err:
         scn.load("tfp-elcentro", [override])
     assert key in str(err.value)
+
+
+def test_vertical_load_key_is_refused_where_it_is_not_read():
+    """loading.vertical is read by the planar DFP / SFP test machine only: the
+    TFP and the flat bearing refuse it, an orbit takes only the riding mass
+    its machine carries (one line each, never silently ignored)."""
+    from fpd.coupling import scene as scn
+    for name in ("tfp-lab", "flat-lab"):
+        with pytest.raises(scn.SceneError, match=r"loading\.vertical"):
+            scn.load(name, ['loading.vertical="riding-mass"'])
+    with pytest.raises(scn.SceneError, match=r"loading\.vertical.*riding-mass"):
+        scn.load("lab-sine", ['loading.waveform="circle"', 'loading.vertical="constant"'])
+    assert scn.load("lab-sine", ['loading.waveform="circle"'])["loading"]["vertical"] == "riding-mass"
+    assert scn.load("lab-sine")["loading"]["vertical"] == "constant"
