@@ -514,3 +514,22 @@ def test_fpd_run_writes_bidirectional_outputs(tmp_path):
         assert (out / "plots" / png).stat().st_size > 1000
     assert (out / "vtk" / "device3d.pvd").exists() and len(list((out / "vtk").glob("device3d_*.vtu"))) >= 4
     assert s["energy_residual_rel"] < 1e-6
+
+
+def test_target_pga_scales_the_pair_as_one():
+    """loading.target_pga_g brings the x record's PGA to the target and the y
+    record by the same factor: the pair keeps its proportions."""
+    from fpd.coupling import scene as scn
+    from fpd.coupling.build import build
+
+    sim = build(scn.load("impvall-bidirectional", ["solver.duration=0.5", "loading.target_pga_g=0.5",
+                                                   'thermal.model="none"']))
+    rx, ry = sim.info["record"], sim.info["record_y"]
+    assert abs(rx["scaled_pga_g"] - 0.5) < 1e-12
+    assert abs(ry["scaled_pga_g"] / rx["scaled_pga_g"] - ry["pga_g"] / rx["pga_g"]) < 1e-12
+    # the ground motion itself: both components by the x record's factor
+    base = build(scn.load("impvall-bidirectional", ["solver.duration=0.5", 'thermal.model="none"']))
+    f = 0.5 / rx["pga_g"]
+    for comp in ("ground", "ground_y"):
+        a, a0 = getattr(sim.mechanics, comp).a, getattr(base.mechanics, comp).a
+        np.testing.assert_allclose(a, f * a0, rtol=1e-9, atol=1e-12 * np.abs(a0).max())
