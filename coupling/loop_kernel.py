@@ -8,7 +8,10 @@ T_i^{n+1}; a row of the history every ``every`` steps. Every piece of
 physics it calls is the models' own kernel (friction_kernel,
 two_phase_kernel, lumped_kernel, column_kernel), so the compiled run and the
 Python loop in coupling/run.py compute the same numbers; coupling/fast_loop.py
-drives it between simulate()'s events.
+drives it between simulate()'s events. The per-interface pieces below
+(interface_heat, plate_step/stored/lost, two_plate_row, keep_row, end_chunk)
+and the ctl / F layout are also the bidirectional and TFP loops' own
+(coupling/bidirectional_loop_kernel.py, coupling/tfp_loop_kernel.py).
 
 Where the Python loop would raise (division by zero, an overturned pad, an
 overflow in a power, a non-finite temperature or friction coefficient), the
