@@ -61,6 +61,13 @@ def _eligible(sim):
         return None
     if any(k in vars(mech) for k in ("step", "values", "save", "restore")):
         return None                  # patched (tests): the Python loop calls the patch
+    return plate_kinds(sim)
+
+
+def plate_kinds(sim):
+    """The plates' kinds when a compiled loop (this one, the bidirectional's,
+    the TFP's) can step them and read the laws, and may (numba available,
+    loaded or needed for an fe1d plate), else None."""
     kinds = [_plate_kind(p) for p in sim.plates]
     if None in kinds:
         return None
@@ -71,6 +78,48 @@ def _eligible(sim):
     if any(getattr(law, "P", None) is None for law in sim.laws):
         return None
     return kinds
+
+
+def law_rows(laws):
+    """The friction laws as the loop kernels read them (friction_kernel.law_mu's rows)."""
+    return tuple(np.array(law.P) for law in laws)
+
+
+def plate_arrays(plates, kinds, lj):
+    """Per plate the arrays the loop kernels step, (Mb, Ab, FAC, V, I, P), and
+    whether P is a float64 copy of the plate's row (written back by
+    unpack_plates), with the kind codes of loop_kernel ``lj``. fe1d arrays
+    are the plate's own; stand-ins of their types for the others (one
+    compiled signature for every mix; (2, 2) in Fortran order: a (2, 1) array
+    would also be C-contiguous, typed 'C' by numba)."""
+    dummy_f, dummy_i = np.zeros(1), np.zeros(8, dtype=np.int32)
+    dummy_F, dummy_T = np.zeros((2, 2), order="F"), tuple(np.zeros(1) for _ in range(6))
+    out = []
+    for plate, kind in zip(plates, kinds):
+        if kind == "fe1d":
+            it = plate.integ
+            P = it.P if isinstance(it.P, np.ndarray) else np.array(it.P)
+            out.append(((it.Mb, it.Ab, it.FAC, it.V, it.I, P), P is not it.P))
+        else:
+            P = np.array(plate.P) if kind == "lumped" else dummy_f
+            out.append(((dummy_F, dummy_F, dummy_T, dummy_T, dummy_i, P), kind == "lumped"))
+    codes = [{"none": lj.KIND_NONE, "lumped": lj.KIND_LUMPED, "fe1d": lj.KIND_FE1D}[k] for k in kinds]
+    return out, codes
+
+
+def pack_plates(plates, arrays) -> None:
+    """The plates' rows into their float64 copies (before a chunk)."""
+    for plate, (arr, copy) in zip(plates, arrays):
+        if copy:
+            arr[5][:] = plate.integ.P if hasattr(plate, "integ") else plate.P
+
+
+def unpack_plates(plates, arrays) -> None:
+    """The float64 copies back into the plates' rows (the Python loop's state)."""
+    for plate, (arr, copy) in zip(plates, arrays):
+        if copy:
+            target = plate.integ.P if hasattr(plate, "integ") else plate.P
+            target[:] = arr[5].tolist()
 
 
 def warm(sim) -> None:
@@ -112,14 +161,20 @@ class CompiledLoop:
     """Runs steps 1.. of simulate()'s loop compiled; see run()."""
 
     def __init__(self, sim, lj, kinds, every, n_rows, cols, inject_failure_at):
-        self.sim, self.lj = sim, lj
-        self.kinds, self.cols = kinds, list(cols)
+        self._setup(sim, lj, kinds, every, n_rows, cols, inject_failure_at)
         mech = sim.mechanics
         self.MC = np.array(mech.C)
         self.MS = np.array(mech.S, dtype=float)
         self.MSAVE = np.zeros(len(mech.S))
         self.A, self.T, self.D = (np.asarray(x, dtype=float) for x in (mech._a_step, mech._t, mech._d))
-        self.LW1, self.LW2 = (np.array(law.P) for law in sim.laws)
+        self._call(np.zeros((1, len(cols))))   # load the kernel now (build() did: warm()), not in the timed loop
+
+    def _setup(self, sim, lj, kinds, every, n_rows, cols, inject_failure_at):
+        """What every two-interface compiled loop holds besides its stepper's arrays."""
+        self.sim, self.lj = sim, lj
+        self.run_chunk = lj.run_chunk        # the bidirectional loop sets its own (same ctl, F, plates)
+        self.kinds, self.cols = kinds, list(cols)
+        self.LW1, self.LW2 = law_rows(sim.laws)
         N = sim.n_steps
         # the Python loop takes over at an injected failure
         self.n_stop = N if inject_failure_at is None else min(N, inject_failure_at - 1)
@@ -131,23 +186,10 @@ class CompiledLoop:
         self.ctl = np.zeros(lj.N_CTL, dtype=np.int64)
         self.ctl[lj.C_NROWS], self.ctl[lj.C_EVERY], self.ctl[lj.C_N] = n_rows, every, N
         self.ctl[lj.C_HEAT] = any(k != "none" for k in kinds)
-        code = {"none": lj.KIND_NONE, "lumped": lj.KIND_LUMPED, "fe1d": lj.KIND_FE1D}
-        self.ctl[lj.C_KIND1], self.ctl[lj.C_KIND2] = (code[k] for k in kinds)
         self.row = np.zeros(len(cols))
-        self.plates = []             # per plate: (Mb, Ab, FAC, V, I, P) and whether P is a copy
-        # stand-ins of the fe1d arrays, of their types (one compiled signature for every mix;
-        # (2, 2) in Fortran order: a (2, 1) array would also be C-contiguous, typed 'C' by numba)
-        dummy_f, dummy_i = np.zeros(1), np.zeros(8, dtype=np.int32)
-        dummy_F, dummy_T = np.zeros((2, 2), order="F"), tuple(np.zeros(1) for _ in range(6))
-        for plate, kind in zip(sim.plates, kinds):
-            if kind == "fe1d":
-                it = plate.integ
-                P = it.P if isinstance(it.P, np.ndarray) else np.array(it.P)
-                self.plates.append(((it.Mb, it.Ab, it.FAC, it.V, it.I, P), P is not it.P))
-            else:
-                P = np.array(plate.P) if kind == "lumped" else dummy_f
-                self.plates.append(((dummy_F, dummy_F, dummy_T, dummy_T, dummy_i, P), kind == "lumped"))
-        self._call(np.zeros((1, len(cols))))   # load the kernel now (build() did: warm()), not in the timed loop
+        # per plate: (Mb, Ab, FAC, V, I, P) and whether P is a copy
+        self.plates, codes = plate_arrays(sim.plates, kinds, lj)
+        self.ctl[lj.C_KIND1], self.ctl[lj.C_KIND2] = codes
 
     def _args(self, buf):
         (p1, _), (p2, _) = self.plates
@@ -156,21 +198,16 @@ class CompiledLoop:
 
     def _call(self, buf):
         """run_chunk from ctl[C_NDONE] to ctl[C_NEND] (0 to 0: just the dispatch)."""
-        return self.lj.run_chunk(*self._args(buf))
+        return self.run_chunk(*self._args(buf))
 
     # -- the models' state vectors <-> their float64 copies ------------------------------
     def _pack(self):
         self.MS[:] = self.sim.mechanics.S
-        for plate, (arrays, copy) in zip(self.sim.plates, self.plates):
-            if copy:
-                arrays[5][:] = plate.integ.P if hasattr(plate, "integ") else plate.P
+        pack_plates(self.sim.plates, self.plates)
 
     def _unpack(self):
         self.sim.mechanics.S[:] = self.MS.tolist()
-        for plate, (arrays, copy) in zip(self.sim.plates, self.plates):
-            if copy:
-                target = plate.integ.P if hasattr(plate, "integ") else plate.P
-                target[:] = arrays[5].tolist()
+        unpack_plates(self.sim.plates, self.plates)
 
     # -- the run -----------------------------------------------------------------------
     def run(self, buf, k, last_row, T1, T2, mu1, mu2, bar=None, hottest=None, hot_every=1,
@@ -190,7 +227,7 @@ class CompiledLoop:
         ctl[lj.C_NROWS] = len(buf)
         F[lj.F_T1], F[lj.F_T2], F[lj.F_MU1], F[lj.F_MU2] = T1, T2, mu1, mu2
         self._pack()
-        run_chunk = lj.run_chunk
+        run_chunk = self.run_chunk
         args = self._args(buf)
         events = (bar, hottest, hot_every, on_frame, frame_every)
         out = Outcome()

@@ -8,7 +8,10 @@ T_i^{n+1}; a row of the history every ``every`` steps. Every piece of
 physics it calls is the models' own kernel (friction_kernel,
 two_phase_kernel, lumped_kernel, column_kernel), so the compiled run and the
 Python loop in coupling/run.py compute the same numbers; coupling/fast_loop.py
-drives it between simulate()'s events.
+drives it between simulate()'s events. The per-interface pieces below
+(interface_heat, plate_step/stored/lost, two_plate_row, keep_row, end_chunk)
+and the ctl / F layout are also the bidirectional and TFP loops' own
+(coupling/bidirectional_loop_kernel.py, coupling/tfp_loop_kernel.py).
 
 Where the Python loop would raise (division by zero, an overturned pad, an
 overflow in a power, a non-finite temperature or friction coefficient), the
@@ -81,6 +84,73 @@ def plate_lost(kind, P):
     return 0.0
 
 
+# -- the pieces of a staggered step every compiled loop shares (this DFP loop, the
+# -- bidirectional one, coupling/bidirectional_loop_kernel.py, and the TFP's,
+# -- coupling/tfp_loop_kernel.py)
+
+def plate_centre_2d(kind, P, cx, cy):
+    """The centre plate_step takes for a 2D footprint centre (cx, cy)
+    (bidirectional runs; the fe1d column's own rule, column_kernel.centre_2d)."""
+    if kind == KIND_FE1D:
+        return ck.centre_2d(P, cx, cy)
+    return 0.0
+
+
+def interface_heat(kind, Mb, Ab, FAC, V, I, P, eta, dW, dt, centre_m, T):
+    """The temperature of an interface's plate after the step: the share eta
+    of the friction work dW over the step (eta dW / dt, W) into the plate at
+    the footprint centre_m; T unchanged without a plate."""
+    q = eta * dW / dt
+    if kind == KIND_NONE:
+        return T
+    return plate_step(kind, Mb, Ab, FAC, V, I, P, q, centre_m)
+
+
+def two_plate_row(row, j, heat, mu1, mu2, T1, T2, kind1, V1, I1, P1, kind2, V2, I2, P2):
+    """The loop's columns after the stepper's j values: mu1, mu2 and, with
+    plates, T1_C, T2_C, E_stored_J, E_air_J."""
+    row[j] = mu1
+    row[j + 1] = mu2
+    if heat:
+        row[j + 2] = T1
+        row[j + 3] = T2
+        row[j + 4] = plate_stored(kind1, V1, I1, P1) + plate_stored(kind2, V2, I2, P2)
+        row[j + 5] = plate_lost(kind1, P1) + plate_lost(kind2, P2)
+
+
+def keep_row(buf, row, k, n_rows, n, last_row):
+    """Step n's row into buf[k] -> (status, k, last_row): ROW_FAILED (row not
+    finite, nothing kept), FULL (buf has no room left after it) or RUNNING.
+    A row finds no room only after FULL was ignored: it is not kept then."""
+    ncol = row.shape[0]
+    s = 0.0
+    for i in range(ncol):
+        s += row[i]
+    if not math.isfinite(s):
+        return ROW_FAILED, k, last_row
+    if k < n_rows:
+        for i in range(ncol):
+            buf[k, i] = row[i]
+        k += 1
+        last_row = n
+        if k == n_rows:
+            return FULL, k, last_row
+    return RUNNING, k, last_row
+
+
+def end_chunk(ctl, status, n, n_end, k, last_row):
+    """The counters after a chunk that ended with status at step n: the
+    steps done (n_end when DONE, n when FULL, else n - 1: step n is the
+    Python loop's or failed), rows kept, the last row's step, the status."""
+    if status == DONE:
+        ctl[C_NDONE] = n_end
+    elif status == FULL:
+        ctl[C_NDONE] = n
+    else:
+        ctl[C_NDONE] = n - 1
+    ctl[C_K], ctl[C_LAST], ctl[C_STATUS] = k, last_row, status
+
+
 def run_chunk(MC, MS, MSAVE, A, T, D, LW1, LW2, F,
               Mb1, Ab1, FAC1, V1, I1, P1, Mb2, Ab2, FAC2, V2, I2, P2, buf, row, ctl):
     """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
@@ -97,7 +167,6 @@ def run_chunk(MC, MS, MSAVE, A, T, D, LW1, LW2, F,
     area, eta1, eta2, dt = F[F_AREA], F[F_ETA1], F[F_ETA2], F[F_DT]
     T1, T2 = F[F_T1], F[F_T2]
     mu1, mu2 = F[F_MU1], F[F_MU2]
-    ncol = row.shape[0]
     status = DONE
     n = n0
     for n in range(n0 + 1, n_end + 1):
@@ -121,41 +190,15 @@ def run_chunk(MC, MS, MSAVE, A, T, D, LW1, LW2, F,
         if heat:
             th = MS[tp.TH]
             c1, c2 = MC[tp.CR1] * th, -(MC[tp.CR2] * th)      # footprint centres (mech.s1, -mech.s2)
-            q1, q2 = eta1 * dW1 / dt, eta2 * dW2 / dt           # heat into each plate (W)
-            if kind1 != KIND_NONE:
-                T1 = plate_step(kind1, Mb1, Ab1, FAC1, V1, I1, P1, q1, c1)
-            if kind2 != KIND_NONE:
-                T2 = plate_step(kind2, Mb2, Ab2, FAC2, V2, I2, P2, q2, c2)
+            T1 = interface_heat(kind1, Mb1, Ab1, FAC1, V1, I1, P1, eta1, dW1, dt, c1, T1)
+            T2 = interface_heat(kind2, Mb2, Ab2, FAC2, V2, I2, P2, eta2, dW2, dt, c2, T2)
         if n % every == 0 or n == N:
             tp.values(MC, MS, T, D, row)
-            j = tp.N_VALUES
-            row[j] = mu1
-            row[j + 1] = mu2
-            if heat:
-                row[j + 2] = T1
-                row[j + 3] = T2
-                row[j + 4] = plate_stored(kind1, V1, I1, P1) + plate_stored(kind2, V2, I2, P2)
-                row[j + 5] = plate_lost(kind1, P1) + plate_lost(kind2, P2)
-            s = 0.0
-            for i in range(ncol):
-                s += row[i]
-            if not math.isfinite(s):
-                status = ROW_FAILED
+            two_plate_row(row, tp.N_VALUES, heat, mu1, mu2, T1, T2, kind1, V1, I1, P1, kind2, V2, I2, P2)
+            kept, k, last_row = keep_row(buf, row, k, n_rows, n, last_row)
+            if kept != RUNNING:
+                status = kept
                 break
-            if k < n_rows:
-                for i in range(ncol):
-                    buf[k, i] = row[i]
-                k += 1
-                last_row = n
-                if k == n_rows:
-                    status = FULL
-                    break
-    if status == DONE:
-        ctl[C_NDONE] = n_end
-    elif status == FULL:
-        ctl[C_NDONE] = n
-    else:
-        ctl[C_NDONE] = n - 1
-    ctl[C_K], ctl[C_LAST], ctl[C_STATUS] = k, last_row, status
+    end_chunk(ctl, status, n, n_end, k, last_row)
     F[F_T1], F[F_T2], F[F_MU1], F[F_MU2] = T1, T2, mu1, mu2
     return status

@@ -122,5 +122,6 @@ def test_no_numba_twin_of_a_kernel():
 def test_the_kernel_modules_are_kernels():
     import importlib
     for name in ("fpd.mechanics.friction_kernel", "fpd.mechanics.two_phase_kernel", "fpd.mechanics.seated_kernel",
-                 "fpd.thermal.lumped_kernel", "fpd.thermal.column_kernel", "fpd.coupling.loop_kernel"):
+                 "fpd.thermal.lumped_kernel", "fpd.thermal.column_kernel", "fpd.coupling.loop_kernel",
+                 "fpd.coupling.bidirectional_loop_kernel", "fpd.coupling.tfp_loop_kernel"):
         assert kernels.is_kernel_module(importlib.import_module(name)), name

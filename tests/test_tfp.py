@@ -251,8 +251,9 @@ def test_small_angle_loop_area_and_the_series_model():
 
 
 def test_compiled_loop_matches_python_loop(monkeypatch):
-    """coupling/tfp_fast.py (compiled mechanics + fe1d / lumped plates + laws)
-    gives the Python loop's history bit for bit."""
+    """coupling/tfp_fast.py (coupling/tfp_loop_kernel.py compiled: the TFP
+    kernel, the fe1d / lumped plates and the laws of loop_kernel and
+    friction_kernel) gives the Python loop's history bit for bit."""
     pytest.importorskip("numba")
     from fpd import kernels
     if not kernels.available():
@@ -260,8 +261,12 @@ def test_compiled_loop_matches_python_loop(monkeypatch):
     from fpd.coupling import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
+    from fpd.coupling import loop_kernel as lk
+    from fpd.coupling import tfp_fast
     from fpd.coupling.tfp_fast import compiled_tfp
 
+    assert (tfp_fast.OK, tfp_fast.REPLAY, tfp_fast.ROW_FAILED, tfp_fast.FULL) == (lk.DONE, lk.REPLAY,
+                                                                                  lk.ROW_FAILED, lk.FULL)
     sets = ["solver.duration=3", "thermal.slider_upper.model=lumped", "output.csv_every=7"]
     sim = build(scn.load("tfp-elcentro", sets))
     assert compiled_tfp(sim, 7, 45) is not None

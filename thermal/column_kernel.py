@@ -18,6 +18,8 @@ Python list on the pure path, float64 on the compiled one).
 """
 from __future__ import annotations
 
+import math
+
 from .column_blas import accept, band_mv, copy, difference, dot, pt_solve
 
 __kernel__ = True
@@ -156,6 +158,17 @@ def plate_step(Mb, Ab, FAC, V, I, P, power_W, centre_m):
         power_W = 0.0
     step(Mb, Ab, FAC, V, I, P, power_W)
     return float(V[V_U][0]) + float(P[P_TAIR])
+
+
+def centre_2d(P, cx, cy):
+    """The centre plate_step tests for a 2D footprint centre (cx, cy)
+    (bidirectional runs): a fixed-point column at (r0, 0) is covered when it
+    lies within a of it (FE1DPlate.covered): r0 itself then, else a point
+    out of reach."""
+    r0, a = P[P_R0], P[P_AC]
+    if math.hypot(cx - r0, cy) <= a:
+        return r0
+    return r0 + 2.0 * a + 1.0
 
 
 def stored(V, I, P):

@@ -228,7 +228,9 @@ class FE1DPlate:
         """Advance dt with power_W over the footprint at centre_m; return the
         column's surface temperature (degC) at the end of the step."""
         it = self.integ
-        return it.kern.plate_step(it.Mb, it.Ab, it.FAC, it.V, it.I, it.P, float(power_W), centre_m)
+        if isinstance(centre_m, tuple):     # a 2D footprint path (bidirectional runs): the kernel's scalar
+            centre_m = it.kern.centre_2d(it.P, float(centre_m[0]), float(centre_m[1]))
+        return it.kern.plate_step(it.Mb, it.Ab, it.FAC, it.V, it.I, it.P, float(power_W), float(centre_m))
 
     def surface_temperature(self) -> float:
         return float(self.integ.u[0] + self.params.T_air_C)
