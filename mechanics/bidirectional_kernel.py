@@ -44,6 +44,8 @@ docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
+from .two_phase_kernel import _sinc as sinc, rocking_increment   # the planar stepper's, one source
+
 __kernel__ = True
 
 # -- constants array C ---------------------------------------------------------
@@ -74,11 +76,6 @@ FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 50
 
 
-def sinc(x):
-    """sin(x) / x, exact near 0 (as the planar stepper's)."""
-    if abs(x) < 1e-4:
-        return 1.0 - x * x / 6.0
-    return math.sin(x) / x
 
 
 def corner_pivot_rotation(a, eta_bottom, eta_top, h, R2, shift):
@@ -389,18 +386,7 @@ def _tilt(C, S, ax, ay, h):
     Fe, Fu, ge, gu = _plane_fields(C, S, ax, ay)
     IP, Xb, Zb = C[C_IP], C[C_XB], C[C_ZB]
     b0, w0 = S[S_BETA], S[S_BETAD]
-    db = h * w0
-    w1 = w0
-    for _ in range(FIXED_POINT_ITERS):
-        mid = b0 + 0.5 * db
-        c, s = math.cos(mid), math.sin(mid)
-        torque = sinc(0.5 * db) * (-Fe * (s * Xb + c * Zb) + Fu * (c * Xb - s * Zb))
-        w1 = w0 + h * torque / IP
-        db_new = 0.5 * h * (w0 + w1)
-        if abs(db_new - db) <= FIXED_POINT_TOL:
-            db = db_new
-            break
-        db = db_new
+    db, w1 = rocking_increment(b0, w0, h, IP, Xb, Zb, Fe, Fu)
     b1 = b0 + db
     S[S_MODE] = TILT
     S[S_BETA2] = 0.0

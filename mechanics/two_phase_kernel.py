@@ -74,6 +74,29 @@ def _sinc(x):
     return math.sin(x) / x
 
 
+def rocking_increment(b0, w0, h, I_P, X, Z, fe, fu):
+    """Eq. (7) over a (part-)step h: the rocking angle's increment db and end
+    rate w1 of the rigid chain about the pivot (inertia I_P about it, mass
+    centre at (X, Z) in the pad frame) under the constant in-plane specific
+    forces (fe along the plane, fu upward: fe = -a_ground, fu = -g on a
+    planar device), by the discrete-gradient midpoint rule (the step's work
+    equals the potential's change), a fixed point on db. The one rocking
+    integrator of both the planar and the bidirectional steppers."""
+    db = h * w0
+    w1 = w0
+    for _ in range(FIXED_POINT_ITERS):
+        mid = b0 + 0.5 * db
+        c, s = math.cos(mid), math.sin(mid)
+        torque = _sinc(0.5 * db) * (-fe * (s * X + c * Z) + fu * (c * X - s * Z))
+        w1 = w0 + h * torque / I_P
+        db_new = 0.5 * h * (w0 + w1)
+        if abs(db_new - db) <= FIXED_POINT_TOL:
+            db = db_new
+            break
+        db = db_new
+    return db, w1
+
+
 def corner_pivot_rotation(S, a, eta_bottom, eta_top, h, R2, shift):
     e = abs(shift)
     px, pz = -a - e, eta_bottom - h + R2
@@ -308,19 +331,7 @@ def _tilt(C, S, a, h, mu1, mu2):
     sign = S[CH + 7]
     g = C[CG]
     b0, w0 = S[BETA], S[BETAD]
-    db = h * w0
-    w1 = w0
-    tol = FIXED_POINT_TOL
-    for _ in range(FIXED_POINT_ITERS):
-        mid = b0 + 0.5 * db
-        c, s = math.cos(mid), math.sin(mid)
-        torque = _sinc(0.5 * db) * (a * (s * X0 + c * Z0) - g * (c * X0 - s * Z0))
-        w1 = w0 + h * torque / I_P
-        db_new = 0.5 * h * (w0 + w1)
-        if abs(db_new - db) <= tol:
-            db = db_new
-            break
-        db = db_new
+    db, w1 = rocking_increment(b0, w0, h, I_P, X0, Z0, -a, -g)
     b1 = b0 + db
     S[MODE] = TILT
     S[B2] = 0.0
