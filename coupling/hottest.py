@@ -122,7 +122,8 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
       zoomed on the heated track and the heated layer, the footprint's
       half-width marked;
     - a 3-D field (fe3d: x, y in the face, depth): the sliding face coloured
-      by T (nodes on the face) and the section through the hottest node.
+      by T (nodes on the face) and the section through the heated track's
+      centre line.
 
     The title gives the hottest node and, when known, what the run's
     T1_C / T2_C column holds at that time (the model's surface quantity:
@@ -202,9 +203,14 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
         ax.set_xlabel("x (mm)")
         ax.set_ylabel("y (mm)")
         ax.set_title("sliding face", fontsize=9)
-        k = int(np.nanargmax(T))
+        # the section through the heated track's centre line: the face nodes'
+        # y weighted by their rise over half the peak (the hottest node can sit
+        # at the footprint's rim, where a section would graze the track)
+        rise = np.where(face, T - np.nanmin(T), 0.0)
+        w = np.where(rise >= 0.5 * np.nanmax(rise), rise, 0.0)
+        yc = float(np.sum(w * points[:, 1]) / np.sum(w)) if np.sum(w) > 0 else float(points[int(np.nanargmax(T)), 1])
         ys = np.unique(points[:, 1])
-        yk = ys[np.argmin(np.abs(ys - points[k, 1]))]
+        yk = ys[np.argmin(np.abs(ys - yc))]
         sel = np.abs(points[:, 1] - yk) <= 1e-9 * max(ext[1], 1e-12) + 1e-12
         ax = axes[1]
         pc = ax.tripcolor(Triangulation(1e3 * points[sel, 0], 1e3 * depth[sel]), T[sel], shading="gouraud",
@@ -216,7 +222,7 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
         ax.set_ylim(1e3 * min(float(depth.max()), max(2.0 * d1, 2e-3)), 0.0)
         ax.set_xlabel("x (mm, zoomed)")
         ax.set_ylabel("depth (mm, zoomed)")
-        ax.set_title(f"section y = {1e3 * yk:.0f} mm through the hottest node", fontsize=9)
+        ax.set_title(f"section y = {1e3 * yk:.0f} mm through the heated track", fontsize=9)
     head = f"{label} at its hottest, t = {t:.3f} s: hottest node {tmax:.2f} {DEG}"
     if surface is not None and what is not None:
         head += f"\n{column} at that time: {surface:.2f} {DEG}, the {what}"
