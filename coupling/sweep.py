@@ -3,7 +3,8 @@
 A sweep file names a base scene and axes (dotted scene keys, each with a list
 of values), combined as their product or zipped; a member whose loading names
 a FEMA P695 record set without a record is expanded into one member per
-component. Each member runs in-process on a Dask worker (scene.validate ->
+component (one per record, bidirectional, with ``loading.component =
+"pair"``). Each member runs in-process on a Dask worker (scene.validate ->
 build -> simulate -> output.summary): a LocalCluster of one single-threaded
 worker process per core by default, or the workers of an existing scheduler
 (``--scheduler tcp://host:8786``, e.g. started on SLURM with dask-jobqueue,
@@ -207,6 +208,11 @@ def expand(sw: Sweep) -> list[Member]:
                 raise SceneError(f"{sw.path}: loading.record_set = {ld['record_set']!r}: {exc}") from None
             if comps is None:       # let the scene's own check name what is allowed
                 comps = [(1, "a")]
+            want = ld.get("component")
+            if want == "pair":      # one bidirectional member per record (a on x, b on y)
+                comps = [(rid, "pair") for rid in dict.fromkeys(rid for rid, _ in comps)]
+            elif want in ("a", "b"):  # one component of every record
+                comps = [(rid, c) for rid, c in comps if c == want]
             for rid, comp in comps:
                 r = scn.apply_overrides(raw, [_override("loading.record_id", rid), _override("loading.component", comp)])
                 ax = dict(combo)

@@ -57,6 +57,8 @@ def planar_only(ctx, data, device: str) -> None:
     if ld["kind"] == "record":
         if ld.get("file_y") is not None:
             ctx.fail("loading.file_y", ld["file_y"], f"is not allowed: {why}")
+        if ld.get("component") == "pair":
+            ctx.fail("loading.component", "pair", f'must be "a" or "b": {why}')
         if ld.get("record") in RECORD_PAIRS:
             ctx.fail("loading.record", ld["record"], f"must be a single-component record: {why}")
         if ld.get("angle_deg", 0.0) != 0.0:

