@@ -71,10 +71,20 @@ def _who() -> str:
 
 
 def _holder(path: Path) -> str:
-    try:
-        text = path.read_text(errors="replace").strip()
-    except OSError:
-        text = ""
+    """Who holds the lock, as it wrote itself into the lock file. A holder
+    that has just taken the lock writes itself a moment later: wait for that
+    moment (up to 0.5 s) rather than name nobody."""
+    import time
+
+    text = ""
+    for _ in range(50):
+        try:
+            text = path.read_text(errors="replace").strip()
+        except OSError:
+            text = ""
+        if text:
+            break
+        time.sleep(0.01)
     return text.splitlines()[0] if text else "another process (it has not said which yet)"
 
 
