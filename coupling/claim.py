@@ -230,11 +230,13 @@ class Claim:
                 break
 
     # -- tidying under the claim -------------------------------------------------------
-    def tidy(self) -> None:
+    def tidy(self, partials: bool = True) -> None:
         """Leftovers of writers of DIR that died (module docstring); only with
-        the claim held, so none of them can belong to a live writer."""
+        the claim held, so none of them can belong to a live writer.
+        ``partials=False``: the caller takes over dead writers' temporary
+        folders itself (a sweep adopts their finished members)."""
         parent, name = self.abs.parent, self.abs.name
-        for p in parent.glob(f".{name}.partial-*"):
+        for p in parent.glob(f".{name}.partial-*") if partials else ():
             shutil.rmtree(p, ignore_errors=True)
         for p in sorted(parent.glob(f".{name}.old-*")):
             if os.path.lexists(self.abs):
@@ -245,14 +247,14 @@ class Claim:
 
 
 @contextlib.contextmanager
-def claim(out, force: bool = False, check: bool = True):
+def claim(out, force: bool = False, check: bool = True, partials: bool = True):
     """Hold DIR = ``out`` exclusively for the block (FolderBusy, exit 2, if
     another process holds it). ``check``: then refuse a DIR that is not free
     (exists, not empty, without ``force``), now that nobody else can change
     that. Yields the Claim."""
     c = Claim(out).acquire()
     try:
-        c.tidy()
+        c.tidy(partials)
         if check:
             from .output import check_out_dir
             check_out_dir(c.out, force)
@@ -265,7 +267,7 @@ _PROCESS = contextlib.ExitStack()        # claims of commands called without cli
 _registered = False
 
 
-def hold(args, out, check: bool = True) -> Claim:
+def hold(args, out, check: bool = True, partials: bool = True) -> Claim:
     """Claim ``out`` for the rest of the command: released when ``cli.main``
     returns (``args.claims``, an ExitStack), whatever happens."""
     args.claimed = getattr(args, "claimed", []) + [Path(out)]
@@ -277,4 +279,4 @@ def hold(args, out, check: bool = True) -> Claim:
             atexit.register(_PROCESS.close)
             _registered = True
         stack = _PROCESS
-    return stack.enter_context(claim(out, getattr(args, "force", False), check))
+    return stack.enter_context(claim(out, getattr(args, "force", False), check, partials))

@@ -103,6 +103,8 @@ def cmd_map(args) -> int:
     kind = "quick" if args.quick else "full"
     grid = GRIDS[kind]
     out = Path(args.out) if args.out else Path("results") / f"map-{kind}"
+    from .claim import hold
+    hold(args, out, check=False)    # one writer of DIR at a time (coupling/claim.py)
     if out.exists() and not out.is_dir():
         raise SceneError(f"{out}: exists and is not a folder (--out)")
     if out.is_dir() and any(out.iterdir()) and not (out / "sweep").is_dir() and not args.force:

@@ -430,6 +430,8 @@ def _adopt_stale(out: Path, store: Path) -> None:
                         os.link(f, store / f.name)
                     except OSError:
                         shutil.copy2(f, store / f.name)
+        if tmp.resolve() != store.parent.resolve():
+            shutil.rmtree(tmp, ignore_errors=True)     # taken over: the dead sweep's folder goes
 
 
 def read_store(store: Path) -> dict:
@@ -745,4 +747,8 @@ def cmd_sweep(args) -> int:
     out = Path(args.out) if args.out else Path("results") / sw.name
     if args.workers is not None and args.workers < 1:
         raise SceneError(f"--workers {args.workers}: must be >= 1")
+    from .claim import hold
+    # one writer of DIR at a time (coupling/claim.py); checking DIR, resuming and taking over a
+    # killed sweep's finished members (its temporary folder) are run_sweep's
+    hold(args, out, check=False, partials=False)
     return run_sweep(sw, out, args.workers, args.scheduler, args.force, args.quiet)

@@ -102,6 +102,21 @@ def test_bad_sweep_file_is_one_line_and_writes_nothing(lite, capsys, body, needl
     assert not out.exists() and not list(lite.glob(".out*"))
 
 
+def test_sweep_refuses_a_folder_another_command_writes(lite, capsys):
+    """Two writers never share a sweep's DIR: with the folder claimed (as a
+    running fpd run, sweep or map holds it), fpd sweep exits 2 with one line
+    and writes nothing there."""
+    from fpd.coupling.claim import claim
+
+    s = _write(lite, 'scene = "lite.toml"\n[axes]\n"friction.mu" = [0.05]\n')
+    out = lite / "out"
+    with claim(out, False, False):
+        assert cli.main(["sweep", str(s), "--out", str(out), "--workers", "1", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "in use by" in err, err
+    assert not out.exists()
+
+
 def test_expansion_product_zip_and_hash(lite):
     s = _write(lite, 'scene = "lite.toml"\n[axes]\n"friction.mu" = [0.05, 0.06]\n'
                      '"loading.velocity_mps" = [0.2, 0.4, 0.6]\n')
