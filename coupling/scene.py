@@ -582,14 +582,7 @@ def _cross_checks(ctx: _Ctx, data: dict):
         if data["mechanics"]["model"] == "two-phase":
             # the test machine holds the superstructure: the seated model describes it
             data["mechanics"]["model"] = "seated"
-    if "duration" in sol and sol["dt"] > sol["duration"]:
-        ctx.fail("solver.dt", sol["dt"], f"must not exceed solver.duration = {sol['duration']:g} s")
-    length = loading_length(ld)
-    if length is not None and "duration" not in sol and sol["dt"] > length:
-        ctx.fail("solver.dt", sol["dt"], f"must not exceed the loading's length {length:g} s")
-    length = sol.get("duration", length)
-    if length is not None:
-        check_steps(ctx.path, sol["dt"], length)
+    check_time_grid(ctx, ld, sol)
     for side in ("lower", "upper"):
         t = data["thermal"][side]
         n_key = {"fe1d": "n_elements", "axisym": "nz", "fe3d": "nz"}.get(t["model"])
@@ -611,6 +604,19 @@ def _cross_checks(ctx: _Ctx, data: dict):
         if dev["pad_diameter"] / 2 > t["plate_radius"] and t["model"] != "none":
             ctx.fail("thermal.plate_radius", t["plate_radius"],
                      f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
+
+
+def check_time_grid(ctx: _Ctx, ld: dict, sol: dict) -> None:
+    """solver.dt against solver.duration (or the loading's own length), and
+    the number of steps they make: the same for every device."""
+    if "duration" in sol and sol["dt"] > sol["duration"]:
+        ctx.fail("solver.dt", sol["dt"], f"must not exceed solver.duration = {sol['duration']:g} s")
+    length = loading_length(ld)
+    if length is not None and "duration" not in sol and sol["dt"] > length:
+        ctx.fail("solver.dt", sol["dt"], f"must not exceed the loading's length {length:g} s")
+    length = sol.get("duration", length)
+    if length is not None:
+        check_steps(ctx.path, sol["dt"], length)
 
 
 def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:

@@ -78,7 +78,7 @@ def planar_only(ctx, data, device: str) -> None:
 def tfp_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "TFP")
     from fpd.mechanics.tfp import tfp_geometry_errors
-    from .scene import check_steps, loading_length
+    from .scene import check_time_grid
 
     geom = tfp_geometry(data)
     for key, value, allowed in tfp_geometry_errors(geom):
@@ -87,14 +87,7 @@ def tfp_cross_checks(ctx, data) -> None:
     if ld["kind"] == "displacement" and ld["amplitude_m"] >= geom.capacity:
         ctx.fail("loading.amplitude_m", ld["amplitude_m"],
                  f"must be < the TFP's displacement capacity {geom.capacity:.4g} m (all four rims)")
-    if "duration" in sol and sol["dt"] > sol["duration"]:
-        ctx.fail("solver.dt", sol["dt"], f"must not exceed solver.duration = {sol['duration']:g} s")
-    length = loading_length(ld)
-    if length is not None and "duration" not in sol and sol["dt"] > length:
-        ctx.fail("solver.dt", sol["dt"], f"must not exceed the loading's length {length:g} s")
-    length = sol.get("duration", length)
-    if length is not None:
-        check_steps(ctx.path, sol["dt"], length)
+    check_time_grid(ctx, ld, sol)
     dev = data["device"]
     for part, t in data["thermal"].items():
         where = f"thermal.{part}"
@@ -129,19 +122,12 @@ def flat_device(ctx, data, raw) -> None:
 
 def flat_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "flat bearing")
-    from .scene import check_steps, loading_length
+    from .scene import check_time_grid
 
     ld, sol, dev = data["loading"], data["solver"], data["device"]
     if data["output"]["vtk_every"] > 0:
         ctx.fail("output.vtk_every", data["output"]["vtk_every"], "must be 0 for the flat bearing (no VTK yet)")
-    if "duration" in sol and sol["dt"] > sol["duration"]:
-        ctx.fail("solver.dt", sol["dt"], f"must not exceed solver.duration = {sol['duration']:g} s")
-    length = loading_length(ld)
-    if length is not None and "duration" not in sol and sol["dt"] > length:
-        ctx.fail("solver.dt", sol["dt"], f"must not exceed the loading's length {length:g} s")
-    length = sol.get("duration", length)
-    if length is not None:
-        check_steps(ctx.path, sol["dt"], length)
+    check_time_grid(ctx, ld, sol)
     for side, t in data["thermal"].items():
         if t["model"] != "none" and dev["pad_diameter"] / 2 > t["plate_radius"]:
             ctx.fail("thermal.plate_radius", t["plate_radius"], f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
