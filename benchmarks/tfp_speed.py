@@ -1,6 +1,6 @@
 """Speed of the TFP's compiled loop: `python benchmarks/tfp_speed.py [--repeat N]`.
 
-The packaged tfp-elcentro scene (rigid seated TFP, fe1d on all four heated
+The packaged tfp-elcentro scene (rigid seated TFP, or ``--model two-phase``, fe1d on all four heated
 parts, El Centro x 2) at dt = 1 ms: the time-stepping loop's own time
 (Result.runtime_s: stepping only, not imports, compilation or storing), best
 of N runs in one process (the machine may be shared: the best run is the
@@ -30,10 +30,18 @@ def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--python", action="store_true", help="also time the Python loop once")
+    ap.add_argument("--model", choices=("seated", "two-phase"), default="seated",
+                    help="mechanics.model of the run (the packaged scene's is seated)")
     args = ap.parse_args(argv)
     times = []
+
+    def scene():
+        sc = scn.load("tfp-elcentro")
+        sc.data["mechanics"]["model"] = args.model
+        return sc
+
     for i in range(args.repeat):
-        sim = build(scn.load("tfp-elcentro"))
+        sim = build(scene())
         t0 = time.perf_counter()
         r = simulate(sim)
         wall = time.perf_counter() - t0
@@ -44,7 +52,7 @@ def main(argv=None):
     print(f"best loop time: {min(times):.3f} s for {sim.n_steps} steps (target <= 1 s)")
     if args.python:
         os.environ["FPD_NO_JIT"] = "1"
-        sim = build(scn.load("tfp-elcentro"))
+        sim = build(scene())
         r = simulate(sim)
         print(f"Python loop: {r.runtime_s:.2f} s ({1e6 * r.runtime_s / sim.n_steps:.0f} us/step)")
 

@@ -185,8 +185,8 @@ KEYS: dict[str, tuple[str, str]] = {
     # [mechanics]
     "mechanics.model": ("", '"two-phase": the paper\'s rigid-body stepper (stick/slip/tilt, pad rocking); '
                             '"seated": the classical seated model (the pad never tilts). A displacement loading '
-                            'always uses the seated test machine. A TFP and the flat bearing have their '
-                            'seated model only ("two-phase" is refused).'),
+                            'always uses the seated test machine (a TFP: either model in the machine too). The '
+                            'flat bearing has its seated model only ("two-phase" is refused).'),
     "mechanics.normal_force": ("", 'The normal forces of a step: "start": frozen at the start of the step, '
                                    'the velocity projected on re-seating (the paper\'s section-3 scheme, '
                                    'first order); "midpoint": at the step midpoint, inside the fixed point '
@@ -346,15 +346,26 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground."),
     "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad; a TFP: and the slider plates; "
                      "the flat bearing: 0)."),
-    "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase)."),
+    "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
+                        "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
+                        "seated configuration at t_n+1 is stopped; first order in dt)."),
     "E_rim_J": ("J", "TFP: cumulative kinetic energy lost in the (inelastic) impacts on the rims."),
     "E_stored_J": ("J", "Heat stored in the plates (above the initial temperature; a TFP: its four parts)."),
     "E_air_J": ("J", "Cumulative heat lost to the air (and through the back face)."),
     # two-phase diagnostics (docs/two_phase.md, section 5)
-    "beta1_rad": ("rad", "Phase-1 rotation of the pad about its pivot."),
-    "beta2_rad": ("rad", "Phase-2 counter-rotation of the pad."),
+    "beta1_rad": ("rad", "Phase-1 rotation of the pad about its pivot (a TFP: about its trailing corner "
+                         "on S2, relative to the slider plates)."),
+    "beta2_rad": ("rad", "Phase-2 counter-rotation of the pad (a TFP: dalpha - beta1)."),
+    "gamma1_rad": ("rad", "TFP two-phase: phase-1 rotation of the slider plates and the frozen pad about "
+                          "the lower slider plate's trailing corner on S1 (Fig. 6e-n, 7b)."),
+    "gamma2_rad": ("rad", "TFP two-phase: phase-3 re-seating rotation of the slider plates, dphi - gamma1."),
+    "diagonal_plates": ("", "TFP two-phase: diagonal of the slider plates' phase-1 pivot: 0 = the corner "
+                            "behind a slide towards +x, 1 = on the way back."),
+    "phases": ("", "TFP two-phase: the paper's phases in the step: 0 stick, 2 one pair of surfaces slid "
+                   "(Fig. 6: pivot, then re-seating), 3 both pairs (Fig. 7: pivots, pad re-seats, then "
+                   "the slider plates)."),
     "pad_tilt_rad": ("rad", "Pad axis minus the line C1C2 at the end of phase 1."),
-    "diagonal": ("", "Diagonal the pad rests on: 0 = A-C, 1 = B-D."),
+    "diagonal": ("", "Diagonal the pad rests on: 0 = A-C, 1 = B-D (a TFP: the pad's pivot on S2)."),
     "ds1_m": ("m", "Slip increment of the lower interface in the step (signed)."),
     "ds2_m": ("m", "Slip increment of the upper interface in the step (signed)."),
     "Ff1_N": ("N", "Mobilised friction force of the lower interface, referred to the superstructure."),

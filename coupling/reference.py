@@ -89,6 +89,7 @@ COLUMN_SOURCES = (
     "fpd.mechanics.bidirectional:COLUMNS",
     "fpd.coupling.tfp_loop:ORDER",
     "fpd.mechanics.tfp:COLUMNS",
+    "fpd.mechanics.tfp:TWO_PHASE_COLUMNS",
     "fpd.mechanics.flat:COLUMNS",
 )
 

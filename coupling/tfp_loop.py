@@ -27,7 +27,7 @@ from .scene import TFP_PARTS, TFP_SURFACES, Scene
 ORDER = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "s1_m", "s2_m", "s3_m", "s4_m",
          "N1_N", "N2_N", "N3_N", "N4_N", "mu1", "mu2", "mu3", "mu4", "T1_C", "T2_C", "T3_C", "T4_C",
          "W1_J", "W2_J", "W3_J", "W4_J", "phase", "E_input_J", "E_kin_J", "E_pot_J", "E_rim_J",
-         "E_stored_J", "E_air_J")
+         "E_reseat_J", "E_stored_J", "E_air_J")
 
 
 def build_tfp(scene: Scene) -> Simulation:
@@ -37,7 +37,7 @@ def build_tfp(scene: Scene) -> Simulation:
     dt = scene["solver"]["dt"]
     geom = tfp_geometry(scene.data)
     loading = loading_of(scene, dt)
-    mech = TFPStepper(geom, loading)
+    mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"])
     dev = scene["device"]
     feet = (dev["slider_diameter"] / 2, dev["pad_diameter"] / 2, dev["pad_diameter"] / 2, dev["slider_diameter"] / 2)
     pp = tuple(PlateParams(**scene.thermal(part), a_contact_m=a) for part, a in zip(TFP_PARTS, feet))

@@ -47,6 +47,7 @@ def run_chunk(par, S, S0, A, U, UD, XG, machine, dt, LW, areas, eta, dd, KINDS,
     n0, n_end = ctl[lk.C_NDONE], ctl[lk.C_NEND]
     k, n_rows, every, last_row, N = ctl[lk.C_K], ctl[lk.C_NROWS], ctl[lk.C_EVERY], ctl[lk.C_LAST], ctl[lk.C_N]
     heat = ctl[lk.C_HEAT] != 0
+    nr = tk.n_row(par)                   # the stepper's columns come first
     status = lk.DONE
     n = n0
     for n in range(n0 + 1, n_end + 1):
@@ -68,16 +69,16 @@ def run_chunk(par, S, S0, A, U, UD, XG, machine, dt, LW, areas, eta, dd, KINDS,
         if n % every == 0 or n == N:
             tk.row_values(par, S, n * dt, XG[n], dd[0], dd[1], dd[2], dd[3], row)
             for i in range(4):
-                row[tk.N_ROW + i] = mu[i]
+                row[nr + i] = mu[i]
             if heat:
                 st = 0.0
                 lo = 0.0
                 for i in range(4):
-                    row[tk.N_ROW + 4 + i] = T[i]
+                    row[nr + 4 + i] = T[i]
                     st += lk.plate_stored(KINDS[i], Vs[i], Is[i], Ps[i])
                     lo += lk.plate_lost(KINDS[i], Ps[i])
-                row[tk.N_ROW + 8] = st
-                row[tk.N_ROW + 9] = lo
+                row[nr + 8] = st
+                row[nr + 9] = lo
             kept, k, last_row = lk.keep_row(buf, row, k, n_rows, n, last_row)
             if kept != lk.RUNNING:
                 status = kept

@@ -44,6 +44,8 @@ def make_tfp_plots(folder: Path, result, scene) -> list[str]:
         ax[1].plot(t, 1e-3 * result[f"W{i}_J"], label=f"friction work S{i}")
     ax[1].plot(t, 1e-3 * result["E_input_J"], "--", label="input work")
     ax[1].plot(t, 1e-3 * result["E_rim_J"], label="rim impact loss")
+    if "E_reseat_J" in result:
+        ax[1].plot(t, 1e-3 * result["E_reseat_J"], label="re-seating loss (two-phase)")
     ax[1].set_ylabel("energy (kJ)")
     ax[1].set_xlabel("t (s)")
     ax[1].legend(loc="upper left", fontsize=7)

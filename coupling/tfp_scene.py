@@ -38,11 +38,6 @@ def tfp_device(ctx, data, raw) -> None:
         dev["pad_mass"] = STEEL * math.pi * (dev["pad_diameter"] / 2) ** 2 * dev["pad_height"]
     if "slider_mass" not in dev:
         dev["slider_mass"] = STEEL * math.pi * (dev["slider_diameter"] / 2) ** 2 * dev["slider_height_lower"]
-    given = (raw.get("mechanics") or {}).get("model") if isinstance(raw.get("mechanics"), dict) else None
-    if given == "two-phase":
-        ctx.fail("mechanics.model", "two-phase", 'the TFP has the rigid seated model only so far: use "seated" '
-                 "(docs/model.md section 6)")
-    data["mechanics"]["model"] = "seated"
     if data["loading"]["kind"] == "heat":
         ctx.fail("loading.kind", "heat", 'a thermal-only scene ignores the device: use kind = "DFP" for it')
 

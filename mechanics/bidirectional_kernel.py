@@ -44,7 +44,7 @@ docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
-from .two_phase_kernel import _sinc as sinc, rocking_increment   # the planar stepper's, one source
+from .two_phase_kernel import _sinc as sinc, pivot_angle, rocking_increment   # the planar stepper's, one source
 
 __kernel__ = True
 
@@ -85,12 +85,7 @@ def corner_pivot_rotation(a, eta_bottom, eta_top, h, R2, shift):
     e = abs(shift)
     px, pz = -a - e, eta_bottom - h + R2
     rx, rz = 2.0 * a, eta_top - eta_bottom
-    P = px * rx + pz * rz
-    Q = pz * rx - px * rz
-    D = a * e - 0.5 * e * e
-    disc = Q * Q - D * (2.0 * P + D)
-    tau = D / (Q + math.sqrt(disc if disc > 0.0 else 0.0))
-    return 2.0 * math.atan(tau)
+    return pivot_angle(px, pz, rx, rz, a * e - 0.5 * e * e)
 
 
 def tangent_basis(nx, ny, nz):

@@ -37,6 +37,9 @@ COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
            "E_input_J", "E_kin_J", "E_pot_J", "E_rim_J",
            "phi_rad", "alpha_rad", "regime", "slide1", "slide2", "slide3", "slide4",
            "rim1", "rim2", "rim3", "rim4")
+# the two-phase model's own columns (docs/model.md 6.6), after COLUMNS
+TWO_PHASE_COLUMNS = ("E_reseat_J", "beta1_rad", "beta2_rad", "gamma1_rad", "gamma2_rad",
+                     "diagonal", "diagonal_plates", "phases")
 
 
 @dataclass(frozen=True)
@@ -138,7 +141,7 @@ class TFPGeometry:
             (self.mass, self.A, self.Li, 0.0, "none"),
         ]
 
-    def pack(self):
+    def pack(self, two_phase: bool = False):
         """The kernel's parameter vector (tfp_kernel.I_*)."""
         import numpy as np
         p = np.zeros(K.N_PAR)
@@ -156,6 +159,15 @@ class TFPGeometry:
         p[K.I_MS_LO] = p[K.I_MS_UP] = self.slider_mass
         p[K.I_MPAD] = self.pad_mass
         p[K.I_A_SL], p[K.I_A_PAD], p[K.I_B_PAD], p[K.I_A_SU] = b[0][1], b[1][1], b[1][2], b[2][1]
+        # the two-phase model's corners (docs/model.md 6.6)
+        ap, as_ = 0.5 * self.pad_diameter, 0.5 * self.slider_diameter
+        p[K.I_TWO] = 1.0 if two_phase else 0.0
+        p[K.I_AP], p[K.I_AS], p[K.I_HP] = ap, as_, self.pad_height
+        p[K.I_TL], p[K.I_TU], p[K.I_L4] = self.slider_height_lower, self.slider_height_upper, self.l4
+        p[K.I_EPB] = self.R2 - math.sqrt(self.R2 ** 2 - ap ** 2)
+        p[K.I_EPT] = self.pad_height - self.R3 + math.sqrt(self.R3 ** 2 - ap ** 2)
+        p[K.I_ESB] = self.R1 - math.sqrt(self.R1 ** 2 - as_ ** 2)
+        p[K.I_SQ4] = math.sqrt(self.R4 ** 2 - as_ ** 2)
         return p
 
     def static_weights(self) -> tuple:
@@ -203,8 +215,12 @@ class TFPStepper:
     columns = COLUMNS
     n_interfaces = 4
 
-    def __init__(self, geom: TFPGeometry, loading, kernel=None):
+    def __init__(self, geom: TFPGeometry, loading, kernel=None, model: str = "seated"):
         import numpy as np
+        if model not in ("seated", "two-phase"):
+            raise ValueError(f"model must be 'seated' or 'two-phase', not {model!r}")
+        self.model = model
+        self.columns = COLUMNS + (TWO_PHASE_COLUMNS if model == "two-phase" else ())
         self.geom = geom
         self.k = kernel if kernel is not None else K
         self.dt = loading.dt
@@ -218,12 +234,12 @@ class TFPStepper:
         else:
             self._a = float_array(loading.a_step)
             self._xg = float_array(loading.d)
-        self.par = geom.pack()
+        self.par = geom.pack(two_phase=model == "two-phase")
         self.S = np.zeros(K.N_S)
         self.st = self.S[0:4]                   # a view: phi, alpha and their rates
         self.N = self.S[K.S_N:K.S_N + 4]         # a view: N1..N4
         self.out = np.zeros(K.N_OUT)
-        self._row = np.zeros(K.N_ROW)
+        self._row = np.zeros(K.n_row(self.par))
         self._M, self._w, self._tmp = np.zeros(3), np.zeros(2), np.zeros(2)
         self._sc = np.zeros(4 + 2 * K.N_OUT)
         self.n = 0
@@ -290,8 +306,13 @@ class TFPStepper:
     def E_pot(self) -> float:
         return K.potential(self.par, self.phi, self.alpha)
 
+    @property
+    def E_reseat(self) -> float:
+        """Kinetic energy removed by the re-seating of phases 2 and 3 (two-phase; 0 seated)."""
+        return float(self.S[K.S_ERS])
+
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim)
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim + self.E_reseat)
 
     def values(self) -> tuple:
         g = self.geom
@@ -317,6 +338,11 @@ class TFPStepper:
         if fail == K.FAIL_CAPACITY:
             raise TFPFailure(f"the test machine drives the bearing past its displacement capacity "
                              f"{self.geom.capacity:.4g} m (all surfaces at their rims)")
+        if fail == K.FAIL_ROCKING:
+            part = "pad" if K.rocking_start(self.par, self.phi, self.alpha, self._a[n]) == 1 else "slider plates"
+            raise TFPFailure(f"at t = {n * self.dt:.4g} s the {part} would start rocking on a corner "
+                             f"(ground acceleration {self._a[n] / self.geom.g:.3g} g beyond the restoring "
+                             "moment of Eq. 7): rocking of the TFP's parts is not modelled (docs/model.md 6.6)")
         if fail == K.FAIL_FIXED_POINT:
             raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
                              "iterations (lower solver.dt)")

@@ -37,6 +37,8 @@ handful of candidates (2 coordinates); a fixed point handles q1 in H and G.
 """
 import math
 
+from .two_phase_kernel import _sinc as sinc, pivot_angle   # the planar stepper's, one source
+
 __kernel__ = True
 
 # -- parameter vector (pack_params in mechanics/tfp.py) ---------------------------
@@ -46,24 +48,23 @@ I_R1, I_R2, I_R3, I_R4 = 11, 12, 13, 14
 I_QMAX_PHI, I_QMAX_ALPHA = 15, 16
 I_MS_LO, I_MS_UP, I_MPAD = 17, 18, 19
 I_A_SL, I_A_PAD, I_B_PAD, I_A_SU = 20, 21, 22, 23   # a_k, b_k of the lower slider, pad, upper slider
-N_PAR = 24
+I_TWO = 24                          # 1.0: the paper's two-phase model (docs/model.md 6.6), 0.0: seated
+I_AP, I_AS, I_HP, I_TL, I_TU = 25, 26, 27, 28, 29   # pad and slider half-diameters, heights
+I_EPB, I_EPT, I_ESB, I_SQ4, I_L4 = 30, 31, 32, 33, 34   # corner heights (below), sqrt(R4^2 - a_s^2), l4
+N_PAR = 35
 
 # -- step output vector ----------------------------------------------------------
 O_DPHI, O_DALPHA, O_F, O_EIN, O_WO, O_WI, O_RIM, O_ITER, O_FAIL = 0, 1, 2, 3, 4, 5, 6, 7, 8
 O_ARREST_O, O_ARREST_I, O_MACH_K, O_NU_PHI, O_NU_ALPHA, O_ARRIVE = 9, 10, 11, 12, 13, 14
-N_OUT = 15
+O_RESEAT = 15
+N_OUT = 16
 
-FAIL_NONE, FAIL_CAPACITY, FAIL_FIXED_POINT = 0, 1, 2
+FAIL_NONE, FAIL_CAPACITY, FAIL_FIXED_POINT, FAIL_ROCKING = 0, 1, 2, 3
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
 
 
-def sinc(x):
-    """sin(x) / x, exact near 0."""
-    if abs(x) < 1e-4:
-        return 1.0 - x * x / 6.0
-    return math.sin(x) / x
 
 
 def mass_matrix(par, alpha, M):
@@ -312,6 +313,29 @@ def normal_forces(par, phi, alpha, v1, v2, a1, a2, ag, F, N):
             N[i] = 0.0
 
 
+def reseat(par, phi0, al0, phi1, al1, v1, v2, M, w):
+    """The impulsive re-seating of the two-phase model (docs/model.md 6.6):
+    the velocity field of phase 1, every body k moving along its seated
+    tangent at q0 (a_k phi' t(phi0) + b_k psi' t(psi0), spins phi', psi'),
+    projected in the kinetic-energy metric onto the seated tangent space at
+    q1: p = J(q1)^T M_bodies J(q0) v, v+ = M(q1)^-1 p (into w; M <- M(q1)).
+    Returns the kinetic energy removed, T(q0, v) - T(q1, v+) >= 0."""
+    vpsi = v1 + v2
+    psi0 = phi0 + al0
+    psi1 = phi1 + al1
+    c_ff = math.cos(phi1 - phi0)
+    c_pp = math.cos(psi1 - psi0)
+    c_fp = math.cos(phi1 - psi0)
+    c_pf = math.cos(psi1 - phi0)
+    Aa, B, K, Jphi, Jpsi = par[I_AA], par[I_B], par[I_K], par[I_JPHI], par[I_JPSI]
+    pa = K * v1 * c_pf + B * vpsi * c_pp + Jpsi * vpsi
+    pf = Aa * v1 * c_ff + K * vpsi * c_fp + Jphi * v1 + pa
+    T0 = kinetic(par, al0, v1, v2)
+    mass_matrix(par, al1, M)
+    solve2(M[0], M[1], M[2], pf, pa, w)
+    return T0 - 0.5 * (pf * w[0] + pa * w[1])
+
+
 def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     """One step of the rigid TFP (see ``substep``), split at a rim impact.
 
@@ -444,19 +468,22 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     dx1 = 0.0
     dx2 = 0.0
     converged = False
+    two = par[I_TWO] != 0.0
     while it < FIXED_POINT_ITERS:
         it += 1
         phi1 = q10 + x1
         al1 = q20 + x2
-        mass_matrix(par, al1, M)
-        # discrete gradient of T(q, p0) in alpha: -1/2 w1^T dM w0 / dalpha
-        solve2(M[0], M[1], M[2], p1, p2, w)
-        w11, w12 = w[0], w[1]
-        solve2(m011, m012, m022, p1, p2, w)
-        w01, w02 = w[0], w[1]
-        K = par[I_K]
-        dTa = 0.5 * (2.0 * K * w11 * w01 + K * (w11 * w02 + w12 * w01)) * math.sin(0.5 * (q20 + al1)) \
-            * sinc(0.5 * (al1 - q20))
+        dTa = 0.0
+        if not two:
+            mass_matrix(par, al1, M)
+            # discrete gradient of T(q, p0) in alpha: -1/2 w1^T dM w0 / dalpha
+            solve2(M[0], M[1], M[2], p1, p2, w)
+            w11, w12 = w[0], w[1]
+            solve2(m011, m012, m022, p1, p2, w)
+            w01, w02 = w[0], w[1]
+            K = par[I_K]
+            dTa = 0.5 * (2.0 * K * w11 * w01 + K * (w11 * w02 + w12 * w01)) * math.sin(0.5 * (q20 + al1)) \
+                * sinc(0.5 * (al1 - q20))
         # discrete gradients of V and b
         dgrad_cos_sin(g * par[I_P1], g * par[I_P2], q10, q20, phi1, al1, tmp, 0)
         G1 = -tmp[0]
@@ -503,6 +530,12 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         al1 = -qm2
     elif x2 == hi2 and hi2 > 0.0:
         al1 = qm2
+    if two:
+        # phases 2 and 3: the phase-1 velocity field (every part along its
+        # seated tangent at t_n, rates v1) re-seated at q(t_n+1), an
+        # M-orthogonal projection; M becomes M(q1)
+        out[O_RESEAT] = reseat(par, q10, q20, phi1, al1, v11, v21, M, w)
+        v11, v21 = w[0], w[1]
     # the split of Phi into friction, rim reaction and machine force
     s1 = 1.0 if x1 > 0.0 else (-1.0 if x1 < 0.0 else 0.0)
     s2 = 1.0 if x2 > 0.0 else (-1.0 if x2 < 0.0 else 0.0)
@@ -617,9 +650,118 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
 
 # -- the whole step of the stepper (mechanics/tfp.py's TFPStepper and the compiled loop) --------
 S_F, S_W, S_EIN, S_ERIM, S_PHASE, S_REG, S_SLIDE, S_SV, S_DW, S_N = 4, 5, 9, 10, 11, 12, 13, 17, 21, 25
-N_S = 29
+S_ERS, S_B1, S_B2, S_G1, S_G2, S_DP, S_DS, S_NPH = 29, 30, 31, 32, 33, 34, 35, 36   # two-phase
+N_S = 37
 PHASE_STICK, PHASE_INNER, PHASE_OUTER, PHASE_BOTH = 0, 3, 4, 5
 N_ROW = 35          # len(mechanics.tfp.COLUMNS)
+N_ROW_TWO = 8       # len(mechanics.tfp.TWO_PHASE_COLUMNS)
+
+
+def n_row(par):
+    """Columns of a row: the seated model's, plus the two-phase model's own."""
+    return N_ROW + N_ROW_TWO if par[I_TWO] != 0.0 else N_ROW
+
+
+def pad_pivot(par, dal):
+    """Phase 1 of the inner DFP (Fig. 6a-d): the pad's rotation about its
+    trailing corner on S2 (A for dalpha > 0, B for dalpha < 0) that keeps the
+    opposite top corner on S3 when the upper slider plate is shifted by
+    L_i dalpha along the tangent (docs/two_phase.md section 3 with R2, R3)."""
+    a = par[I_AP]
+    e = abs(par[I_LI] * dal)
+    # pad frame at the bottom apex; S3's centre at (e, h_p - R3) after the shift
+    px, pz = -a - e, par[I_EPB] - par[I_HP] + par[I_R3]
+    b = pivot_angle(px, pz, 2.0 * a, par[I_EPT] - par[I_EPB], a * e - 0.5 * e * e)
+    return b if dal >= 0.0 else -b
+
+
+def stack_pivot(par, alpha, dphi):
+    """Phase 1 of the outer surfaces (Fig. 6e-n, 7b): the slider plates and
+    the frozen pad as one body, turning about the lower slider's trailing
+    corner on S1 so that the upper slider's opposite top corner stays on S4
+    when the upper plate is shifted by (A + L_i cos alpha) dphi along the
+    slider plates' tangent. With the pad tilted (alpha != 0) the body is not
+    symmetric: the diagonal used forwards is not the one used on reversal."""
+    a = par[I_AS]
+    sg = 1.0 if dphi >= 0.0 else -1.0
+    e = abs((par[I_A] + par[I_LI] * math.cos(alpha)) * dphi)
+    # lower slider frame at its bottom apex, mirrored for dphi < 0; C4 at (dl, c4z)
+    dl = sg * par[I_LI] * math.sin(alpha)
+    c4z = par[I_TL] + par[I_R2] - par[I_LI] * math.cos(alpha) - par[I_L4]
+    px, pz = -a - dl - e, par[I_ESB] - c4z
+    rx, rz = dl + 2.0 * a, c4z + par[I_SQ4] - par[I_ESB]
+    b = pivot_angle(px, pz, rx, rz, a * e - 0.5 * e * e)
+    return sg * b
+
+
+def _moment(c, s, x, z, m, ag, g):
+    """Moment about a pivot (counter-clockwise) of the weight and the ground's
+    d'Alembert force on a mass m at (x, z) from it in a frame turned by the
+    angle (c, s)."""
+    return m * ((s * x + c * z) * ag - (c * x - s * z) * g)
+
+
+def rocking_start(par, phi, alpha, ag):
+    """Eq. (7) at rest, the rocking check of the two-phase model: 1 if the
+    pad would start to turn about a corner on S2 (its load from above as a
+    particle at the opposite top corner, as in the DFP), 2 if the slider
+    plates and the pad as one body would about a corner on S1, 0 if neither
+    (the restoring moment of the weights holds)."""
+    g = par[I_G]
+    m_above = par[I_MSUP] + par[I_MS_UP]
+    psi = phi + alpha
+    c, s = math.cos(psi), math.sin(psi)
+    a, ha = par[I_AP], 0.5 * par[I_HP]
+    for k in range(2):
+        sg = 1.0 - 2.0 * k
+        # pad pivot (-sg a, eta_b), top corner (sg a, eta_t), centroid (0, h_p / 2)
+        mo = _moment(c, s, sg * a, ha - par[I_EPB], par[I_MPAD], ag, g) \
+            + _moment(c, s, 2.0 * sg * a, par[I_EPT] - par[I_EPB], m_above, ag, g)
+        if sg * mo > 0.0:
+            return 1
+    c, s = math.cos(phi), math.sin(phi)
+    a = par[I_AS]
+    dl = par[I_LI] * math.sin(alpha)
+    c4z = par[I_TL] + par[I_R2] - par[I_LI] * math.cos(alpha) - par[I_L4]
+    zb = par[I_ESB]
+    bp = par[I_B_PAD]
+    for k in range(2):
+        sg = 1.0 - 2.0 * k
+        x0 = -sg * a           # the pivot
+        mo = _moment(c, s, -x0, 0.5 * par[I_TL] - zb, par[I_MS_LO], ag, g) \
+            + _moment(c, s, bp * math.sin(alpha) - x0, par[I_TL] + par[I_R2] - bp * math.cos(alpha) - zb,
+                      par[I_MPAD], ag, g) \
+            + _moment(c, s, dl - x0, c4z + par[I_R4] - 0.5 * par[I_TU] - zb, par[I_MS_UP], ag, g) \
+            + _moment(c, s, dl + sg * a - x0, c4z + par[I_SQ4] - zb, par[I_MSUP], ag, g)
+        if sg * mo > 0.0:
+            return 2
+    return 0
+
+
+def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, out):
+    """The paper's phases of the step just taken (two-phase model): the
+    re-seating loss, the phase-1 pivots (pad: beta1, slider plates: gamma1)
+    and the re-seating rotations of phases 2 and 3 (beta2 = dalpha - beta1,
+    gamma2 = dphi - gamma1), the diagonals (0: the corner behind a positive
+    slide, 1: on reversal) and the number of phases (0 stick, 2 one pair of
+    surfaces (Fig. 6), 3 both (Fig. 7)); S[S_NPH] = -1 if a step that starts
+    and ends at rest would start the pad or the stack rocking (Eq. 7)."""
+    S[S_ERS] += out[O_RESEAT]
+    dphi = out[O_DPHI]
+    dal = out[O_DALPHA]
+    b1 = pad_pivot(par, dal) if dal != 0.0 else 0.0
+    g1 = stack_pivot(par, al0, dphi) if dphi != 0.0 else 0.0
+    S[S_B1], S[S_B2] = b1, dal - b1
+    S[S_G1], S[S_G2] = g1, dphi - g1
+    if dal != 0.0:
+        S[S_DP] = 0.0 if dal > 0.0 else 1.0
+    if dphi != 0.0:
+        S[S_DS] = 0.0 if dphi > 0.0 else 1.0
+    S[S_NPH] = (2.0 if dal != 0.0 else 0.0) + (2.0 if dphi != 0.0 else 0.0)
+    if S[S_NPH] == 4.0:
+        S[S_NPH] = 3.0
+    if S[S_NPH] == 0.0 and v00 == 0.0 and v01 == 0.0 and rocking_start(par, ph0, al0, ag) != 0:
+        S[S_NPH] = -1.0
 
 
 def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc):
@@ -644,6 +786,10 @@ def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp
     fail = int(out[O_FAIL])
     if fail == FAIL_CAPACITY:
         return fail
+    if par[I_TWO] != 0.0:
+        two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, out)
+        if fail == FAIL_NONE and S[S_NPH] < 0.0:
+            return FAIL_ROCKING
     dphi = out[O_DPHI]
     dal = out[O_DALPHA]
     wo = out[O_WO]
@@ -727,3 +873,12 @@ def row_values(par, S, t, xg, d1, d2, d3, d4, row):
     row[32] = 1.0 if abs(R2 * al) >= d2 * tol else 0.0
     row[33] = 1.0 if abs(R3 * al) >= d3 * tol else 0.0
     row[34] = 1.0 if abs(R4 * phi) >= d4 * tol else 0.0
+    if par[I_TWO] != 0.0:
+        row[35] = S[S_ERS]
+        row[36] = S[S_B1]
+        row[37] = S[S_B2]
+        row[38] = S[S_G1]
+        row[39] = S[S_G2]
+        row[40] = S[S_DP]
+        row[41] = S[S_DS]
+        row[42] = S[S_NPH]

@@ -97,20 +97,33 @@ def rocking_increment(b0, w0, h, I_P, X, Z, fe, fu):
     return db, w1
 
 
+def pivot_angle(px, pz, rx, rz, D):
+    """The rotation beta about a pivot that keeps a corner on a moved circle.
+
+    p = pivot - (moved centre), r = corner - pivot, D = (R^2 - |corner -
+    moved centre|^2) / 2: P (cos beta - 1) + Q sin beta = D with P = p . r,
+    Q = p_z r_x - p_x r_z, solved in tan(beta / 2) by the root that vanishes
+    with D (no cancellation for tiny steps; docs/two_phase.md section 3).
+    NaN where the corner cannot reach the circle (the caller flags it)."""
+    P = px * rx + pz * rz
+    Q = pz * rx - px * rz
+    disc = Q * Q - D * (2.0 * P + D)
+    den = Q + math.sqrt(disc if disc > 0.0 else 0.0)
+    if den == 0.0:
+        return math.nan
+    tau = D / den
+    return 2.0 * math.atan(tau)
+
+
 def corner_pivot_rotation(S, a, eta_bottom, eta_top, h, R2, shift):
     e = abs(shift)
     px, pz = -a - e, eta_bottom - h + R2
     rx, rz = 2.0 * a, eta_top - eta_bottom
-    P = px * rx + pz * rz
-    Q = pz * rx - px * rz
     D = a * e - 0.5 * e * e
-    disc = Q * Q - D * (2.0 * P + D)
-    den = Q + math.sqrt(disc if disc > 0.0 else 0.0)
-    if den == 0.0:
+    beta = pivot_angle(px, pz, rx, rz, D)
+    if beta != beta:
         S[ERR] = ERR_DIVISION
         return 0.0
-    tau = D / den
-    beta = 2.0 * math.atan(tau)
     return beta if shift >= 0.0 else -beta
 
 

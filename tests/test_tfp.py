@@ -212,7 +212,7 @@ def test_tfp_lab_scene_outputs(tmp_path):
 
 
 @pytest.mark.parametrize("sets,tokens", [
-    (["mechanics.model=two-phase"], ["mechanics.model", "two-phase", "seated"]),
+    (["mechanics.model=articulated"], ["mechanics.model", "articulated", "two-phase", "seated"]),
     (["device.d2=0.9"], ["device.d2", "quarter circle"]),
     (["loading.amplitude_m=0.6"], ["loading.amplitude_m", "capacity"]),
     (["friction.S5.mu=0.1"], ["friction.S5"]),
