@@ -319,7 +319,8 @@ def reseat(par, phi0, al0, phi1, al1, v1, v2, M, w):
     tangent at q0 (a_k phi' t(phi0) + b_k psi' t(psi0), spins phi', psi'),
     projected in the kinetic-energy metric onto the seated tangent space at
     q1: p = J(q1)^T M_bodies J(q0) v, v+ = M(q1)^-1 p (into w; M <- M(q1)).
-    Returns the kinetic energy removed, T(q0, v) - T(q1, v+) >= 0."""
+    Returns the kinetic energy removed, T(q0, v) - T(q1, v+) >= 0 (the
+    projection is M-orthogonal, so it is the energy of the part stopped)."""
     vpsi = v1 + v2
     psi0 = phi0 + al0
     psi1 = phi1 + al1
@@ -330,10 +331,19 @@ def reseat(par, phi0, al0, phi1, al1, v1, v2, M, w):
     Aa, B, K, Jphi, Jpsi = par[I_AA], par[I_B], par[I_K], par[I_JPHI], par[I_JPSI]
     pa = K * v1 * c_pf + B * vpsi * c_pp + Jpsi * vpsi
     pf = Aa * v1 * c_ff + K * vpsi * c_fp + Jphi * v1 + pa
-    T0 = kinetic(par, al0, v1, v2)
     mass_matrix(par, al1, M)
     solve2(M[0], M[1], M[2], pf, pa, w)
-    return T0 - 0.5 * (pf * w[0] + pa * w[1])
+    # the loss as the kinetic energy of the part stopped, 1/2 |J0 v - J1 v+|^2
+    # (body by body: a X + b Y, spins), not T0 - T1: no cancellation
+    wpsi = w[0] + w[1]
+    xx = v1 * math.cos(phi0) - w[0] * math.cos(phi1)
+    xz = v1 * math.sin(phi0) - w[0] * math.sin(phi1)
+    yx = vpsi * math.cos(psi0) - wpsi * math.cos(psi1)
+    yz = vpsi * math.sin(psi0) - wpsi * math.sin(psi1)
+    d1 = v1 - w[0]
+    d2 = vpsi - wpsi
+    return 0.5 * (Aa * (xx * xx + xz * xz) + B * (yx * yx + yz * yz) + 2.0 * K * (xx * yx + xz * yz)
+                  + Jphi * d1 * d1 + Jpsi * d2 * d2)
 
 
 def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
@@ -530,12 +540,6 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         al1 = -qm2
     elif x2 == hi2 and hi2 > 0.0:
         al1 = qm2
-    if two:
-        # phases 2 and 3: the phase-1 velocity field (every part along its
-        # seated tangent at t_n, rates v1) re-seated at q(t_n+1), an
-        # M-orthogonal projection; M becomes M(q1)
-        out[O_RESEAT] = reseat(par, q10, q20, phi1, al1, v11, v21, M, w)
-        v11, v21 = w[0], w[1]
     # the split of Phi into friction, rim reaction and machine force
     s1 = 1.0 if x1 > 0.0 else (-1.0 if x1 < 0.0 else 0.0)
     s2 = 1.0 if x2 > 0.0 else (-1.0 if x2 < 0.0 else 0.0)
@@ -569,7 +573,9 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     # velocity jumps at t_n+1 (impulses at fixed position, each one's kinetic
     # energy change booked where it belongs): a coordinate that stuck (dq = 0)
     # or stopped at its rim ends at rest
-    K0 = kinetic(par, al1, v11, v21)
+    # (two-phase: in the phase-1 field, metric M(q0), before the re-seating)
+    ak = q20 if two else al1
+    K0 = kinetic(par, ak, v11, v21)
     z1 = s1 == 0.0 or at1
     z2 = s2 == 0.0 or at2
     arr_o = 0.0
@@ -579,7 +585,7 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         # an impulse on coordinate 1 only keeps p2 = M12 v1 + M22 v2
         va = 0.0
         vb = (M[1] * v11 + M[2] * v21) / M[2]
-        Ka = kinetic(par, al1, va, vb)
+        Ka = kinetic(par, ak, va, vb)
         l1 = K0 - Ka
         l2 = Ka
         if at1:
@@ -595,7 +601,7 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     elif z1:
         v21 = (M[1] * v11 + M[2] * v21) / M[2]
         v11 = 0.0
-        l1 = K0 - kinetic(par, al1, v11, v21)
+        l1 = K0 - kinetic(par, ak, v11, v21)
         if at1:
             rim += l1
         else:
@@ -603,11 +609,19 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     elif z2:
         v11 = (M[0] * v11 + M[1] * v21) / M[0]
         v21 = 0.0
-        l2 = K0 - kinetic(par, al1, v11, v21)
+        l2 = K0 - kinetic(par, ak, v11, v21)
         if at2:
             rim += l2
         else:
             arr_i += l2
+    if two:
+        # phases 2 and 3: the phase-1 velocity field (every part along its
+        # seated tangent at t_n, rates v1) re-seated at q(t_n+1), an
+        # M-orthogonal projection; M becomes M(q1). What it leaves on a
+        # coordinate that stuck (the turning tangent's centripetal share) is
+        # the next step's to hold or not, against the friction cap.
+        out[O_RESEAT] = reseat(par, q10, q20, phi1, al1, v11, v21, M, w)
+        v11, v21 = w[0], w[1]
     mk = 0.0
     if machine == 1:
         # the machine imposes u'(t_n+1) through the coordinates still free
@@ -621,9 +635,9 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
             v11 += P * w[0]
             v21 += P * w[1]
         elif not z1 and c1 != 0.0:
-            v11 = ud1 / c1
+            v11 = (ud1 - c2 * v21) / c1
         elif not z2 and c2 != 0.0:
-            v21 = ud1 / c2
+            v21 = (ud1 - c1 * v11) / c2
         mk = kinetic(par, al1, v11, v21) - Kb
         ein += mk
     st[0] = phi1
