@@ -269,7 +269,9 @@ def test_compiled_loop_matches_python_loop(monkeypatch):
                                                                                   lk.ROW_FAILED, lk.FULL)
     sets = ["solver.duration=3", "thermal.slider_upper.model=lumped", "output.csv_every=7"]
     sim = build(scn.load("tfp-elcentro", sets))
-    assert compiled_tfp(sim, 7, 45) is not None
+    from fpd.coupling.tfp_loop import columns_of
+    assert sim.scene["mechanics"]["model"] == "two-phase"          # the packaged scene's
+    assert compiled_tfp(sim, 7, len(columns_of(sim)[0])) is not None
     a = simulate(sim, every=7)
     monkeypatch.setenv("FPD_NO_JIT", "1")
     sim = build(scn.load("tfp-elcentro", sets))
