@@ -27,8 +27,8 @@ def tfp(mass=4.0e4, **kw) -> TFPGeometry:
     return TFPGeometry(**p)
 
 
-def run(g, loading, mus=MUS):
-    s = TFPStepper(g, loading)
+def run(g, loading, mus=MUS, model="seated", kernel=None):
+    s = TFPStepper(g, loading, model=model, kernel=kernel)
     rows = [s.values()]
     res = [s.ledger_residual()]
     for _ in range(loading.n_steps):
@@ -156,19 +156,27 @@ def test_ledger_closes_every_step_ground_motion(V):
     assert min(W) > 0 and W[0] == pytest.approx(W[3], rel=1e-2) and W[1] == pytest.approx(W[2], rel=1e-2)
 
 
-def test_friction_work_converges_in_dt():
-    """Test machine at 0.5 Hz (dynamic), one cycle: friction work at dt = 4, 2,
-    1, 0.5 ms; observed orders 1.2, 1.0 (first order: stick-slip hand-overs) and
-    the 1 ms value within 3e-4 of the 0.5 ms one (measured 1.2e-4)."""
+@pytest.mark.parametrize("model,dts", [("seated", (4e-3, 2e-3, 1e-3, 5e-4)),
+                                       ("two-phase", (2e-3, 1e-3, 5e-4, 2.5e-4))])
+def test_friction_work_converges_in_dt(model, dts):
+    """Test machine at 0.5 Hz (dynamic), one cycle into the rims: friction work
+    at four dt; observed orders > 0.6 (first order: stick-slip hand-overs) and
+    the 1 ms value within 3e-4 of the 0.5 ms one.
+    Seated, dt = 4, 2, 1, 0.5 ms: orders 1.2, 1.0, 1 ms off by 1.2e-4.
+    Two-phase (docs/model.md 6.6), dt = 2, 1, 0.5, 0.25 ms: 36158.99, 36150.53,
+    36146.48, 36145.81 J, orders 1.06, 2.6, 1 ms off by 1.1e-4 (at 4 ms
+    36157.92 J, before the asymptotic range: the rim impacts of the
+    re-seated steps converge slowly, E_rim 284 J at 4 ms, 314 J at 0.5 ms)."""
     g = tfp()
     W = []
-    for dt in (4e-3, 2e-3, 1e-3, 5e-4):
-        s, _, _ = run(g, sine_programme(0.3, 0.5, 1, dt))
+    for dt in dts:
+        s, _, _ = run(g, sine_programme(0.3, 0.5, 1, dt), model=model)
         W.append(sum(s.W))
     d = np.abs(np.diff(W))
     orders = np.log2(d[:-1] / d[1:])
     assert np.all(orders > 0.6), orders
-    assert abs(W[2] - W[3]) / W[3] < 3e-4
+    i = dts.index(1e-3)
+    assert abs(W[i] - W[i + 1]) / W[i + 1] < 3e-4
 
 
 def test_compiled_kernel_matches_pure():

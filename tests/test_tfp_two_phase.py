@@ -17,29 +17,14 @@ import pytest
 
 from fpd.mechanics import tfp_kernel as K
 from fpd.mechanics.ground_motion import pulse_ground_motion, sine_programme
-from fpd.mechanics.tfp import TFPFailure, TFPGeometry, TFPStepper, backbone_path, transition_force
+from fpd.mechanics.tfp import TFPFailure, TFPStepper, backbone_path, transition_force
+from tests.test_tfp import MUS, run as run_of_tests, tfp     # the same device and runner
 
 ROOT = Path(__file__).resolve().parent.parent
-MUS = (0.10, 0.02, 0.02, 0.10)
-
-
-def tfp(mass=4.0e4, **kw) -> TFPGeometry:
-    p = dict(R1=2.235, R2=0.405, R3=0.405, R4=2.235, pad_height=0.076, pad_diameter=0.10,
-             slider_height_lower=0.11, slider_height_upper=0.11, slider_diameter=0.30,
-             d1=0.20, d2=0.05, d3=0.05, d4=0.20, pad_mass=20.0, slider_mass=80.0, mass=mass)
-    p.update(kw)
-    return TFPGeometry(**p)
 
 
 def run(g, loading, model="two-phase", mus=MUS, kernel=None):
-    s = TFPStepper(g, loading, model=model, kernel=kernel)
-    rows, res = [s.values()], [s.ledger_residual()]
-    for _ in range(loading.n_steps):
-        s.step(*mus)
-        rows.append(s.values())
-        res.append(s.ledger_residual())
-    d = np.array(rows)
-    return s, {c: d[:, i] for i, c in enumerate(s.columns)}, np.array(res)
+    return run_of_tests(g, loading, mus=mus, model=model, kernel=kernel)
 
 
 def runs_of(sel):
@@ -147,24 +132,6 @@ def test_a_first_order_splitting_of_the_seated_model():
     o_W = np.log2(np.array(dW[:-1]) / dW[1:])
     assert np.all(o_u > 0.8) and np.all(o_W > 0.5), (o_u, o_W, du, dW)
     assert du[-1] < 6e-5 and dW[-1] < 2e-5, (du, dW)
-
-
-def test_friction_work_converges_in_dt():
-    """Test machine at 0.5 Hz, one cycle (into the outer rims): friction
-    work at dt = 2, 1, 0.5, 0.25 ms; measured 36158.99, 36150.53, 36146.48,
-    36145.81 J (orders 1.06, 2.6; at 4 ms 36157.92 J, before the asymptotic
-    range: the rim impacts of the re-seated steps converge slowly, E_rim
-    284 J at 4 ms, 314 J at 0.5 ms); the 1 ms value within 3e-4 of the
-    0.5 ms one (measured 1.1e-4)."""
-    g = tfp()
-    W = []
-    for dt in (2e-3, 1e-3, 5e-4, 2.5e-4):
-        s, _, _ = run(g, sine_programme(0.3, 0.5, 1, dt))
-        W.append(sum(s.W))
-    d = np.abs(np.diff(W))
-    orders = np.log2(d[:-1] / d[1:])
-    assert np.all(orders > 0.6), orders
-    assert abs(W[1] - W[2]) / W[2] < 3e-4
 
 
 # -- the re-seating projection against an independent construction -------------------------
