@@ -17,7 +17,7 @@ import pytest
 
 from fpd.mechanics import tfp_kernel as K
 from fpd.mechanics.ground_motion import pulse_ground_motion, sine_programme
-from fpd.mechanics.tfp import TFPFailure, TFPStepper, backbone_path, transition_force
+from fpd.mechanics.tfp import TFPFailure, backbone_path, transition_force
 from tests.test_tfp import MUS, run as run_of_tests, tfp     # the same device and runner
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -298,22 +298,6 @@ def test_a_stuck_stack_that_would_rock_stops_the_run_with_one_line():
 
 
 # -- one source and the scene ---------------------------------------------------------------
-def test_compiled_kernel_matches_pure_two_phase():
-    pytest.importorskip("numba")
-    from fpd import kernels
-    if not kernels.available():
-        pytest.skip("FPD_NO_JIT")
-    ck = kernels.compiled("fpd.mechanics.tfp_kernel")
-    g = tfp()
-    gm = pulse_ground_motion("cosine", 1.6, 1.5, 0.5, 2.5, 1e-3)
-    a = TFPStepper(g, gm, model="two-phase")
-    b = TFPStepper(g, gm, kernel=ck, model="two-phase")
-    for _ in range(gm.n_steps):
-        a.step(*MUS)
-        b.step(*MUS)
-        assert a.values() == b.values()
-
-
 def test_compiled_loop_matches_python_loop_seated(monkeypatch):
     """The packaged tfp-elcentro is two-phase (test_tfp.py compares its loops);
     the same for the seated model."""
