@@ -401,6 +401,10 @@ def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     for i in range(N_OUT):
         if i != O_F and i != O_FAIL and i != O_NU_PHI and i != O_NU_ALPHA and i != O_ARRIVE:
             out[i] += sc[acc + i]
+    # the machine's force over the step: its impulse / dt (a part of a few
+    # ulps of dt would otherwise report impulse / (that part), feeding 1e9 N
+    # into the next step's normal forces)
+    out[O_F] = tau * sc[acc + O_F] + (1.0 - tau) * out[O_F]
     if sc[acc + O_FAIL] > out[O_FAIL]:
         out[O_FAIL] = sc[acc + O_FAIL]
     out[O_ARRIVE] = 1.0
@@ -578,6 +582,10 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     K0 = kinetic(par, ak, v11, v21)
     z1 = s1 == 0.0 or at1
     z2 = s2 == 0.0 or at2
+    # a coordinate held on its rim while its start velocity pushed into it
+    # (two-phase: the re-seating's share) was stopped by the rim, not by friction
+    rim1 = at1 or (s1 == 0.0 and ((lo1 == 0.0 and v10 < 0.0) or (hi1 == 0.0 and v10 > 0.0)))
+    rim2 = at2 or (s2 == 0.0 and ((lo2 == 0.0 and v20 < 0.0) or (hi2 == 0.0 and v20 > 0.0)))
     arr_o = 0.0
     arr_i = 0.0
     if z1 and z2:
@@ -588,11 +596,11 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         Ka = kinetic(par, ak, va, vb)
         l1 = K0 - Ka
         l2 = Ka
-        if at1:
+        if rim1:
             rim += l1
         else:
             arr_o += l1
-        if at2:
+        if rim2:
             rim += l2
         else:
             arr_i += l2
@@ -602,7 +610,7 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         v21 = (M[1] * v11 + M[2] * v21) / M[2]
         v11 = 0.0
         l1 = K0 - kinetic(par, ak, v11, v21)
-        if at1:
+        if rim1:
             rim += l1
         else:
             arr_o += l1
@@ -610,7 +618,7 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         v11 = (M[0] * v11 + M[1] * v21) / M[0]
         v21 = 0.0
         l2 = K0 - kinetic(par, ak, v11, v21)
-        if at2:
+        if rim2:
             rim += l2
         else:
             arr_i += l2
