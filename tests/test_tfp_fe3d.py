@@ -175,20 +175,26 @@ def _circumcentre(p):
     return np.array([ux, uz])
 
 
-def test_vtk_fe3d_parts_read_back_and_overlay(tmp_path):
-    """`fpd run` with output.vtk_every and fe3d on all four parts: each
+@pytest.mark.parametrize("models", [("fe3d",) * 4, ("fe1d", "axisym", "fe3d", "fe3d")])
+def test_vtk_fe3d_parts_read_back_and_overlay(tmp_path, models):
+    """`fpd run` with output.vtk_every and fe3d on all four parts (and mixed
+    with an fe1d column and an axisym section): each
     part's series <part>_plate.pvd reads back with meshio (hexahedra, nodal
     T_C), and is placed in the device's coordinates: at every frame the
     hottest node (on the sliding face) lies on that part's sliding surface as
     drawn in device.pvd (the sphere through its arc, to 1e-6 m) and within
     the footprint radius of where the pad / slider touches it (the heat
     stays within the footprints it has covered: diffusion length ~2 mm). Before the
-    placement the fields sat at the origin in plate-local coordinates."""
+    placement the fields sat at the origin in plate-local coordinates.
+    (axisym: the section through the plate centre, mirrored; its hottest node
+    is on the surface, not necessarily under the pad.)"""
     meshio = pytest.importorskip("meshio")
     out = tmp_path / "r"
     args = ["run", "tfp-lab", "--out", str(out), "--quiet", "--set", "loading.amplitude_m=0.10",
             "--set", "loading.frequency_Hz=0.5", "--set", "loading.cycles=0.5", "--set", "solver.dt=5e-3",
-            "--set", "thermal.model=fe3d", "--set", "output.vtk_every=50", "--set", "output.plots=false"]
+            "--set", "output.vtk_every=50", "--set", "output.plots=false"]
+    for part, model in zip(("lower", "slider_lower", "slider_upper", "upper"), models):
+        args += ["--set", f"thermal.{part}.model={model}"]
     for k in SMALL:
         args += ["--set", k]
     env = dict(os.environ, PYTHONPATH=str(ROOT))
@@ -217,7 +223,7 @@ def test_vtk_fe3d_parts_read_back_and_overlay(tmp_path):
         touch = (poly[1][len(poly[1]) // 4], touch[1], touch[2], poly[3][len(poly[3]) * 3 // 4])
         for i, part in enumerate(parts):
             m = meshio.read(vtk / f"{part}_plate_{frame:06d}.vtu")
-            assert m.cells[0].type == "hexahedron"
+            assert m.cells[0].type == {"fe3d": "hexahedron", "fe1d": "line", "axisym": "quad"}[models[i]]
             T = m.point_data["T_C"]
             assert len(T) == len(m.points) and T.max() > 20.5
             hot = m.points[np.argmax(T)]
@@ -225,4 +231,5 @@ def test_vtk_fe3d_parts_read_back_and_overlay(tmp_path):
             C = _circumcentre(arc[[0, len(arc) // 2, -1]])
             R = np.linalg.norm(arc[0] - C)
             assert abs(np.hypot(*(hot[[0, 2]] - C)) - np.sqrt(R ** 2 - hot[1] ** 2)) < 1e-6, (part, frame)
-            assert np.linalg.norm(hot - (touch[i][0], 0.0, touch[i][1])) < a[i], (part, frame, hot, touch[i])
+            if models[i] != "axisym":
+                assert np.linalg.norm(hot - (touch[i][0], 0.0, touch[i][1])) < a[i], (part, frame, hot, touch[i])
