@@ -288,7 +288,7 @@ def render(run_dir, cap: int = MAX_FRAMES, force: bool = False, progress=None) -
     frames = read_device_series(pvd, cap)
     fields = {}
     times = [f["time"] for f in frames]
-    for side in ("lower", "upper"):
+    for side in ("lower", "slider_lower", "slider_upper", "upper"):     # the slider plates: a TFP's
         f = d / "vtk" / f"{side}_plate.pvd"
         if f.is_file():
             fields[side] = read_field_series(f, times)

@@ -92,7 +92,7 @@ def tfp_cross_checks(ctx, data) -> None:
                      f"must be >= the footprint radius {foot:g} m on {PART_SURFACE[part]}")
         if t["source"] == "fixed-point" and t["radius_m"] > t["plate_radius"]:
             ctx.fail(f"{where}.radius_m", t["radius_m"], f"must be <= plate_radius = {t['plate_radius']:g} m")
-        n_key = {"fe1d": "n_elements", "axisym": "nz"}.get(t["model"])
+        n_key = {"fe1d": "n_elements", "axisym": "nz", "fe3d": "nz"}.get(t["model"])
         if n_key and t["grading"] > 1.0:
             n, g = t[n_key], t["grading"]
             first = (g - 1.0) / (g ** min(n, 10000) - 1.0) if n * math.log(g) < 700 else 0.0

@@ -8,7 +8,9 @@ above), upper plate (band over S4), superstructure. Cell data per polygon:
 slider, T3 on the upper slider, T4 on the upper plate) and ``mu`` (the friction
 of the surface that heats that part), the values of timeseries.csv at the
 frame's step. Plate temperature fields: ``<part>_plate.pvd`` for the parts
-whose model has one (fe1d, axisym).
+whose model has one (fe1d, axisym, fe3d), placed in the device's coordinates
+so that they overlay device.pvd (``place_part_field``: each part's field
+wrapped onto its own sliding surface, at that body's pose).
 """
 from __future__ import annotations
 
@@ -18,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from .hottest import HottestFields
+from .placement import local_points, mirror_section
 from .scene import TFP_PARTS
 
 BODIES = ("lower_plate", "lower_slider", "pad", "upper_slider", "upper_plate", "superstructure")
@@ -44,13 +47,19 @@ def _band(C, R, half_width, thickness, below: bool, n=N_ARC):
     return np.vstack((inner, outer))
 
 
+def surface_centres(g, xg: float, phi: float, alpha: float):
+    """Centres (x, z) of S1..S4 at the pose (xg, phi, alpha)."""
+    C1 = np.array([xg, g.R1])
+    C2 = C1 - g.l1 * _e(phi)
+    C3 = C2 - g.Li * _e(phi + alpha)
+    C4 = C3 - g.l4 * _e(phi)
+    return C1, C2, C3, C4
+
+
 def tfp_polygons(g, plate_params, xg: float, phi: float, alpha: float, n: int = N_ARC) -> list:
     """The six polygons (BODIES order), each a (k, 2) array of (x, z)."""
     psi = phi + alpha
-    C1 = np.array([xg, g.R1])
-    C2 = C1 - g.l1 * _e(phi)
-    C3 = C2 - g.Li * _e(psi)
-    C4 = C3 - g.l4 * _e(phi)
+    C1, C2, C3, C4 = surface_centres(g, xg, phi, alpha)
     rs, rp = 0.5 * g.slider_diameter, 0.5 * g.pad_diameter
     tl, tu, hp = g.slider_height_lower, g.slider_height_upper, g.pad_height
     xs = np.linspace(-rs, rs, n)
@@ -72,6 +81,49 @@ def tfp_polygons(g, plate_params, xg: float, phi: float, alpha: float, n: int = 
     ws = 1.25 * max(plate_params[3].plate_radius, 1.2 * rs)
     block = np.array([[C4[0] - ws, top], [C4[0] + ws, top], [C4[0] + ws, top + 0.4 * ws], [C4[0] - ws, top + 0.4 * ws]])
     return [lower, slider_lo, pad, slider_up, upper, block]
+
+
+def place_part_field(i: int, fld, g, params, vals: dict):
+    """(points, cells, T) of part i's field (0..3: lower plate, lower slider,
+    upper slider, upper plate; plate-local coordinates, coupling/placement.py)
+    in the device's coordinates at the frame whose CSV values are ``vals``.
+
+    Part i carries surface S(i+1), a sphere of radius R about the centre C
+    of surface_centres; the part's body turns by phi (the slider plates) or
+    not (the outer plates). A plate-local point at arc (x, y) from the
+    part's apex and depth d goes, in the body's frame, to C + (R + d) n, n at
+    polar angle hypot(x, y) / R from the apex direction (down from C for the
+    concave-up S1 and S2, the steel below; up for S3 and S4, the steel
+    above), then turns with the body: the footprint the loop gives the
+    thermal model (+s1, +s2 on the lower parts, -s3, -s4 on the upper ones)
+    lands where the pad or the slider touches that surface."""
+    points, cells, T = fld
+    T = np.asarray(T, dtype=float)
+    k = i + 1
+    if params.source == "fixed-point":
+        cx = params.radius_m
+    else:
+        cx = vals.get(f"s{k}_m", 0.0) * (1.0 if i < 2 else -1.0)
+    q = local_points(points, cx)
+    if params.model == "axisym":
+        q, cells = mirror_section(q, cells)
+        T = np.concatenate((T, T))
+    phi, alpha = float(vals.get("phi_rad", 0.0)), float(vals.get("alpha_rad", 0.0))
+    C = surface_centres(g, float(vals.get("xg_m", 0.0)), phi, alpha)[i]
+    R = (g.R1, g.R2, g.R3, g.R4)[i]
+    turn = phi if i in (1, 2) else 0.0
+    x, y, d = q[:, 0], q[:, 1], q[:, 2]
+    rho = np.hypot(x, y)
+    ang = rho / R
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ux = np.where(rho > 0, x / rho, 0.0)
+        uy = np.where(rho > 0, y / rho, 0.0)
+    r = R + d
+    bx = r * np.sin(ang) * ux
+    bz = (-1.0 if i < 2 else 1.0) * r * np.cos(ang)
+    c, s = math.cos(turn), math.sin(turn)
+    world = np.column_stack((C[0] + c * bx - s * bz, r * np.sin(ang) * uy, C[1] + s * bx + c * bz))
+    return world, cells, T
 
 
 class TFPVTKSeries:
@@ -126,9 +178,9 @@ class TFPVTKSeries:
             fld = plate.field()
             if fld is None:
                 continue
-            p, c, Tf = fld
-            Tf = np.asarray(Tf, dtype=float)
-            p = np.asarray(p, dtype=float)
+            # placed in the device's coordinates, so it overlays device.pvd
+            i = TFP_PARTS.index(part)
+            p, c, Tf = place_part_field(i, fld, g, sim.plate_params[i], vals)
             if len(Tf) == len(p):
                 writer.add(t, p, c, point_data={"T_C": Tf})
             else:
