@@ -344,6 +344,10 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
         if not isinstance(law, str) or law not in FRICTION_KEYS:
             ctx.fail(f"{where}.law", law, "must be one of " + ", ".join(f'"{k}"' for k in FRICTION_KEYS))
         schema = FRICTION_KEYS[law]
+        if "law" in over and law != base.get("law", "constant"):
+            # the side replaces the law: of the base table it takes only the keys its law has
+            merged = {k: v for k, v in base.items() if k in schema}
+            merged.update(over)
         # a key of the base table that belongs to another law is an error
         # only if the override does not replace the law
         for key, value in merged.items():

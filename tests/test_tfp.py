@@ -401,3 +401,28 @@ def test_vertical_load_key_is_refused_where_it_is_not_read():
         scn.load("lab-sine", ['loading.waveform="circle"', 'loading.vertical="constant"'])
     assert scn.load("lab-sine", ['loading.waveform="circle"'])["loading"]["vertical"] == "riding-mass"
     assert scn.load("lab-sine")["loading"]["vertical"] == "constant"
+
+
+def test_a_surface_may_replace_the_law_of_the_base_friction_table(tmp_path):
+    """[friction] law = "constant", mu = 0.1 with [friction.S2] law =
+    "kumar2015": S2 takes only the keys of its own law from the base table (it
+    was refused as 'friction.mu belongs to law constant'); a key of the wrong
+    law written in the surface's own table is still refused; the same for a
+    DFP side."""
+    import fpd
+    from fpd.coupling.scene import SceneError
+
+    text = (ROOT / "scenes" / "tfp-lab.toml").read_text()
+    text = text.replace('[friction.S2]\nlaw = "constant"\nmu = 0.02\n',
+                        '[friction.S2]\nlaw = "kumar2015"\nmu_ref = 0.02\nuse_temperature = true\n')
+    path = tmp_path / "mix.toml"
+    path.write_text(text)
+    s = fpd.load_scene(path)
+    assert s["friction"]["S2"]["law"] == "kumar2015" and s["friction"]["S2"]["mu_ref"] == 0.02
+    assert s["friction"]["S1"] == {"law": "constant", "mu": 0.10}
+    path.write_text(text.replace("mu_ref = 0.02\n", "mu_ref = 0.02\nmu = 0.3\n"))
+    with pytest.raises(SceneError, match=r"friction\.S2\.mu = 0\.3: belongs to law \"constant\""):
+        fpd.load_scene(path)
+    d = fpd.load_scene("northridge-dfp", friction={"lower": {"law": "constant", "mu": 0.05}})
+    assert d["friction"]["lower"] == {"law": "constant", "mu": 0.05}
+    assert d["friction"]["upper"]["law"] == "kumar2015" and d["friction"]["upper"]["mu_ref"] == 0.06
