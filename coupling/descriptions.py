@@ -67,12 +67,13 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
     "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "
-                                 "slider_diameter x slider_height_lower (7850 kg/m3)."),
+                                 "slider_diameter x slider_height_lower (7850 kg/m3). 0: massless slider "
+                                 "plates (not together with pad_mass = 0)."),
     "device.pad_height": ("m", "Pad height h, apex to apex along the pad axis (the flat bearing: the "
                                "cylinder's height H)."),
     "device.pad_diameter": ("m", "Pad diameter D = 2a; the contact footprint is a disk of radius a on each plate."),
     "device.pad_mass": ("kg", "Pad mass (the flat bearing: the cylinder's mass m); default: a solid steel "
-                              "cylinder of the pad's size (7850 kg/m3)."),
+                              "cylinder of the pad's size (7850 kg/m3). A TFP's pad may be massless (0)."),
     "superstructure.mass": ("kg", "Mass carried by the bearing (its weight is the vertical load)."),
 
     # [friction] (both interfaces; [friction.lower] / [friction.upper] override per interface)

@@ -48,6 +48,10 @@ def _pos(x):
     return None if x > 0 else "must be > 0"
 
 
+def _pad_mass(x):
+    return None if x >= 0 else "must be > 0 (a TFP: >= 0)"
+
+
 def _nonneg(x):
     return None if x >= 0 else "must be >= 0"
 
@@ -162,7 +166,7 @@ TABLES = {
         "R2": ("float", None, _pos),
         "pad_height": ("float", REQUIRED, _pos),
         "pad_diameter": ("float", REQUIRED, _pos),
-        "pad_mass": ("float", None, _pos),
+        "pad_mass": ("float", None, _pad_mass),
         # triple friction pendulum only (TFP_DEVICE_KEYS)
         "R3": ("float", None, _pos),
         "R4": ("float", None, _pos),
@@ -174,7 +178,7 @@ TABLES = {
         "d2": ("float", None, _pos),
         "d3": ("float", None, _pos),
         "d4": ("float", None, _pos),
-        "slider_mass": ("float", None, _pos),
+        "slider_mass": ("float", None, _nonneg),
     },
     "superstructure": {"mass": ("float", REQUIRED, _pos)},
     "mechanics": {"model": (("two-phase", "seated"), "two-phase", None),
@@ -555,6 +559,8 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
     if "pad_mass" not in dev:
         # a solid steel cylinder of the pad's size
         dev["pad_mass"] = 7850.0 * math.pi * (dev["pad_diameter"] / 2) ** 2 * dev["pad_height"]
+    elif dev["pad_mass"] == 0:
+        ctx.fail("device.pad_mass", 0, "must be > 0 (a TFP: >= 0)")
     if heat_only and raw.get("friction") is None:
         data["friction"] = _friction(ctx, {"law": "constant", "mu": 0.0})
     else:

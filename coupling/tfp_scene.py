@@ -38,6 +38,10 @@ def tfp_device(ctx, data, raw) -> None:
         dev["pad_mass"] = STEEL * math.pi * (dev["pad_diameter"] / 2) ** 2 * dev["pad_height"]
     if "slider_mass" not in dev:
         dev["slider_mass"] = STEEL * math.pi * (dev["slider_diameter"] / 2) ** 2 * dev["slider_height_lower"]
+    if dev["pad_mass"] == 0 and dev["slider_mass"] == 0:
+        # the superstructure alone moves along one line for phi and alpha when alpha = 0
+        ctx.fail("device.slider_mass", 0, "must be > 0 when pad_mass = 0: with no inner mass the TFP's mass "
+                 "matrix is singular at alpha = 0 (a few grams are enough)")
     if data["loading"]["kind"] == "heat":
         ctx.fail("loading.kind", "heat", 'a thermal-only scene ignores the device: use kind = "DFP" for it')
 
