@@ -248,7 +248,7 @@ def cmd_run(args) -> int:
         hottest = None
         if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
             from .hottest import HottestFields
-            hottest = vtk.hottest if vtk else HottestFields()
+            hottest = vtk.hottest if vtk else HottestFields.of(sim)   # two plates or the TFP's four parts
         # timeseries.csv is written as the run goes (memory bounded whatever the
         # steps); signals are held from the end of the stepping until the folder is complete
         history = stream_history(folder, scene)

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .hottest import HottestFields
+from .hottest import TFP_SIDES, HottestFields
 from .placement import local_points, mirror_section
 from .scene import TFP_PARTS
 
@@ -135,7 +135,7 @@ class TFPVTKSeries:
         self.folder = Path(folder)
         self.sim = sim
         self.device = PVDWriter(self.folder, "device")
-        self.hottest = HottestFields()
+        self.hottest = HottestFields(TFP_SIDES)     # the four parts' fields at their hottest (plots/)
         self.plates = []
         for part, plate in zip(TFP_PARTS, sim.plates):
             if plate is None or not callable(getattr(plate, "field", None)) or plate.field() is None:
@@ -185,6 +185,8 @@ class TFPVTKSeries:
                 writer.add(t, p, c, point_data={"T_C": Tf})
             else:
                 writer.add(t, p, c, cell_data={"T_C": [Tf]})
+            # the frame's field in the plate's own coordinates, as the DFP's series offers it
+            self.hottest.consider(part, t, *fld, surface=vals.get(f"T{i + 1}_C"), params=sim.plate_params[i])
 
     def close(self) -> None:
         self.device.close()
@@ -192,4 +194,5 @@ class TFPVTKSeries:
             writer.close()
 
     def hottest_pictures(self, plots_dir) -> list:
-        return []
+        """One PNG per heated part with a field (coupling/hottest.py)."""
+        return self.hottest.pictures(plots_dir)
