@@ -145,6 +145,9 @@ class TFPVTKSeries:
         vals = dict(zip(mech.columns, mech.values()))
         for i, (p, pp) in enumerate(zip(sim.plates, sim.plate_params), start=1):
             vals[f"T{i}_C"] = p.surface_temperature() if p is not None else pp.T0_C
+        # row 0's mu1..mu4 as simulate_tfp records them: at the initial temperatures, zero speed
+        for i, law in enumerate(sim.laws, start=1):
+            vals.setdefault(f"mu{i}", law(vals[f"T{i}_C"], mech.N[i - 1] / sim.geometry.areas[i - 1], 0.0))
         self._write(0, vals)
 
     def frame(self, n: int, sim=None) -> None:
