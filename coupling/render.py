@@ -233,6 +233,7 @@ def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
     from matplotlib.colors import Normalize
+    from matplotlib.patches import Polygon
     from PIL import Image
 
     fields = dict(fields or {})
@@ -250,13 +251,32 @@ def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -
     cmap = matplotlib.colormaps["plasma"]
     out_dir.mkdir(parents=True, exist_ok=True)
     # one figure for all frames: only the polygons, their colours and the title change
-    fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=100, layout="constrained")
-    coll = PolyCollection(frames[0]["polygons"], edgecolors="k", linewidths=0.8)
+    layout = layout_of(frames)
+    if layout.kind == "TFP":
+        # a TFP's longer note (which body is which surface) in a row of its own below
+        # the axes, so that the layout keeps it clear of the x label (a free fig.text
+        # is not part of the layout; the layout's rect misplaces the title with a colour bar)
+        fig, (ax, nax) = plt.subplots(2, 1, figsize=(8.0, 5.4), dpi=100, layout="constrained",
+                                      height_ratios=(1.0, 0.1))
+        nax.axis("off")
+    else:
+        fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=100, layout="constrained")
+        nax = None
+    body_of = {side: b for b, side in layout.sides.items()}
+    coll = PolyCollection(frames[0]["polygons"], edgecolors="none", linewidths=0.0)
     ax.add_collection(coll)
-    # no antialiasing: the strips of a column abut, and antialiased seams between them
-    # would let the grey plate under them show through as stripes
-    fcoll = PolyCollection([], edgecolors="none", linewidths=0.0, cmap=cmap, norm=norm, antialiaseds=False)
-    ax.add_collection(fcoll)
+    # one collection per plate field, clipped to its own body (a section or a 3-D field
+    # wrapped onto a sliding surface fans out beyond the body drawn; an axisym section
+    # is centred on the footprint); no antialiasing: the strips of a column abut, and
+    # antialiased seams between them would let the grey plate show through as stripes
+    fcolls = {}
+    for side in pieces:
+        fcolls[side] = PolyCollection([], edgecolors="none", linewidths=0.0, cmap=cmap, norm=norm,
+                                      antialiaseds=False)
+        ax.add_collection(fcolls[side])
+    # the bodies' outlines last, over the fields
+    edges = PolyCollection(frames[0]["polygons"], facecolors="none", edgecolors="k", linewidths=0.8)
+    ax.add_collection(edges)
     sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
     fig.colorbar(sm, ax=ax, label=f"temperature ({DEG})", shrink=0.85)
     ax.set_xlim(x0, x1)
@@ -264,7 +284,6 @@ def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("z (m)")
-    layout = layout_of(frames)
     with_field = {b: side in pieces for b, side in layout.sides.items()}
     if any(with_field.values()):
         note = ("plate temperature fields where the models have them (a 1-D column: a strip\n"
@@ -274,15 +293,18 @@ def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -
     if layout.kind == "TFP":
         note += ("\nbottom to top: lower plate (S1: mu1, T1), lower slider plate (S2: mu2, T2), pad,\n"
                  "upper slider plate (S3: mu3, T3), upper plate (S4: mu4, T4), superstructure")
-    fig.text(0.01, 0.01, note, fontsize=7, color="0.3", va="bottom")
+    if nax is not None:
+        nax.text(0.0, 1.0, note, transform=nax.transAxes, fontsize=7, color="0.3", va="top", ha="left")
+    else:
+        fig.text(0.01, 0.01, note, fontsize=7, color="0.3", va="bottom")
     # room kept by the layout for the title's lines (two; a TFP's three)
     head = ax.set_title("t\nmu" + ("\nT" if layout.kind == "TFP" else ""), fontsize=11)
     fig.canvas.draw()
     fig.set_layout_engine("none")      # freeze the layout: same frame geometry throughout
     # the axes, ticks and colour bar are drawn once (the slow part); per frame
     # only the polygons and the title are drawn over that background (blitting)
-    coll.set_animated(True)
-    fcoll.set_animated(True)
+    for a in (coll, edges, *fcolls.values()):
+        a.set_animated(True)
     head.set_animated(True)
     fig.canvas.draw()
     canvas = fig.canvas
@@ -291,17 +313,20 @@ def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -
     for k, f in enumerate(frames):
         coll.set_verts(f["polygons"])
         coll.set_facecolor(body_colours(f, layout, with_field, cmap, norm))
-        fp, fv = [], []
-        for side in pieces:
+        edges.set_verts(f["polygons"])
+        for side, fc in fcolls.items():
             p, v = pieces[side][k]
-            fp += p
-            fv.append(v)
-        fcoll.set_verts(fp)
-        fcoll.set_array(np.concatenate(fv) if fv else np.zeros(0))
+            fc.set_verts(p)
+            fc.set_array(v)
+            sel = np.flatnonzero(f["body"] == body_of.get(side, -1))
+            fc.set_clip_path(Polygon(f["polygons"][sel[0]], closed=True, transform=ax.transData)
+                             if sel.size else ax.patch)
         head.set_text(frame_title(f, title, layout))
         canvas.restore_region(background)
         ax.draw_artist(coll)
-        ax.draw_artist(fcoll)
+        for fc in fcolls.values():
+            ax.draw_artist(fc)
+        ax.draw_artist(edges)
         ax.draw_artist(head)
         p = out_dir / f"frame_{k:04d}.png"
         Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3]).save(p, compress_level=3)

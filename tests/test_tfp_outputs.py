@@ -174,3 +174,23 @@ def test_hottest_fields_python_and_compiled_loops(monkeypatch):
     if len(kept) == 2:
         for p in PARTS:
             assert kept[0][p][:2] == kept[1][p][:2] and np.array_equal(kept[0][p][2], kept[1][p][2]), p
+
+
+def test_api_run_writes_the_tfp_series(tmp_path):
+    """fpd.run(..., out=) on a TFP writes the TFP's series as ``fpd run`` does
+    (it drew the DFP's and failed on the TFP stepper)."""
+    import pyvista
+
+    import fpd
+
+    out = tmp_path / "api"
+    r = fpd.run("tfp-lab", out=out, **{"loading.cycles": 0.5, "solver.dt": 5e-3, "output.vtk_every": 500,
+                                      "output.plots": False})
+    assert r.ok
+    for part in PARTS:
+        assert (out / "vtk" / f"{part}_plate.pvd").is_file(), part
+    dev = pyvista.PVDReader(str(out / "vtk" / "device.pvd"))
+    assert len(dev.time_values) == 3
+    g = dev.read()
+    g = g[0] if isinstance(g, pyvista.MultiBlock) else g
+    assert sorted(np.asarray(g.cell_data["body"]).tolist()) == [0, 1, 2, 3, 4, 5]
