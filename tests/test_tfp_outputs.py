@@ -194,3 +194,39 @@ def test_api_run_writes_the_tfp_series(tmp_path):
     g = dev.read()
     g = g[0] if isinstance(g, pyvista.MultiBlock) else g
     assert sorted(np.asarray(g.cell_data["body"]).tolist()) == [0, 1, 2, 3, 4, 5]
+
+
+def test_render_clips_each_field_to_its_body(tmp_path):
+    """A part's field wider than its body (a section wrapped onto a sliding
+    surface fans out; an axisym section is centred on the footprint) is drawn
+    only over that body: a hot field 10 x 10 times the lower slider plate's
+    square colours as many pixels as the square painted in the same
+    temperature. (Before, the field spilled over the whole drawing.)"""
+    import pyvista
+    from PIL import Image
+
+    from fpd.coupling import render as rd
+
+    sq = np.array([[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]])
+    at = [(-1.5, -1.5), (0.0, 0.0), (1.5, -1.5), (-1.5, 1.5), (1.5, 1.5), (0.0, 1.5)]   # body 1 in the middle
+
+    def frame(T1):
+        return {"time": 0.0, "body": np.arange(6), "polygons": [sq + np.array(c) for c in at],
+                "T_C": np.array([np.nan, T1, np.nan, np.nan, 0.0, np.nan]), "mu": np.full(6, np.nan)}
+
+    pts = np.array([[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]])
+    g = pyvista.UnstructuredGrid(np.array([4, 0, 1, 2, 3]), np.array([9], dtype=np.uint8), pts)
+    g.point_data["T_C"] = np.full(4, 100.0)
+
+    def hot_pixels(frames, fields, sub):
+        png = rd.draw_frames(frames, tmp_path / sub, "x", fields)[0]
+        with Image.open(png) as im:
+            a = np.asarray(im.convert("RGB"), dtype=float)
+        a = a[:, : int(0.8 * a.shape[1])]                     # leave out the colour bar
+        top = np.array([240.0, 249.0, 33.0])                   # plasma(1): T = 100, the scale's top
+        return int((np.abs(a - top).max(axis=2) < 40).sum())
+
+    clipped = hot_pixels([frame(np.nan)], {"slider_lower": [g], "width": 0.02}, "field")
+    painted = hot_pixels([frame(100.0)], {}, "painted")
+    assert painted > 200
+    assert abs(clipped - painted) <= 0.05 * painted, (clipped, painted)
