@@ -246,11 +246,11 @@ def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **
     try:
         vtk = hottest = None
         if sc["output"]["vtk_every"] > 0:
-            from .vtk_output import VTKSeries
-            vtk = VTKSeries(folder.subdir("vtk"), sim)
+            from .vtk_output import series_class         # as fpd run: the TFP's, the 3D, the planar
+            vtk = series_class(sc, sim)(folder.subdir("vtk"), sim)
         if sc["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
             from .hottest import HottestFields
-            hottest = vtk.hottest if vtk else HottestFields()
+            hottest = vtk.hottest if vtk else HottestFields.of(sim)   # two plates or the TFP's four parts
         result = simulate(sim, progress=progress, every=sc["output"]["csv_every"],
                           on_frame=vtk.frame if vtk else None, frame_every=sc["output"]["vtk_every"],
                           hottest=hottest)

@@ -238,17 +238,12 @@ def cmd_run(args) -> int:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
         if scene["output"]["vtk_every"] > 0:
-            if scene["device"]["kind"] == "TFP":
-                from .tfp_vtk import TFPVTKSeries as VTKSeries
-            elif hasattr(sim.mechanics, "centre1"):      # bidirectional runs: the device in 3D
-                from .vtk_bidirectional import VTKSeries3D as VTKSeries
-            else:
-                from .vtk_output import VTKSeries
-            vtk = VTKSeries(folder.subdir("vtk"), sim)
+            from .vtk_output import series_class        # the TFP's, a bidirectional run's 3D, the planar
+            vtk = series_class(scene, sim)(folder.subdir("vtk"), sim)
         hottest = None
         if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
             from .hottest import HottestFields
-            hottest = vtk.hottest if vtk else HottestFields()
+            hottest = vtk.hottest if vtk else HottestFields.of(sim)   # two plates or the TFP's four parts
         # timeseries.csv is written as the run goes (memory bounded whatever the
         # steps); signals are held from the end of the stepping until the folder is complete
         history = stream_history(folder, scene)

@@ -10,14 +10,38 @@ from pathlib import Path
 
 import numpy as np
 
+# (side, what the picture calls it, the timeseries column of its model's temperature,
+# the body whose footprint heats it), in the order of sim.plates; the picture is
+# plots/<side>_plate_hottest.png
+DFP_SIDES = (("lower", "lower plate", "T1_C", "pad"), ("upper", "upper plate", "T2_C", "pad"))
+# the TFP's four heated parts (S1 .. S4), named as vtk/<side>_plate.pvd names them: the
+# outer plates carry the slider plates' footprints, the slider plates the pad's
+TFP_SIDES = (("lower", "lower plate", "T1_C", "lower slider plate"),
+             ("slider_lower", "lower slider plate", "T2_C", "pad"),
+             ("slider_upper", "upper slider plate", "T3_C", "pad"),
+             ("upper", "upper plate", "T4_C", "upper slider plate"))
+
+
+def parts_of(sim) -> tuple:
+    """The parts of a simulation's plates (DFP_SIDES or TFP_SIDES)."""
+    return TFP_SIDES if len(getattr(sim, "plates", ())) == 4 else DFP_SIDES
+
 
 class HottestFields:
-    """side -> (Tmax, time, points, cells, T) of the hottest field seen."""
+    """side -> (Tmax, time, points, cells, T) of the hottest field seen.
 
-    def __init__(self):
+    ``parts``: DFP_SIDES (two plates, the default) or TFP_SIDES (the TFP's
+    four heated parts); ``HottestFields.of(sim)`` picks them."""
+
+    def __init__(self, parts=DFP_SIDES):
+        self.parts = tuple(parts)
         self.best = {}
         self.surface = {}        # side -> the model's T1_C / T2_C at the kept time
         self.params = {}         # side -> PlateParams (what that column is)
+
+    @classmethod
+    def of(cls, sim) -> "HottestFields":
+        return cls(parts_of(sim))
 
     def __getitem__(self, side):
         self.resolve()
@@ -45,7 +69,7 @@ class HottestFields:
         peak_temperature() and field_state() (fe3d, whose field is dear to
         build) is compared first and only its state kept; its field is built
         when asked for (resolve)."""
-        for side, plate in zip(("lower", "upper"), plates):
+        for (side, *_), plate in zip(self.parts, plates):
             if plate is not None and hasattr(plate, "field_state"):
                 tmax = plate.peak_temperature()
                 best = self.best.get(side)
@@ -68,28 +92,30 @@ class HottestFields:
     def pictures(self, plots_dir) -> list[Path]:
         self.resolve()
         out = []
-        for side in ("lower", "upper"):
+        for side, label, column, under in self.parts:
             # a plate that never heated (an SFP's housing: its articulation
             # carries no friction) gets no picture of its uniform field
             if side in self.best and np.nanmax(self.best[side][4]) > np.nanmin(self.best[side][4]):
                 out.append(plot_plate_field(Path(plots_dir) / f"{side}_plate_hottest.png",
-                                            f"{side} plate", *self.best[side],
+                                            label, *self.best[side],
                                             surface=self.surface.get(side), params=self.params.get(side),
-                                            column=f"T{1 if side == 'lower' else 2}_C"))
+                                            column=column, under=under))
         return out
 
 
-def quantity_of(model: str, source: str = "follow-pad", radius_m: float = 0.0) -> str:
-    """What a plate model's temperature column (T1_C / T2_C) is, in words."""
+def quantity_of(model: str, source: str = "follow-pad", radius_m: float = 0.0, under: str = "pad") -> str:
+    """What a plate model's temperature column (T1_C / T2_C) is, in words
+    (``under``: the body whose footprint heats the plate; a TFP's outer
+    plates are heated under the slider plates)."""
     if model == "lumped":
         return "plate mean (lumped)"
     if model == "fe1d":
         if source == "fixed-point":
             return f"material point at r = {radius_m:g} m, surface (fe1d)"
-        return "surface under the pad, 1-D column (fe1d)"
+        return f"surface under the {under}, 1-D column (fe1d)"
     if model == "axisym":
         return "footprint mean, surface (axisym)"
-    return f"surface under the pad ({model})"
+    return f"surface under the {under} ({model})"
 
 
 DEG = "\N{DEGREE SIGN}C"
@@ -112,7 +138,7 @@ def _hot_extent(x: np.ndarray, T: np.ndarray, lo: float, hi: float, frac: float 
 
 
 def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cells, T,
-                     surface=None, params=None, column="T_C") -> Path:
+                     surface=None, params=None, column="T_C", under="pad") -> Path:
     """A plate's temperature field at its hottest, drawn as a field and
     zoomed on the hot part (the heated track and the thin heated layer):
 
@@ -142,7 +168,7 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
     ext = np.ptp(points, axis=0) if len(points) else np.zeros(3)
     a = getattr(params, "a_contact_m", None)
     model = getattr(params, "model", "")
-    what = quantity_of(model, getattr(params, "source", "follow-pad"), getattr(params, "radius_m", 0.0)) \
+    what = quantity_of(model, getattr(params, "source", "follow-pad"), getattr(params, "radius_m", 0.0), under) \
         if params is not None else None
     three_d = point_T and ext[0] > 0 and ext[1] > 0 and ext[2] > 0
     section = point_T and not three_d and ext[2] > 0 and (ext[0] > 0 or ext[1] > 0)
@@ -189,7 +215,7 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
         if a:      # the footprint's width, drawn on the face around the hottest surface point
             rc = float(r[face][np.argmax(T[face])])
             ax.plot([1e3 * max(rc - a, r0), 1e3 * min(rc + a, r1)], [0.0, 0.0], color="tab:cyan", lw=4,
-                    solid_capstyle="butt", clip_on=False, label=f"pad footprint width (2 a = {2e3 * a:.0f} mm)")
+                    solid_capstyle="butt", clip_on=False, label=f"{under} footprint width (2 a = {2e3 * a:.0f} mm)")
             ax.legend(loc="lower right", fontsize=8)
         ax.set_xlabel(("r" if model == "axisym" else "xy"[i]) + " (mm), from the plate centre (zoomed)")
         ax.set_ylabel("depth below the sliding face (mm, zoomed)")

@@ -245,16 +245,20 @@ _OUTPUTS = """\
   run can be repeated: `fpd run DIR/scene.toml`.
 - `plots/`: `hysteresis.png` (F against u), `response.png`, `temperature.png`,
   `friction.png`; `lower_plate_hottest.png` / `upper_plate_hottest.png` for FE
-  plates (each plate's field at its hottest moment); `cycles.png` for a
-  test-machine run.
+  plates (each plate's field at its hottest moment; a TFP: one per FE part,
+  `lower`, `slider_lower`, `slider_upper`, `upper_plate_hottest.png`);
+  `cycles.png` for a test-machine run.
 - `cycles.csv` (a test-machine run with at least one complete cycle): one row
   per cycle, the fields of `test_machine.cycles[]` below
   (docs/test_machine.md).
 - `vtk/` when `output.vtk_every > 0`: `device.pvd` (the plates, the pad and the
   superstructure as moving polygons in the x-z plane, with `T_C`, `mu`, `body`
   as cell data) and `lower_plate.pvd` / `upper_plate.pvd` (FE temperature
-  fields), series of `.vtu` frames with their times (ParaView, pyvista);
-  `fpd render DIR` turns them into PNG frames and a GIF.
+  fields), series of `.vtu` frames with their times (ParaView, pyvista); a
+  TFP: its five bodies and the superstructure (`body` 0..5) and
+  `<part>_plate.pvd` per FE part (`lower`, `slider_lower`, `slider_upper`,
+  `upper`); `fpd render DIR` turns them into PNG frames and a GIF (not the
+  flat bearing, which writes no VTK).
 """
 
 

@@ -5,6 +5,12 @@ OpenGL) and draws every frame with matplotlib's Agg backend: the polygons of
 the device in the x-z plane coloured by temperature (one colour scale for the
 whole animation, with its colour bar; pad and superstructure, which carry no
 temperature, in grey), the time and the friction coefficients in the title.
+The device is read from the series itself: four bodies (a DFP, an SFP: lower
+plate, pad, upper plate, superstructure; mu1, mu2, T1, T2) or six (a TFP,
+coupling/tfp_vtk.py: lower plate, lower slider plate, pad, upper slider plate,
+upper plate, superstructure; mu1..mu4, T1..T4 of the surfaces S1..S4, as the
+TFP's timeseries columns name them). A flat-bearing run writes no VTK: its
+folder is refused in one line.
 Matplotlib rather than VTK's renderer, so that rendering needs no display,
 no EGL/OSMesa library and no system package on a fresh machine.
 
@@ -24,6 +30,63 @@ GIF_FRAME_MS = 80
 BODY_NAMES = ("lower plate", "pad", "upper plate", "superstructure")
 DEG = "\N{DEGREE SIGN}C"
 GREYS = ("#9a9a9a", "#c8c8c8", "#9a9a9a", "#d9d9d9")   # bodies without a temperature
+
+
+class Layout:
+    """Which body of device.pvd is what: ``names`` per body index, ``greys``
+    (the colour of a body without a temperature, or under its field),
+    ``sides``: body -> the plate series (vtk/<side>_plate.pvd) drawn over it,
+    ``surfaces``: (body, i) -> that body's mu / T_C are mu{i} / T{i}."""
+
+    def __init__(self, kind, names, greys, sides, surfaces, bodies_note):
+        self.kind, self.names, self.greys = kind, names, greys
+        self.sides, self.surfaces, self.bodies_note = sides, surfaces, bodies_note
+
+
+DFP_LAYOUT = Layout("DFP", BODY_NAMES, GREYS, {0: "lower", 2: "upper"}, ((0, "1"), (2, "2")),
+                    "pad and superstructure")
+# coupling/tfp_vtk.py's BODIES order; T_C, mu of body 0, 1, 3, 4 are S1..S4's
+TFP_LAYOUT = Layout("TFP", ("lower plate", "lower slider plate", "pad", "upper slider plate", "upper plate",
+                            "superstructure"),
+                    ("#9a9a9a", "#b3b3b3", "#c8c8c8", "#b3b3b3", "#9a9a9a", "#d9d9d9"),
+                    {0: "lower", 1: "slider_lower", 3: "slider_upper", 4: "upper"},
+                    ((0, "1"), (1, "2"), (3, "3"), (4, "4")), "pad and superstructure")
+
+
+def layout_of(frames) -> Layout:
+    """The device's layout from its bodies: six (0..5) a TFP, else a DFP / SFP."""
+    top = max(int(np.max(f["body"])) for f in frames if len(f["body"]))
+    return TFP_LAYOUT if top == len(TFP_LAYOUT.names) - 1 else DFP_LAYOUT
+
+
+def frame_title(f: dict, title: str, layout: Layout) -> str:
+    """The frame's title: the run, the time, each surface's mu and T (a TFP:
+    mu1..mu4 on one line, T1..T4 on the next; a DFP both on one line)."""
+    mus, Ts = [], []            # per surface: its words (none where the value is not finite)
+    for body, name in layout.surfaces:
+        sel = np.flatnonzero(f["body"] == body)
+        mu, T = (f["mu"][sel[0]], f["T_C"][sel[0]]) if sel.size else (np.nan, np.nan)
+        mus.append([f"mu{name} = {mu:.4f}"] if np.isfinite(mu) else [])
+        Ts.append([f"T{name} = {T:.2f} {DEG}"] if np.isfinite(T) else [])
+    head = f"{title}   t = {f['time']:.3f} s\n"
+    if layout.kind == "TFP":
+        lines = [",  ".join(sum(mus, [])), ",  ".join(sum(Ts, []))]
+        return head + "\n".join(x for x in lines if x)
+    return head + ",  ".join(sum((m + T for m, T in zip(mus, Ts)), []))     # mu1, T1, mu2, T2
+
+
+def body_colours(f: dict, layout: Layout, with_field: dict, cmap, norm) -> list:
+    """Per polygon of frame f: its grey (no temperature, or a plate whose
+    field is drawn over it) or its temperature's colour (a lumped plate: T is
+    the plate mean)."""
+    out = []
+    for body, T in zip(f["body"], f["T_C"]):
+        b = int(body)
+        if not np.isfinite(T) or with_field.get(b, False):
+            out.append(layout.greys[b % len(layout.greys)])
+        else:
+            out.append(cmap(norm(T)))
+    return out
 
 
 def frame_indices(n: int, cap: int = MAX_FRAMES) -> np.ndarray:
@@ -170,15 +233,17 @@ def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
     from matplotlib.colors import Normalize
+    from matplotlib.patches import Polygon
     from PIL import Image
 
-    fields = fields or {}
-    width = fields.pop("width", 0.02)
+    fields = dict(fields or {})
+    width = fields.pop("width", 0.02)       # a float, or per side (a TFP: slider or pad footprint)
     (x0, x1), (z0, z1) = _limits(frames)
     lo, hi = _t_range(frames)
     pieces = {}
     for side, grids in fields.items():
-        pieces[side] = [field_pieces(g, width) if g is not None else ([], np.zeros(0)) for g in grids]
+        w = width.get(side, 0.02) if isinstance(width, dict) else width
+        pieces[side] = [field_pieces(g, w) if g is not None else ([], np.zeros(0)) for g in grids]
         for _, v in pieces[side]:
             if v.size:
                 lo, hi = min(lo, float(v.min())), max(hi, float(v.max()))
@@ -186,11 +251,32 @@ def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -
     cmap = matplotlib.colormaps["plasma"]
     out_dir.mkdir(parents=True, exist_ok=True)
     # one figure for all frames: only the polygons, their colours and the title change
-    fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=100, layout="constrained")
-    coll = PolyCollection(frames[0]["polygons"], edgecolors="k", linewidths=0.8)
+    layout = layout_of(frames)
+    if layout.kind == "TFP":
+        # a TFP's longer note (which body is which surface) in a row of its own below
+        # the axes, so that the layout keeps it clear of the x label (a free fig.text
+        # is not part of the layout; the layout's rect misplaces the title with a colour bar)
+        fig, (ax, nax) = plt.subplots(2, 1, figsize=(8.0, 5.4), dpi=100, layout="constrained",
+                                      height_ratios=(1.0, 0.1))
+        nax.axis("off")
+    else:
+        fig, ax = plt.subplots(figsize=(8.0, 5.0), dpi=100, layout="constrained")
+        nax = None
+    body_of = {side: b for b, side in layout.sides.items()}
+    coll = PolyCollection(frames[0]["polygons"], edgecolors="none", linewidths=0.0)
     ax.add_collection(coll)
-    fcoll = PolyCollection([], edgecolors="none", linewidths=0.0, cmap=cmap, norm=norm)
-    ax.add_collection(fcoll)
+    # one collection per plate field, clipped to its own body (a section or a 3-D field
+    # wrapped onto a sliding surface fans out beyond the body drawn; an axisym section
+    # is centred on the footprint); no antialiasing: the strips of a column abut, and
+    # antialiased seams between them would let the grey plate show through as stripes
+    fcolls = {}
+    for side in pieces:
+        fcolls[side] = PolyCollection([], edgecolors="none", linewidths=0.0, cmap=cmap, norm=norm,
+                                      antialiaseds=False)
+        ax.add_collection(fcolls[side])
+    # the bodies' outlines last, over the fields
+    edges = PolyCollection(frames[0]["polygons"], facecolors="none", edgecolors="k", linewidths=0.8)
+    ax.add_collection(edges)
     sm = matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap)
     fig.colorbar(sm, ax=ax, label=f"temperature ({DEG})", shrink=0.85)
     ax.set_xlim(x0, x1)
@@ -198,50 +284,49 @@ def draw_frames(frames, out_dir: Path, title: str, fields=None, progress=None) -
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("z (m)")
-    with_field = {0: "lower" in pieces, 2: "upper" in pieces}
+    with_field = {b: side in pieces for b, side in layout.sides.items()}
     if any(with_field.values()):
         note = ("plate temperature fields where the models have them (a 1-D column: a strip\n"
-                "of the footprint's width); the rest of the plates, pad, superstructure in grey")
+                f"of the footprint's width); the rest of the plates, {layout.bodies_note} in grey")
     else:
-        note = "plates coloured by their model's temperature (lumped: the plate mean)\npad and superstructure in grey"
-    fig.text(0.01, 0.01, note, fontsize=7, color="0.3", va="bottom")
-    head = ax.set_title("t\nmu", fontsize=11)     # two lines: room kept by the layout
+        note = f"plates coloured by their model's temperature (lumped: the plate mean)\n{layout.bodies_note} in grey"
+    if layout.kind == "TFP":
+        note += ("\nbottom to top: lower plate (S1: mu1, T1), lower slider plate (S2: mu2, T2), pad,\n"
+                 "upper slider plate (S3: mu3, T3), upper plate (S4: mu4, T4), superstructure")
+    if nax is not None:
+        nax.text(0.0, 1.0, note, transform=nax.transAxes, fontsize=7, color="0.3", va="top", ha="left")
+    else:
+        fig.text(0.01, 0.01, note, fontsize=7, color="0.3", va="bottom")
+    # room kept by the layout for the title's lines (two; a TFP's three)
+    head = ax.set_title("t\nmu" + ("\nT" if layout.kind == "TFP" else ""), fontsize=11)
     fig.canvas.draw()
     fig.set_layout_engine("none")      # freeze the layout: same frame geometry throughout
     # the axes, ticks and colour bar are drawn once (the slow part); per frame
     # only the polygons and the title are drawn over that background (blitting)
-    coll.set_animated(True)
-    fcoll.set_animated(True)
+    for a in (coll, edges, *fcolls.values()):
+        a.set_animated(True)
     head.set_animated(True)
     fig.canvas.draw()
     canvas = fig.canvas
     background = canvas.copy_from_bbox(fig.bbox)
     paths = []
     for k, f in enumerate(frames):
-        colours = [GREYS[int(body) % len(GREYS)] if (not np.isfinite(T) or with_field.get(int(body), False))
-                   else cmap(norm(T)) for body, T in zip(f["body"], f["T_C"])]
         coll.set_verts(f["polygons"])
-        coll.set_facecolor(colours)
-        fp, fv = [], []
-        for side in pieces:
+        coll.set_facecolor(body_colours(f, layout, with_field, cmap, norm))
+        edges.set_verts(f["polygons"])
+        for side, fc in fcolls.items():
             p, v = pieces[side][k]
-            fp += p
-            fv.append(v)
-        fcoll.set_verts(fp)
-        fcoll.set_array(np.concatenate(fv) if fv else np.zeros(0))
-        words = []
-        for i, name in ((0, "1"), (2, "2")):
-            sel = np.flatnonzero(f["body"] == i)
-            if sel.size:
-                mu, T = f["mu"][sel[0]], f["T_C"][sel[0]]
-                if np.isfinite(mu):
-                    words.append(f"mu{name} = {mu:.4f}")
-                if np.isfinite(T):
-                    words.append(f"T{name} = {T:.2f} {DEG}")
-        head.set_text(f"{title}   t = {f['time']:.3f} s\n" + ",  ".join(words))
+            fc.set_verts(p)
+            fc.set_array(v)
+            sel = np.flatnonzero(f["body"] == body_of.get(side, -1))
+            fc.set_clip_path(Polygon(f["polygons"][sel[0]], closed=True, transform=ax.transData)
+                             if sel.size else ax.patch)
+        head.set_text(frame_title(f, title, layout))
         canvas.restore_region(background)
         ax.draw_artist(coll)
-        ax.draw_artist(fcoll)
+        for fc in fcolls.values():
+            ax.draw_artist(fc)
+        ax.draw_artist(edges)
         ax.draw_artist(head)
         p = out_dir / f"frame_{k:04d}.png"
         Image.fromarray(np.asarray(canvas.buffer_rgba())[..., :3]).save(p, compress_level=3)
@@ -274,6 +359,9 @@ def render(run_dir, cap: int = MAX_FRAMES, force: bool = False, progress=None) -
     if not d.is_dir():
         raise SceneError(f"{d}: no such results folder")
     pvd = d / "vtk" / "device.pvd"
+    if _device_kind(d) == "flat" and not pvd.is_file():
+        raise SceneError(f"{d}: a flat-bearing run (device.kind = \"flat\"); fpd render cannot draw it: "
+                         "the flat bearing writes no VTK series yet")
     if not pvd.is_file():
         raise SceneError(f"{d}: no VTK series (vtk/device.pvd missing); run the scene with "
                          "--set output.vtk_every=N, N > 0")
@@ -293,7 +381,7 @@ def render(run_dir, cap: int = MAX_FRAMES, force: bool = False, progress=None) -
         if f.is_file():
             fields[side] = read_field_series(f, times)
     if fields:
-        fields["width"] = _footprint_width(d)
+        fields["width"] = _footprint_widths(d)
     # written beside, moved into place complete (a full disk or a kill leaves
     # the old render/ or none, never half a set of frames)
     from .output import ResultsFolder
@@ -308,15 +396,35 @@ def render(run_dir, cap: int = MAX_FRAMES, force: bool = False, progress=None) -
     return [out / "frames" / p.name for p in pngs], out / "device.gif"
 
 
-def _footprint_width(d: Path) -> float:
-    """The pad's footprint diameter from DIR/scene.toml (the width a column
-    field is drawn with), or 2 cm if unreadable."""
+def _scene(d: Path) -> dict:
+    """DIR/scene.toml, or {} if unreadable (a hand-made folder)."""
     try:
         import tomllib
-        sc = tomllib.loads((d / "scene.toml").read_text())
-        return float(sc["device"]["pad_diameter"])
-    except Exception:            # a hand-made folder: any readable width will do
-        return 0.02
+        return tomllib.loads((d / "scene.toml").read_text())
+    except Exception:
+        return {}
+
+
+def _device_kind(d: Path) -> str:
+    dev = _scene(d).get("device", {})
+    return dev.get("kind", "") if isinstance(dev, dict) else ""
+
+
+def _footprint_widths(d: Path) -> dict:
+    """Per plate series, the diameter of the footprint that heats it (the
+    width a column field is drawn with) from DIR/scene.toml: the pad's, but
+    a TFP's outer plates carry the slider plates (slider_diameter); 2 cm if
+    unreadable (a hand-made folder: any readable width will do)."""
+    dev = _scene(d).get("device", {})
+    try:
+        pad = float(dev["pad_diameter"])
+    except (KeyError, TypeError, ValueError):
+        pad = 0.02
+    try:
+        outer = float(dev["slider_diameter"]) if dev.get("kind") == "TFP" else pad
+    except (KeyError, TypeError, ValueError):
+        outer = pad
+    return {"lower": outer, "upper": outer, "slider_lower": pad, "slider_upper": pad}
 
 
 def cmd_render(args) -> int:

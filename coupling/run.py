@@ -146,7 +146,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     if getattr(sim.mechanics, "n_interfaces", 2) == 4:     # the TFP: its own staggered loop
         from .tfp_loop import simulate_tfp
         return simulate_tfp(sim, progress=progress, every=every, inject_failure_at=inject_failure_at,
-                            history=history, on_loop_end=on_loop_end, on_frame=on_frame, frame_every=frame_every)
+                            history=history, on_loop_end=on_loop_end, on_frame=on_frame, frame_every=frame_every,
+                            hottest=hottest)
     mech = sim.mechanics
     p1, p2 = sim.plates
     law1, law2 = (getattr(law, "evaluate", law) for law in sim.laws)   # mechanics.friction: the bound kernel

@@ -63,10 +63,12 @@ def columns_of(sim: Simulation):
 
 
 def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject_failure_at=None,
-                 history=None, on_loop_end=None, on_frame=None, frame_every: int = 0):
+                 history=None, on_loop_end=None, on_frame=None, frame_every: int = 0, hottest=None):
     """simulate() for the TFP (same Result, statuses and history contract;
     ``on_frame(n, sim)`` every ``frame_every`` steps, after the row, with
-    ``sim.frame_values`` the row as a dict: the VTK series, coupling/tfp_vtk.py)."""
+    ``sim.frame_values`` the row as a dict: the VTK series, coupling/tfp_vtk.py;
+    ``hottest``: a coupling/hottest.HottestFields (TFP_SIDES) offered the four
+    parts' fields every ``hot_every`` steps, as simulate() offers the DFP's)."""
     from .run import NumericalFailure, Result, _Progress
 
     mech = sim.mechanics
@@ -112,6 +114,7 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
     total_iter = worst_iter = 0
     bar = _Progress(N, dt, progress)
     old = mech.footprints()
+    hot_every = max(1, N // 2000)          # ~2000 looks at the parts' fields per run, as simulate()
     # the common case compiled (coupling/tfp_fast.py); the loop below takes over where it stops
     from .tfp_fast import CHUNK, FULL, REPLAY, ROW_FAILED, compiled_tfp
     fast = None if (on_frame is not None and frame_every) else compiled_tfp(sim, every, len(cols), inject_failure_at)
@@ -123,11 +126,17 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
             fast.pack()
             try:
                 while n0 < N:
-                    n_done, k, code = fast._call(buf, k, n0, min(N, n0 + CHUNK), T_arr, mu_arr)
+                    n_end = min(N, n0 + CHUNK)
+                    if hottest is not None:       # chunks end where the fields are looked at
+                        n_end = min(n_end, (n0 // hot_every + 1) * hot_every)
+                    n_done, k, code = fast._call(buf, k, n0, n_end, T_arr, mu_arr)
                     total_iter += n_done - n0
                     worst_iter = 1
                     n0 = n = n_done
                     last_row = n - n % every if n != N else N
+                    if hottest is not None and code != ROW_FAILED and n % hot_every == 0:
+                        fast.unpack(n)            # the plates' rows back in their objects: field() reads them
+                        hottest.update(plates, n * dt)
                     if code == FULL:
                         flush()
                     elif code == REPLAY:
@@ -189,6 +198,8 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
                 if on_frame is not None and frame_every and n % frame_every == 0:
                     sim.frame_values = dict(zip(cols, r))
                     on_frame(n, sim)
+            if hottest is not None and n % hot_every == 0:
+                hottest.update(plates, n * dt)
             if n % 2048 == 0:
                 bar.update(n)
     except NumericalFailure as exc:

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .hottest import HottestFields
+from .hottest import TFP_SIDES, HottestFields
 from .placement import local_points, mirror_section
 from .scene import TFP_PARTS
 
@@ -135,7 +135,7 @@ class TFPVTKSeries:
         self.folder = Path(folder)
         self.sim = sim
         self.device = PVDWriter(self.folder, "device")
-        self.hottest = HottestFields()
+        self.hottest = HottestFields(TFP_SIDES)     # the four parts' fields at their hottest (plots/)
         self.plates = []
         for part, plate in zip(TFP_PARTS, sim.plates):
             if plate is None or not callable(getattr(plate, "field", None)) or plate.field() is None:
@@ -145,6 +145,9 @@ class TFPVTKSeries:
         vals = dict(zip(mech.columns, mech.values()))
         for i, (p, pp) in enumerate(zip(sim.plates, sim.plate_params), start=1):
             vals[f"T{i}_C"] = p.surface_temperature() if p is not None else pp.T0_C
+        # row 0's mu1..mu4 as simulate_tfp records them: at the initial temperatures, zero speed
+        for i, law in enumerate(sim.laws, start=1):
+            vals.setdefault(f"mu{i}", law(vals[f"T{i}_C"], mech.N[i - 1] / sim.geometry.areas[i - 1], 0.0))
         self._write(0, vals)
 
     def frame(self, n: int, sim=None) -> None:
@@ -185,6 +188,8 @@ class TFPVTKSeries:
                 writer.add(t, p, c, point_data={"T_C": Tf})
             else:
                 writer.add(t, p, c, cell_data={"T_C": [Tf]})
+            # the frame's field in the plate's own coordinates, as the DFP's series offers it
+            self.hottest.consider(part, t, *fld, surface=vals.get(f"T{i + 1}_C"), params=sim.plate_params[i])
 
     def close(self) -> None:
         self.device.close()
@@ -192,4 +197,5 @@ class TFPVTKSeries:
             writer.close()
 
     def hottest_pictures(self, plots_dir) -> list:
-        return []
+        """One PNG per heated part with a field (coupling/hottest.py)."""
+        return self.hottest.pictures(plots_dir)

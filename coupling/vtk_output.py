@@ -263,3 +263,17 @@ class VTKSeries:
         """One PNG per plate with a field: its temperature field at the frame
         with the highest maximum temperature (matplotlib, no OpenGL)."""
         return self.hottest.pictures(plots_dir)
+
+
+def series_class(scene, sim):
+    """The VTK series that draws this simulation's device: the TFP's
+    (coupling/tfp_vtk.py), a bidirectional run's in 3D
+    (coupling/vtk_bidirectional.py) or the planar DFP / SFP above (one
+    choice for ``fpd run`` and ``fpd.run``)."""
+    if scene["device"]["kind"] == "TFP":
+        from .tfp_vtk import TFPVTKSeries
+        return TFPVTKSeries
+    if hasattr(sim.mechanics, "centre1"):
+        from .vtk_bidirectional import VTKSeries3D
+        return VTKSeries3D
+    return VTKSeries
