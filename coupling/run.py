@@ -36,6 +36,29 @@ class Interrupted(RuntimeError):
     pass
 
 
+# what stops a loop and is reported in its Result (status, message), history kept
+LOOP_STOPS = (NumericalFailure, MechanicsFailure, ArithmeticError, ValueError, KeyboardInterrupt)
+
+
+def stop_status(exc: BaseException, n: int, dt: float) -> tuple[str, str]:
+    """(status, message) of a loop stopped at step n by one of LOOP_STOPS."""
+    if isinstance(exc, KeyboardInterrupt):
+        return "interrupted", f"interrupted at step {n} (t = {n * dt:.6g} s)"
+    if isinstance(exc, NumericalFailure):
+        return "failed", str(exc)
+    if isinstance(exc, MechanicsFailure):           # e.g. the pad overturned
+        return "failed", str(NumericalFailure(n, n * dt, str(exc)))
+    # overflow, division by zero, math domain...
+    return "failed", str(NumericalFailure(n, n * dt, f"{type(exc).__name__}: {exc}"))
+
+
+def check_row(r, cols, n: int, dt: float) -> None:
+    """A history row must be finite: NumericalFailure naming the columns that are not."""
+    if not math.isfinite(sum(r)):
+        bad = [c for c, x in zip(cols, r) if not math.isfinite(x)]
+        raise NumericalFailure(n, n * dt, "non-finite " + ", ".join(bad))
+
+
 class Result:
     """A run's history (numpy columns) and its bookkeeping.
 
@@ -305,9 +328,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                     mech.restore(tuple(float("nan") if isinstance(x, float) else x for x in mech.save()))
             if n % every == 0 or n == N or n == inject_failure_at:
                 r = row(n)
-                if not math.isfinite(sum(r)):
-                    bad = [c for c, x in zip(cols, r) if not math.isfinite(x)]
-                    raise NumericalFailure(n, n * dt, "non-finite " + ", ".join(bad))
+                check_row(r, cols, n, dt)
                 buf[k] = r
                 k += 1
                 last_row = n
@@ -320,14 +341,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 hottest.update(sim.plates, n * dt)
             if n % 2048 == 0:
                 bar.update(n)
-    except NumericalFailure as exc:
-        status, message = "failed", str(exc)
-    except MechanicsFailure as exc:                 # e.g. the pad overturned
-        status, message = "failed", str(NumericalFailure(n, n * dt, str(exc)))
-    except (ArithmeticError, ValueError) as exc:    # overflow, division by zero, math domain...
-        status, message = "failed", str(NumericalFailure(n, n * dt, f"{type(exc).__name__}: {exc}"))
-    except KeyboardInterrupt:
-        status, message = "interrupted", f"interrupted at step {n} (t = {n * dt:.6g} s)"
+    except LOOP_STOPS as exc:
+        status, message = stop_status(exc, n, dt)
     runtime = time.perf_counter() - t_start - store_s      # stepping only, not storing
     if on_loop_end is not None:
         on_loop_end()

@@ -11,13 +11,11 @@ loop is untouched. ``iterated`` and ``substeps`` behave as in run.py.
 """
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
 
 from fpd.mechanics.friction import make_law
-from fpd.mechanics.seated import MechanicsFailure
 from fpd.thermal.params import PlateParams
 
 from .build import Simulation, loading_of, make_plate
@@ -69,7 +67,7 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
     ``sim.frame_values`` the row as a dict: the VTK series, coupling/tfp_vtk.py;
     ``hottest``: a coupling/hottest.HottestFields (TFP_SIDES) offered the four
     parts' fields every ``hot_every`` steps, as simulate() offers the DFP's)."""
-    from .run import NumericalFailure, Result, _Progress
+    from .run import LOOP_STOPS, NumericalFailure, Result, _Progress, check_row, stop_status
 
     mech = sim.mechanics
     plates, laws, pp = sim.plates, sim.laws, sim.plate_params
@@ -142,8 +140,7 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
                     elif code == REPLAY:
                         break
                     elif code == ROW_FAILED:
-                        bad = [c for c, x in zip(cols, fast.row.tolist()) if not math.isfinite(x)]
-                        raise NumericalFailure(n, n * dt, "non-finite " + ", ".join(bad))
+                        check_row(fast.row.tolist(), cols, n, dt)
                     bar.update(n)
             finally:
                 fast.unpack(n0)
@@ -187,9 +184,7 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
                 mech.st[:] = float("nan")
             if n % every == 0 or n == N or n == inject_failure_at:
                 r = row()
-                if not math.isfinite(sum(r)):
-                    bad = [c for c, x in zip(cols, r) if not math.isfinite(x)]
-                    raise NumericalFailure(n, n * dt, "non-finite " + ", ".join(bad))
+                check_row(r, cols, n, dt)
                 buf[k] = r
                 k += 1
                 last_row = n
@@ -202,14 +197,8 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
                 hottest.update(plates, n * dt)
             if n % 2048 == 0:
                 bar.update(n)
-    except NumericalFailure as exc:
-        status, message = "failed", str(exc)
-    except MechanicsFailure as exc:
-        status, message = "failed", str(NumericalFailure(n, n * dt, str(exc)))
-    except (ArithmeticError, ValueError) as exc:
-        status, message = "failed", str(NumericalFailure(n, n * dt, f"{type(exc).__name__}: {exc}"))
-    except KeyboardInterrupt:
-        status, message = "interrupted", f"interrupted at step {n} (t = {n * dt:.6g} s)"
+    except LOOP_STOPS as exc:
+        status, message = stop_status(exc, n, dt)
     runtime = time.perf_counter() - t_start - store_s
     if on_loop_end is not None:
         on_loop_end()

@@ -340,7 +340,7 @@ class TFPStepper:
                              f"{self.geom.capacity:.4g} m (all surfaces at their rims)")
         if fail == K.FAIL_ROCKING:
             part = "pad" if K.rocking_start(self.par, self.phi, self.alpha, self._a[n]) == 1 else "slider plates"
-            raise TFPFailure(f"at t = {n * self.dt:.4g} s the {part} would start rocking on a corner "
+            raise TFPFailure(f"the {part} would start rocking on a corner "
                              f"(ground acceleration {self._a[n] / self.geom.g:.3g} g beyond the restoring "
                              "moment of Eq. 7): rocking of the TFP's parts is not modelled (docs/model.md 6.6)")
         if fail == K.FAIL_FIXED_POINT:
