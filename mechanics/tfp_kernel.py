@@ -588,7 +588,26 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     rim2 = at2 or (s2 == 0.0 and ((lo2 == 0.0 and v20 < 0.0) or (hi2 == 0.0 and v20 > 0.0)))
     arr_o = 0.0
     arr_i = 0.0
-    if z1 and z2:
+    if z1 and z2 and rim2 and not rim1:
+        # phi stuck by friction, alpha stopped by its rim: phi's end velocity
+        # first (arrest), then the rim's impulse on alpha alone; a friction
+        # force is finite, so it cannot take the impulse: phi keeps the
+        # momentum the impact hands it (p1 = M12 v2), the next step's to hold
+        v21 = (M[1] * v11 + M[2] * v21) / M[2]
+        Ka = kinetic(par, ak, 0.0, v21)
+        arr_o += K0 - Ka
+        v11 = M[1] * v21 / M[0]
+        v21 = 0.0
+        rim += Ka - kinetic(par, ak, v11, v21)
+    elif z1 and z2 and rim1 and not rim2:
+        # the same with the roles swapped: alpha stuck by friction, phi on its rim
+        v11 = (M[0] * v11 + M[1] * v21) / M[0]
+        Ka = kinetic(par, ak, v11, 0.0)
+        arr_i += K0 - Ka
+        v21 = M[1] * v11 / M[2]
+        v11 = 0.0
+        rim += Ka - kinetic(par, ak, v11, v21)
+    elif z1 and z2:
         # stop the coordinate 1 first (impulse along e1), then the rest
         # an impulse on coordinate 1 only keeps p2 = M12 v1 + M22 v2
         va = 0.0
