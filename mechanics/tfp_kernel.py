@@ -139,6 +139,12 @@ def qp_box(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x):
     return _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, 0)
 
 
+def _off_side(y, g, c):
+    """A free candidate on the side g of the kink must lie strictly on it;
+    without friction (c = 0, no kink) 0 is on either side."""
+    return y * g < 0.0 or (y * g == 0.0 and c != 0.0)
+
+
 def _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, free_only):
     best = 1e300
     x[0] = 0.0
@@ -146,6 +152,11 @@ def _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, free_only):
     for s1 in range(5):
         for s2 in range(5):
             if free_only == 1 and (s1 == 0 or s1 == 2 or s2 == 0 or s2 == 2):
+                continue
+            # without friction a coordinate has no kink at 0: its free candidates
+            # (either sign, 0 included) cover it; a separate "at 0" candidate
+            # would tie with them to round-off and the fixed point could cycle
+            if (s1 == 1 and c1 == 0.0) or (s2 == 1 and c2 == 0.0):
                 continue
             # states: 0 lo, 1 zero, 2 hi, 3 free negative, 4 free positive
             f1 = s1 < 3
@@ -164,15 +175,15 @@ def _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, free_only):
                 b2 = r2 - c2 * g2
                 y1 = (h22 * b1 - h12 * b2) / det
                 y2 = (h11 * b2 - h12 * b1) / det
-                if y1 * g1 <= 0.0 or y2 * g2 <= 0.0:
+                if _off_side(y1, g1, c1) or _off_side(y2, g2, c2):
                     continue
             elif not f1:
                 y1 = (r1 - c1 * g1 - h12 * y2) / h11
-                if y1 * g1 <= 0.0:
+                if _off_side(y1, g1, c1):
                     continue
             elif not f2:
                 y2 = (r2 - c2 * g2 - h12 * y1) / h22
-                if y2 * g2 <= 0.0:
+                if _off_side(y2, g2, c2):
                     continue
             if y1 < lo1 or y1 > hi1 or y2 < lo2 or y2 > hi2:
                 continue
@@ -238,9 +249,11 @@ def qp_line(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, d1, d2, e, x):
         elif j == 1:
             t = thi
         elif j == 2:
+            if c2 == 0.0:           # no kink without friction (see _qp_cands)
+                continue
             t = 0.0
         elif j == 3:
-            if k1 == 0.0:
+            if k1 == 0.0 or c1 == 0.0:
                 continue
             t = -k0 / k1
         else:
