@@ -64,14 +64,15 @@ def _eligible(sim):
     return plate_kinds(sim)
 
 
-def plate_kinds(sim):
+def plate_kinds(sim, worth_loading: bool = False):
     """The plates' kinds when a compiled loop (this one, the bidirectional's,
     the TFP's) can step them and read the laws, and may (numba available,
-    loaded or needed for an fe1d plate), else None."""
+    loaded, needed for an fe1d plate, or ``worth_loading``: a loop whose
+    Python steps cost more than loading numba), else None."""
     kinds = [_plate_kind(p) for p in sim.plates]
     if None in kinds:
         return None
-    if "fe1d" not in kinds and not _numba_loaded():
+    if "fe1d" not in kinds and not _numba_loaded() and not worth_loading:
         return None
     if not kernels.available():
         return None

@@ -25,6 +25,7 @@ from fpd import kernels
 from . import fast_loop
 
 CHUNK = 4096
+WORTH_LOADING_STEPS = 5000
 # the chunk's statuses: coupling/loop_kernel.py's DONE, REPLAY, ROW_FAILED, FULL (tfp_loop.py
 # compares with these; not imported from there: loop_kernel loads scipy, which a lumped or
 # mechanics-only run must not; tests/test_tfp.py checks they agree)
@@ -102,7 +103,9 @@ def compiled_tfp(sim, every, n_cols, inject_failure_at=None):
         return None
     if sim.substeps != 1 or sim.scene["coupling"]["scheme"] != "staggered":
         return None
-    kinds = fast_loop.plate_kinds(sim)
+    # the TFP's Python step costs ~85 us: past ~5000 steps loading numba (and the
+    # cached kernels) pays for itself even without an fe1d part (benchmarks/tfp_speed.py)
+    kinds = fast_loop.plate_kinds(sim, worth_loading=sim.n_steps >= WORTH_LOADING_STEPS)
     if kinds is None:
         return None
     try:
