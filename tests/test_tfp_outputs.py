@@ -4,10 +4,6 @@ each FE part (plots/<part>_plate_hottest.png), and the flat bearing's folder
 refused by ``fpd render`` in one line."""
 from __future__ import annotations
 
-import csv
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -17,16 +13,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PARTS = ("lower", "slider_lower", "slider_upper", "upper")     # heated by S1, S2, S3, S4
 
 
-def _fpd(*args):
-    env = dict(os.environ, MPLBACKEND="Agg", PYTHONPATH=str(ROOT))
-    return subprocess.run([sys.executable, "-m", "fpd", *map(str, args)], cwd=ROOT, env=env,
-                          capture_output=True, text=True, timeout=300)
-
-
-def _csv(path):
-    with open(path) as fh:
-        rows = list(csv.DictReader(fh))
-    return {k: np.array([float(r[k]) if k != "phase" else 0.0 for r in rows]) for k in rows[0]}
+from tests.test_vtk import _csv, _fpd     # the same CLI runner and CSV reader
 
 
 def _picture_ok(path):
