@@ -359,6 +359,20 @@ def reseat(par, phi0, al0, phi1, al1, v1, v2, M, w):
                   + Jphi * d1 * d1 + Jpsi * d2 * d2)
 
 
+def stuck_then_rim(mss, msr, mrr, vs, vr):
+    """A coordinate s stuck by friction while the other, r, is stopped by its
+    rim in the same step (mass matrix entries mss, msr, mrr): s's end velocity
+    first (its arrest, an impulse on s keeping p_r), then the rim's impulse
+    on r alone. A friction force is finite, so it cannot take the impulse: s
+    keeps the momentum the impact hands it, p_s = msr v_r, the next step's to
+    hold or not. Returns (v_s after, arrest loss, rim loss)."""
+    k0 = 0.5 * (mss * vs * vs + 2.0 * msr * vs * vr + mrr * vr * vr)
+    vr = (msr * vs + mrr * vr) / mrr
+    ka = 0.5 * mrr * vr * vr
+    vs = msr * vr / mss
+    return vs, k0 - ka, ka - 0.5 * mss * vs * vs
+
+
 def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     """One step of the rigid TFP (see ``substep``), split at a rim impact.
 
@@ -602,24 +616,17 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     arr_o = 0.0
     arr_i = 0.0
     if z1 and z2 and rim2 and not rim1:
-        # phi stuck by friction, alpha stopped by its rim: phi's end velocity
-        # first (arrest), then the rim's impulse on alpha alone; a friction
-        # force is finite, so it cannot take the impulse: phi keeps the
-        # momentum the impact hands it (p1 = M12 v2), the next step's to hold
-        v21 = (M[1] * v11 + M[2] * v21) / M[2]
-        Ka = kinetic(par, ak, 0.0, v21)
-        arr_o += K0 - Ka
-        v11 = M[1] * v21 / M[0]
+        # phi stuck by friction, alpha stopped by its rim (stuck_then_rim)
+        v11, l_arr, l_rim = stuck_then_rim(M[0], M[1], M[2], v11, v21)
         v21 = 0.0
-        rim += Ka - kinetic(par, ak, v11, v21)
+        arr_o += l_arr
+        rim += l_rim
     elif z1 and z2 and rim1 and not rim2:
         # the same with the roles swapped: alpha stuck by friction, phi on its rim
-        v11 = (M[0] * v11 + M[1] * v21) / M[0]
-        Ka = kinetic(par, ak, v11, 0.0)
-        arr_i += K0 - Ka
-        v21 = M[1] * v11 / M[2]
+        v21, l_arr, l_rim = stuck_then_rim(M[2], M[1], M[0], v21, v11)
         v11 = 0.0
-        rim += Ka - kinetic(par, ak, v11, v21)
+        arr_i += l_arr
+        rim += l_rim
     elif z1 and z2:
         # stop the coordinate 1 first (impulse along e1), then the rest
         # an impulse on coordinate 1 only keeps p2 = M12 v1 + M22 v2
