@@ -230,7 +230,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
         flush()
     status, message = "ok", ""
     total_iter, worst_iter = 0, 0
-    hot_every = max(1, N // 2000)          # ~2000 looks at the plate fields per run
+    from .hottest import look_every
+    hot_every = look_every(N)              # the plates' fields, ~2000 times a run
     c1_old = c2_old = 0.0
     fast = mech is not None and not iterated and sub == 1
     # bidirectional steppers (model.md 8): the plates get the 2D footprint centres

@@ -112,7 +112,8 @@ def simulate_tfp(sim: Simulation, progress: bool = False, every: int = 1, inject
     total_iter = worst_iter = 0
     bar = _Progress(N, dt, progress)
     old = mech.footprints()
-    hot_every = max(1, N // 2000)          # ~2000 looks at the parts' fields per run, as simulate()
+    from .hottest import look_every
+    hot_every = look_every(N)              # the plates' fields, ~2000 times a run
     # the common case compiled (coupling/tfp_fast.py); the loop below takes over where it stops
     from .tfp_fast import CHUNK, FULL, REPLAY, ROW_FAILED, compiled_tfp
     fast = None if (on_frame is not None and frame_every) else compiled_tfp(sim, every, len(cols), inject_failure_at)
