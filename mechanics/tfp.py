@@ -212,7 +212,6 @@ class TFPStepper:
     float64 vector (tfp_kernel.S_*), advanced by tfp_kernel.advance, so the
     compiled loop (coupling/tfp_fast.py) runs the same source."""
 
-    columns = COLUMNS
     n_interfaces = 4
 
     def __init__(self, geom: TFPGeometry, loading, kernel=None, model: str = "seated"):
@@ -240,6 +239,7 @@ class TFPStepper:
         self.N = self.S[K.S_N:K.S_N + 4]         # a view: N1..N4
         self.out = np.zeros(K.N_OUT)
         self._row = np.zeros(K.n_row(self.par))
+        assert len(self.columns) == len(self._row), "tfp_kernel.N_ROW* and the COLUMNS tuples disagree"
         self._M, self._w, self._tmp = np.zeros(3), np.zeros(2), np.zeros(2)
         self._sc = np.zeros(4 + 2 * K.N_OUT)
         self.n = 0
