@@ -818,9 +818,12 @@ def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, out):
         S[S_DP] = 0.0 if dal > 0.0 else 1.0
     if dphi != 0.0:
         S[S_DS] = 0.0 if dphi > 0.0 else 1.0
-    S[S_NPH] = (2.0 if dal != 0.0 else 0.0) + (2.0 if dphi != 0.0 else 0.0)
-    if S[S_NPH] == 4.0:
-        S[S_NPH] = 3.0
+    if dal != 0.0 and dphi != 0.0:
+        S[S_NPH] = 3.0            # Fig. 7: both pivots, the pad re-seats, then the slider plates
+    elif dal != 0.0 or dphi != 0.0:
+        S[S_NPH] = 2.0            # Fig. 6: one pivot, one re-seating
+    else:
+        S[S_NPH] = 0.0
     if S[S_NPH] == 0.0 and v00 == 0.0 and v01 == 0.0 and rocking_start(par, ph0, al0, ag) != 0:
         S[S_NPH] = -1.0
 
