@@ -22,7 +22,9 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from fpd.coupling import build, scene  # noqa: E402
+from fpd.coupling import build  # noqa: E402
+
+from fpd.schema import scene
 from fpd.mechanics.bidirectional import BidirectionalStepper  # noqa: E402
 from tests import test_bidirectional as T  # noqa: E402
 

@@ -15,7 +15,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 
-from fpd.coupling.output import CsvWriter, ParquetWriter  # noqa: E402
+from fpd.outputs.output import CsvWriter, ParquetWriter  # noqa: E402
 
 COLS = ["t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad", "s1_m", "s2_m", "N1_N", "N2_N",
         "mu1", "mu2", "T1_C", "T2_C", "W1_J", "W2_J", "phase", "E_input_J", "E_kin_J", "E_pot_J", "E_reseat_J"]

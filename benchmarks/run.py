@@ -37,7 +37,7 @@ CASES = [
 
 
 def loop_time(scene_name, overrides, repeat=1):
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
 
@@ -59,7 +59,7 @@ _CHILD = ("import atexit, sys\n"
           "    sys.stderr.write(f'\\nMAXRSS_KIB {kib}\\n')\n"
           "atexit.register(_hwm)\n"
           "sys.argv = ['fpd'] + sys.argv[1:]\n"
-          "from fpd.coupling.cli import entry\n"
+          "from fpd.frontends.cli import entry\n"
           "entry()\n")
 
 

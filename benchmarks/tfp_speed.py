@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT))
 
 
 def main(argv=None):
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
 

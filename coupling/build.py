@@ -13,7 +13,7 @@ from fpd.mechanics.friction import make_law
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC
 from fpd.thermal.params import PlateParams
 
-from .scene import Scene, SceneError
+from fpd.schema.scene import TFP_PARTS, TFP_SURFACES, Scene, SceneError
 
 
 @dataclass
@@ -25,12 +25,20 @@ class Simulation:
     n_steps: int
     geometry: DeviceGeometry
     mechanics: object | None          # a Stepper, or None for thermal-only scenes
-    laws: tuple                       # friction law per interface (lower, upper)
-    plates: tuple                     # PlateModel or None per plate (lower, upper)
+    laws: tuple                       # friction law per interface (DFP: lower, upper; TFP: S1..S4)
+    plates: tuple                     # PlateModel or None per interface's plate
     plate_params: tuple
     heat_power: tuple = (0.0, 0.0)    # thermal-only scenes: power per plate (W)
     substeps: int = 1
     info: dict = field(default_factory=dict)
+
+    @property
+    def areas(self) -> tuple:
+        """Contact area (m^2) per interface: p_i = N_i / area_i in the friction laws."""
+        areas = getattr(self.geometry, "areas", None)
+        if areas is not None:
+            return tuple(areas)
+        return (self.geometry.contact_area,) * len(self.plates)
 
 
 def geometry_of(scene: Scene) -> DeviceGeometry:
@@ -55,7 +63,7 @@ def loading_of(scene: Scene, dt: float):
             raise SceneError(f"{scene.path}: solver.dt = {dt:g}: must not exceed solver.duration")
         if dt > rec.t[-1]:
             raise SceneError(f"{scene.path}: solver.dt = {dt:g}: must not exceed the record's length {rec.t[-1]:g} s")
-        from .scene import check_steps
+        from fpd.schema.scene import check_steps
         check_steps(scene.path, dt, duration or float(rec.t[-1]))
         gm = gmod.ground_motion_from_samples(
             ld.get("record", ld.get("file", rec.name)), rec.t, rec.a_g * G_ACC * factor, dt, duration,
@@ -67,7 +75,7 @@ def loading_of(scene: Scene, dt: float):
     if ld["kind"] == "displacement":
         return gmod.sine_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "pulse":
-        from .scene import loading_length
+        from fpd.schema.scene import loading_length
         return gmod.pulse_ground_motion(ld["shape"], ld["velocity_mps"], ld["period_s"], ld["t0_s"],
                                         duration or loading_length(ld), dt)
     raise AssertionError(ld["kind"])
@@ -147,10 +155,8 @@ def make_plate(params: PlateParams, dt: float):
 
 def build(scene: Scene) -> Simulation:
     if scene["device"]["kind"] == "TFP":          # four surfaces, five parts: coupling/tfp_loop.py
-        from .tfp_loop import build_tfp
         return build_tfp(scene)
     if scene["device"]["kind"] == "flat":         # the flat double bearing (paper Fig. 2)
-        from .tfp_loop import build_flat
         return build_flat(scene)
     dt = scene["solver"]["dt"]
     geom = geometry_of(scene)
@@ -159,7 +165,7 @@ def build(scene: Scene) -> Simulation:
     pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
     info = {}
     if ld["kind"] == "heat":
-        from .scene import loading_length
+        from fpd.schema.scene import loading_length
         duration = scene["solver"].get("duration") or loading_length(ld)
         n_steps = max(1, int(round(duration / dt)))
         power = ld["flux_W_m2"] * geom.contact_area
@@ -167,7 +173,7 @@ def build(scene: Scene) -> Simulation:
         plates = tuple(make_plate(p, dt / substeps) if o else None for p, o in zip(pp, on))
         return Simulation(scene, dt, n_steps, geom, None, (None, None), plates, pp,
                           heat_power=(power * on[0], power * on[1]), substeps=substeps, info=info)
-    from .scene import is_bidirectional
+    from fpd.schema.scene import is_bidirectional
     if is_bidirectional(scene.data) or scene["mechanics"]["normal_force"] == "midpoint":
         return _build_bidirectional(scene, dt, geom, pp, substeps, info)
     loading = loading_of(scene, dt)
@@ -279,4 +285,57 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
     info["bidirectional"] = {"normal_force": mech.normal_force}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
-    return Simulation(scene, dt, n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
+    sim = Simulation(scene, dt, n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
+    from .fast_loop import warm
+    warm(sim)           # load the compiled engine now, not after the run's folder is made
+    return sim
+
+
+# -- the triple friction pendulum and the flat bearing (model.md 9) ---------------------
+
+def build_tfp(scene: Scene) -> Simulation:
+    from fpd.mechanics.tfp import TFPStepper
+    from fpd.schema.scene import tfp_geometry
+
+    dt = scene["solver"]["dt"]
+    geom = tfp_geometry(scene.data)
+    loading = loading_of(scene, dt)
+    mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"])
+    dev = scene["device"]
+    feet = (dev["slider_diameter"] / 2, dev["pad_diameter"] / 2, dev["pad_diameter"] / 2, dev["slider_diameter"] / 2)
+    pp = tuple(PlateParams(**scene.thermal(part), a_contact_m=a) for part, a in zip(TFP_PARTS, feet))
+    sub = scene["coupling"]["substeps"]
+    plates = tuple(make_plate(p, dt / sub) for p in pp)
+    laws = tuple(make_law(scene.friction(s)) for s in TFP_SURFACES)
+    info = {"device": "TFP", "capacity_m": geom.capacity}
+    if hasattr(loading, "record"):
+        ld = scene["loading"]
+        info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
+                          "pga_g": loading.record.pga_g, "scale": ld["scale"],
+                          "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
+    sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
+    from .fast_loop import warm
+    warm(sim)           # load the compiled engine now, not after the run's folder is made
+    return sim
+
+
+def build_flat(scene: Scene) -> Simulation:
+    """The flat double bearing (mechanics/flat.py): two interfaces."""
+    from fpd.mechanics.flat import FlatGeometry, FlatStepper
+
+    dt = scene["solver"]["dt"]
+    dev = scene["device"]
+    geom = FlatGeometry(dev["pad_height"], dev["pad_diameter"], dev["pad_mass"], scene["superstructure"]["mass"])
+    loading = loading_of(scene, dt)
+    mech = FlatStepper(geom, loading)
+    sub = scene["coupling"]["substeps"]
+    pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
+    plates = tuple(make_plate(p, dt / sub) for p in pp)
+    laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    info = {"device": "flat", "mu_tip_closed_form": geom.mu_tip()}
+    if hasattr(loading, "record"):
+        ld = scene["loading"]
+        info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
+                          "pga_g": loading.record.pga_g, "scale": ld["scale"],
+                          "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
+    return Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)

@@ -1,22 +1,26 @@
-"""simulate()'s compiled fast path (issue 7): when to use it, and the driver.
+"""simulate()'s compiled path: when to use it, and the driver.
 
-The common case (two-phase stepper, staggered coupling, one thermal step per
-step, lumped / fe1d / no plates, a friction law of mechanics.friction) runs
-in coupling/loop_kernel.run_chunk compiled (fpd.kernels.compiled), over a
-range of steps; this module calls it in chunks that end at simulate()'s
-events (progress bar, VTK frames, hottest-field tracker, every 2048 steps so
-that Ctrl-C is seen within ~10 ms). The models' state vectors are what the
-kernels read: the stepper's list S and the plates' rows P travel as float64
-copies and are written back after each chunk (fe1d arrays are shared), so the
-Python loop can take over at any step (an injected failure, a step the
-kernel hands back because Python would raise there).
+The staggered step with one thermal step per step, lumped / fe1d / no
+plates and friction laws of mechanics.friction runs in the coupled engine
+(coupling/engine_kernel.run_chunk) compiled by fpd.kernels.compiled with the
+device bound (``bind={"dev": mech.engine_device}``), over ranges of steps;
+this module calls it in chunks that end at simulate()'s events (progress
+bar, VTK frames, hottest-field tracker, every 2048 steps so that Ctrl-C is
+seen within ~10 ms). The device declares what the engine needs
+(``engine_device``, ``engine_state()``, ``engine_pull(S)``, ``engine_push(S, n)``:
+mechanics/two_phase.py, bidirectional.py, tfp.py); the plates' rows P travel
+as float64 copies written back after each chunk (fe1d arrays are shared), so
+the Python loop can take over at any step (an injected failure, a step the
+engine hands back because Python would raise there).
 
 Used only with numba installed and FPD_NO_JIT unset. A scene with an fe1d
 plate uses it always (numba is loaded for the column kernel anyway); a
 lumped or mechanics-only scene only when numba is already loaded in the
-process (a study, a process that ran an fe1d scene): loading numba and the
-kernels costs ~0.7 s, which would take such a scene's start past 1 s
-(issue 7), while its Python loop costs ~10 us per step.
+process (a study, a process that ran an fe1d scene) or when the device's
+Python step is slow enough that loading numba pays for itself over the run
+(``engine_worth_loading(n_steps)``; the TFP past ~5000 steps): loading numba
+and the kernels costs ~0.7 s, while the planar DFP's Python loop costs
+~10 us per step.
 """
 from __future__ import annotations
 
@@ -47,21 +51,6 @@ def _plate_kind(plate):
     if type(plate).__name__ == "FE1DPlate" and type(plate).__module__ == "fpd.thermal.fe1d":
         return "fe1d"
     return None
-
-
-def _eligible(sim):
-    """The plate kinds when the compiled loop can run this simulation's
-    staggered steps (and may: numba available, loaded or needed), else None."""
-    from fpd.mechanics.two_phase import TwoPhaseStepper
-
-    mech = sim.mechanics
-    if not enabled or mech is None or sim.substeps != 1 or sim.scene["coupling"]["scheme"] != "staggered":
-        return None
-    if type(mech) is not TwoPhaseStepper:
-        return None
-    if any(k in vars(mech) for k in ("step", "values", "save", "restore")):
-        return None                  # patched (tests): the Python loop calls the patch
-    return plate_kinds(sim)
 
 
 def plate_kinds(sim, worth_loading: bool = False):
@@ -123,99 +112,116 @@ def unpack_plates(plates, arrays) -> None:
             target[:] = arr[5].tolist()
 
 
+def eligible(sim):
+    """The plate kinds when the compiled engine can run this simulation's
+    steps (and may: numba available, loaded, needed or worth loading), else None."""
+    mech = sim.mechanics
+    if not enabled or mech is None or sim.substeps != 1 or sim.scene["coupling"]["scheme"] != "staggered":
+        return None
+    if getattr(mech, "engine_device", None) is None:
+        return None
+    if any(k in vars(mech) for k in ("step", "values", "save", "restore")):
+        return None                  # patched (tests): the Python loop calls the patch
+    worth = getattr(mech, "engine_worth_loading", None)
+    return plate_kinds(sim, worth_loading=bool(worth and worth(sim.n_steps)))
+
+
+def engine(mech):
+    """The coupled engine compiled with this stepper's device bound (ImportError without numba)."""
+    return kernels.compiled("fpd.coupling.engine_kernel", bind={"dev": mech.engine_device})
+
+
+def loop_columns(sim) -> list:
+    """The loop's row: the stepper's columns, mu_i and, with plates, T_i, E_stored_J, E_air_J."""
+    n = len(sim.plates)
+    cols = list(sim.mechanics.columns) + [f"mu{i + 1}" for i in range(n)]
+    if any(p is not None for p in sim.plates):
+        cols += [f"T{i + 1}_C" for i in range(n)] + ["E_stored_J", "E_air_J"]
+    return cols
+
+
 def warm(sim) -> None:
-    """Load (or compile) the compiled loop now, if this simulation will use
-    it: at build time, before the run's folder exists and its Ctrl-C handling
-    starts (every mix of plates has the same signature: one call loads it)."""
-    if _eligible(sim) is None:
+    """Load (or compile) the engine now, if this simulation will use it: at
+    build time, before the run's folder exists and its Ctrl-C handling starts."""
+    kinds = eligible(sim)
+    if kinds is None:
         return
     try:
-        lj = kernels.compiled("fpd.coupling.loop_kernel")
+        CompiledLoop(sim, engine(sim.mechanics), kinds, 1, 1, loop_columns(sim), None)
     except ImportError:
         return
-    from fpd.mechanics import two_phase_kernel as tp
-    f, i32 = np.zeros(tp.N_STATE), np.zeros(8, dtype=np.int32)
-    band, vecs = np.zeros((2, 2), order="F"), tuple(np.zeros(1) for _ in range(6))
-    plate = (band, band, vecs, vecs, i32, f)
-    lj.run_chunk(f, f, f, f, f, f, f, f, f, *plate, *plate, np.zeros((1, 1)), f,
-                 np.zeros(lj.N_CTL, dtype=np.int64))
 
 
 def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
     """A CompiledLoop for this simulation, or None: the Python loop runs it."""
-    kinds = _eligible(sim)
+    kinds = eligible(sim)
     if kinds is None:
         return None
     if inject_failure_at is not None and inject_failure_at <= 1:
         return None
-    if list(cols) != list(sim.mechanics.columns) + (["mu1", "mu2", "T1_C", "T2_C", "E_stored_J", "E_air_J"]
-                                                    if any(k != "none" for k in kinds) else ["mu1", "mu2"]):
+    if list(cols) != loop_columns(sim):
         return None
     try:
-        lj = kernels.compiled("fpd.coupling.loop_kernel")
+        eng = engine(sim.mechanics)
     except ImportError:
         return None
-    return CompiledLoop(sim, lj, kinds, every, n_rows, cols, inject_failure_at)
+    return CompiledLoop(sim, eng, kinds, every, n_rows, cols, inject_failure_at)
 
 
 class CompiledLoop:
     """Runs steps 1.. of simulate()'s loop compiled; see run()."""
 
-    def __init__(self, sim, lj, kinds, every, n_rows, cols, inject_failure_at):
-        self._setup(sim, lj, kinds, every, n_rows, cols, inject_failure_at)
-        mech = sim.mechanics
-        self.MC = np.array(mech.C)
-        self.MS = np.array(mech.S, dtype=float)
-        self.MSAVE = np.zeros(len(mech.S))
-        self.A, self.T, self.D = (np.asarray(x, dtype=float) for x in (mech._a_step, mech._t, mech._d))
-        self._call(np.zeros((1, len(cols))))   # load the kernel now (build() did: warm()), not in the timed loop
-
-    def _setup(self, sim, lj, kinds, every, n_rows, cols, inject_failure_at):
-        """What every two-interface compiled loop holds besides its stepper's arrays."""
-        self.sim, self.lj = sim, lj
-        self.run_chunk = lj.run_chunk        # the bidirectional loop sets its own (same ctl, F, plates)
+    def __init__(self, sim, eng, kinds, every, n_rows, cols, inject_failure_at):
+        self.sim, self.lj = sim, eng
         self.kinds, self.cols = kinds, list(cols)
-        self.LW1, self.LW2 = law_rows(sim.laws)
+        mech = sim.mechanics
+        ni = len(sim.plates)
         N = sim.n_steps
         # the Python loop takes over at an injected failure
         self.n_stop = N if inject_failure_at is None else min(N, inject_failure_at - 1)
-        self.F = np.zeros(lj.N_F)
-        self.F[lj.F_AREA] = sim.geometry.contact_area
-        self.F[lj.F_ETA1] = sim.plate_params[0].heat_share
-        self.F[lj.F_ETA2] = sim.plate_params[1].heat_share
-        self.F[lj.F_DT] = sim.dt
-        self.ctl = np.zeros(lj.N_CTL, dtype=np.int64)
-        self.ctl[lj.C_NROWS], self.ctl[lj.C_EVERY], self.ctl[lj.C_N] = n_rows, every, N
-        self.ctl[lj.C_HEAT] = any(k != "none" for k in kinds)
+        self.C, self.S, self.L, self.X = mech.engine_state()
+        self.S0 = np.zeros(len(self.S))
+        self.LW = law_rows(sim.laws)
+        self.areas = np.array(sim.areas, dtype=float)
+        self.eta = np.array([p.heat_share for p in sim.plate_params], dtype=float)
+        self.T, self.mu = np.zeros(ni), np.zeros(ni)
+        self.mun, self.dW = np.zeros(ni), np.zeros(ni)
+        self.ctl = np.zeros(eng.N_CTL, dtype=np.int64)
+        self.ctl[eng.C_NROWS], self.ctl[eng.C_EVERY], self.ctl[eng.C_N] = n_rows, every, N
+        self.ctl[eng.C_HEAT] = any(k != "none" for k in kinds)
+        self.ctl[eng.C_NVAL] = len(mech.columns)
+        self.ctl[eng.C_2D] = 1 if getattr(mech, "two_d", False) else 0
         self.row = np.zeros(len(cols))
-        # per plate: (Mb, Ab, FAC, V, I, P) and whether P is a copy
-        self.plates, codes = plate_arrays(sim.plates, kinds, lj)
-        self.ctl[lj.C_KIND1], self.ctl[lj.C_KIND2] = codes
+        # per plate: (Mb, Ab, FAC, V, I, P) and whether P is a copy; then six tuples over the plates
+        self.plates, codes = plate_arrays(sim.plates, kinds, eng)
+        self.kind_codes = np.array(codes, dtype=np.int64)
+        self.plate_args = tuple(tuple(arr[j] for arr, _ in self.plates) for j in range(6))
+        self._call(np.zeros((1, len(cols))))   # load the engine now (build() did: warm()), not in the timed loop
 
     def _args(self, buf):
-        (p1, _), (p2, _) = self.plates
-        return (self.MC, self.MS, self.MSAVE, self.A, self.T, self.D, self.LW1, self.LW2, self.F,
-                *p1, *p2, buf, self.row, self.ctl)
+        return (self.C, self.S, self.S0, self.L, self.X, self.sim.dt, self.LW, self.areas, self.eta,
+                self.kind_codes, *self.plate_args, self.T, self.mu, self.mun, self.dW, buf, self.row, self.ctl)
 
     def _call(self, buf):
         """run_chunk from ctl[C_NDONE] to ctl[C_NEND] (0 to 0: just the dispatch)."""
-        return self.run_chunk(*self._args(buf))
+        return self.lj.run_chunk(*self._args(buf))
 
-    # -- the models' state vectors <-> their float64 copies ------------------------------
+    # -- the models' state <-> the engine's arrays ----------------------------------------
     def _pack(self):
-        self.MS[:] = self.sim.mechanics.S
+        self.sim.mechanics.engine_pull(self.S)
         pack_plates(self.sim.plates, self.plates)
 
-    def _unpack(self):
-        self.sim.mechanics.S[:] = self.MS.tolist()
+    def _unpack(self, n=None):
+        self.sim.mechanics.engine_push(self.S, int(self.ctl[self.lj.C_NDONE]) if n is None else n)
         unpack_plates(self.sim.plates, self.plates)
 
     # -- the run -----------------------------------------------------------------------
-    def run(self, buf, k, last_row, T1, T2, mu1, mu2, bar=None, hottest=None, hot_every=1,
+    def run(self, buf, k, last_row, T, mu, bar=None, hottest=None, hot_every=1,
             on_frame=None, frame_every=0, start=0, pending=False):
         """Steps start+1..n_stop (or until a step the Python loop must take),
         their rows into buf (loop column order) from row k, with simulate()'s
-        floats T1, T2, mu1, mu2 and counters as they are after step start.
+        temperatures T and friction coefficients mu (lists, one per
+        interface) and counters as they are after step start.
         Returns an Outcome; never raises for Ctrl-C or a failed row (the
         Outcome carries them, simulate() raises them once its own counters
         are set). Outcome.full: buf filled up at step Outcome.steps; the
@@ -223,12 +229,12 @@ class CompiledLoop:
         pending=True (that step's frame, hottest and progress events are run
         then, after the flush, in simulate()'s order)."""
         lj = self.lj
-        ctl, F = self.ctl, self.F
+        ctl = self.ctl
         ctl[lj.C_NDONE], ctl[lj.C_K], ctl[lj.C_LAST] = start, k, last_row
         ctl[lj.C_NROWS] = len(buf)
-        F[lj.F_T1], F[lj.F_T2], F[lj.F_MU1], F[lj.F_MU2] = T1, T2, mu1, mu2
+        self.T[:], self.mu[:] = T, mu
         self._pack()
-        run_chunk = self.run_chunk
+        run_chunk = self.lj.run_chunk
         args = self._args(buf)
         events = (bar, hottest, hot_every, on_frame, frame_every)
         out = Outcome()
@@ -268,7 +274,7 @@ class CompiledLoop:
             self._unpack()
         out.steps = int(ctl[lj.C_NDONE])
         out.k, out.last_row = int(ctl[lj.C_K]), int(ctl[lj.C_LAST])
-        out.T1, out.T2, out.mu1, out.mu2 = (float(x) for x in F[lj.F_T1:lj.F_MU2 + 1])
+        out.T, out.mu = self.T.tolist(), self.mu.tolist()
         # the step in progress (simulate()'s n) when it stopped early
         out.n = out.steps
         if out.failure:
@@ -280,17 +286,18 @@ class CompiledLoop:
     def _events(self, n, bar, hottest, hot_every, on_frame, frame_every):
         """simulate()'s events at the end of step n, in its order."""
         if on_frame is not None and frame_every and n % frame_every == 0 and int(self.ctl[self.lj.C_LAST]) == n:
-            self._unpack()
+            self._unpack(n)
             self.sim.frame_values = self._frame_values(self.row)
             on_frame(n, self.sim)
         if hottest is not None and n % hot_every == 0:
+            self._unpack(n)
             hottest.update(self.sim.plates, n * self.sim.dt)
         if bar is not None and n % 2048 == 0:
             bar.update(n)
 
     def _frame_values(self, r):
         vals = dict(zip(self.cols, r.tolist()))
-        for c in ("phase", "diagonal"):
+        for c in ("phase", "diagonal", "phases"):
             if c in vals:
                 vals[c] = int(vals[c])
         return vals
@@ -300,7 +307,7 @@ class Outcome:
     """How the compiled part ended: steps done, rows kept, the loop's floats."""
 
     steps = n = k = last_row = 0
-    T1 = T2 = mu1 = mu2 = 0.0
+    T = mu = ()
     interrupted = False
     full = False             # the row buffer filled up (see CompiledLoop.run)
     failure = None           # (step, what) of a non-finite row

@@ -17,13 +17,22 @@ import numpy as np
 from fpd.mechanics.phases import PHASES, MechanicsFailure
 
 from .build import Simulation
-from .fast_loop import compiled_loop
-from .history import MemoryHistory, signals_held
+from .fast_loop import compiled_loop, loop_columns
+from .recording import MemoryHistory, signals_held
 
-# canonical column order (docs/reference.md); extra diagnostic columns follow
-CANONICAL = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad", "s1_m", "s2_m",
-             "N1_N", "N2_N", "mu1", "mu2", "T1_C", "T2_C", "W1_J", "W2_J", "phase", "E_input_J",
-             "E_kin_J", "E_pot_J", "E_reseat_J", "E_stored_J", "E_air_J")
+# canonical column order (docs/reference.md), every device; extra diagnostic columns follow
+CANONICAL = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad", "beta_rad",
+             "s1_m", "s2_m", "s3_m", "s4_m", "N1_N", "N2_N", "N3_N", "N4_N", "mu1", "mu2", "mu3", "mu4",
+             "T1_C", "T2_C", "T3_C", "T4_C", "W1_J", "W2_J", "W3_J", "W4_J", "phase", "E_input_J",
+             "E_kin_J", "E_pot_J", "E_rim_J", "E_reseat_J", "E_stored_J", "E_air_J")
+
+
+LOOKS = 2000        # looks at the fields per run: often enough to catch the peak, cheap
+
+
+def look_every(n_steps: int) -> int:
+    """Steps between two looks at the plate fields (a hottest-field tracker's updates)."""
+    return max(1, n_steps // LOOKS)
 
 
 class NumericalFailure(RuntimeError):
@@ -106,7 +115,7 @@ class Result:
         if self.streamed:
             return self.history.stats
         if self._stats is None:
-            from .history import Stats
+            from .recording import Stats
             self._stats = Stats(self.columns)
             self._stats.add(self.data)
         return self._stats
@@ -145,43 +154,52 @@ class _Progress:
 
 
 def _columns(sim: Simulation):
-    mech_cols = list(sim.mechanics.columns) if sim.mechanics else ["t_s"]
+    """(loop columns, canonical order) of this simulation's rows."""
+    n = len(sim.plates)
     heat = any(p is not None for p in sim.plates)
-    cols = list(mech_cols)
     if sim.mechanics:
-        cols += ["mu1", "mu2"]
-    if heat:
-        cols += ["T1_C", "T2_C", "E_stored_J", "E_air_J"]
+        cols = loop_columns(sim)
+    else:                                   # a thermal-only scene
+        cols = ["t_s"] + ([f"T{i + 1}_C" for i in range(n)] + ["E_stored_J", "E_air_J"] if heat else [])
     order = [c for c in CANONICAL if c in cols] + [c for c in cols if c not in CANONICAL]
     return cols, order
 
 
+def _poisoned(snap):
+    """A snapshot with every float NaN (tests of the failure path)."""
+    if isinstance(snap, float):
+        return float("nan")
+    if isinstance(snap, np.ndarray):
+        return np.full_like(snap, np.nan) if snap.dtype.kind == "f" else snap
+    if isinstance(snap, tuple):
+        return tuple(_poisoned(x) for x in snap)
+    return snap
+
+
 def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_failure_at: int | None = None,
              on_frame=None, frame_every: int = 0, hottest=None, history=None, on_loop_end=None) -> Result:
-    """Run the scene's loop; never raises for numerical failure or Ctrl-C:
-    the Result carries ``status`` and the history computed so far.
+    """Run the scene's loop, for any device (N interfaces); never raises for
+    numerical failure or Ctrl-C: the Result carries ``status`` and the history
+    computed so far.
 
-    ``history``: where the rows go (coupling/history.py): by default all kept
-    in memory; a ``StreamHistory`` writes them to disk block by block.
+    ``history``: where the rows go (coupling/recording.py): by default all
+    kept in memory; a ``StreamHistory`` (outputs/history.py) writes them to
+    disk block by block. ``on_frame(n, sim)`` every ``frame_every`` steps,
+    after the row, with ``sim.frame_values`` the row as a dict (the VTK
+    series); ``hottest``: offered the plates every look_every(N) steps.
     ``on_loop_end()`` is called when the stepping is over, before the last
     block is handed to the history (the command line starts holding Ctrl-C
     there, so the last block of the CSV is always written)."""
-    if getattr(sim.mechanics, "n_interfaces", 2) == 4:     # the TFP: its own staggered loop
-        from .tfp_loop import simulate_tfp
-        return simulate_tfp(sim, progress=progress, every=every, inject_failure_at=inject_failure_at,
-                            history=history, on_loop_end=on_loop_end, on_frame=on_frame, frame_every=frame_every,
-                            hottest=hottest)
     mech = sim.mechanics
-    p1, p2 = sim.plates
-    law1, law2 = (getattr(law, "evaluate", law) for law in sim.laws)   # mechanics.friction: the bound kernel
+    plates, laws = list(sim.plates), [getattr(law, "evaluate", law) for law in sim.laws]
+    ni = len(plates)
     dt, N = sim.dt, sim.n_steps
     sub = sim.substeps
     cpl = sim.scene["coupling"]
     iterated = cpl["scheme"] == "iterated"
     tol, max_iter = cpl["tol_K"], cpl["max_iter"]
-    eta1, eta2 = sim.plate_params[0].heat_share, sim.plate_params[1].heat_share
-    Tair1, Tair2 = sim.plate_params[0].T0_C, sim.plate_params[1].T0_C
-    area = sim.geometry.contact_area
+    eta = [pp.heat_share for pp in sim.plate_params]
+    areas = sim.areas
     cols, order = _columns(sim)
     n_rows = N // every + 1 + (1 if N % every else 0)
     # rows are recorded into buf (loop column order) and handed to the history
@@ -190,28 +208,21 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     cap = hist.start(cols, order, n_rows)
     buf = np.full((cap, len(cols)), np.nan)
     store_s = 0.0
-    heat = p1 is not None or p2 is not None
-    T1 = p1.surface_temperature() if p1 else Tair1
-    T2 = p2.surface_temperature() if p2 else Tair2
-    mu1 = mu2 = 0.0
-
-    # bound methods (the loop runs 10^4..10^6 times; issue 7)
-    zero = (lambda: 0.0)
-    stored1, stored2 = (p1.stored_heat if p1 else zero), (p2.stored_heat if p2 else zero)
-    lost1, lost2 = (p1.heat_lost if p1 else zero), (p2.heat_lost if p2 else zero)
+    heat = any(p is not None for p in plates)
+    live = [(i, p) for i, p in enumerate(plates) if p is not None]
+    T = [p.surface_temperature() if p is not None else pp.T0_C for p, pp in zip(plates, sim.plate_params)]
+    mu = [0.0] * ni
     values = mech.values if mech else None
 
     def row(n):
-        if not mech:
-            r = (n * dt,)
-            return r + (T1, T2, stored1() + stored2(), lost1() + lost2()) if heat else r
+        r = values() + tuple(mu) if mech else (n * dt,)
         if heat:
-            return values() + (mu1, mu2, T1, T2, stored1() + stored2(), lost1() + lost2())
-        return values() + (mu1, mu2)
+            r += tuple(T) + (sum(p.stored_heat() for _, p in live), sum(p.heat_lost() for _, p in live))
+        return r
 
     if mech:
-        mu1 = law1(T1, mech.N1 / area, 0.0)
-        mu2 = law2(T2, mech.N2 / area, 0.0)
+        Nn = mech.N
+        mu = [law(T[i], Nn[i] / areas[i], 0.0) for i, law in enumerate(laws)]
 
     def flush():
         """Hand buf[:k] to the history; the slow part (formatting) may be
@@ -230,19 +241,11 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
         flush()
     status, message = "ok", ""
     total_iter, worst_iter = 0, 0
-    from .hottest import look_every
     hot_every = look_every(N)              # the plates' fields, ~2000 times a run
-    c1_old = c2_old = 0.0
+    old = mech.footprints() if mech else None
+    # the compiled engine (coupling/fast_loop.py); the loop below takes over where it stops
     fast = mech is not None and not iterated and sub == 1
-    # bidirectional steppers (model.md 8): the plates get the 2D footprint centres
-    two_d = mech is not None and hasattr(mech, "centre1")
-    mech_step = mech.step if mech else None
-    p1_step, p2_step = (p1.step if p1 else None), (p2.step if p2 else None)
-    # the common case compiled (coupling/fast_loop.py); the loop below takes over where it stops
     jit = compiled_loop(sim, every, n_rows, cols, inject_failure_at) if fast else None
-    if fast and jit is None and two_d:      # the bidirectional stepper's own compiled loop
-        from .bidirectional_loop import compiled_loop_2d
-        jit = compiled_loop_2d(sim, every, n_rows, cols, inject_failure_at)
     # the bar's clock starts after the kernels are loaded (or compiled): its ETA is the stepping's
     bar = _Progress(N, dt, progress)
     t_start = time.perf_counter()
@@ -250,10 +253,10 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     try:
         full = False
         while jit is not None:
-            out = jit.run(buf, k, last_row, T1, T2, mu1, mu2, bar, hottest, hot_every, on_frame, frame_every,
+            out = jit.run(buf, k, last_row, T, mu, bar, hottest, hot_every, on_frame, frame_every,
                           start=n0, pending=full)
             n, k, last_row = out.n, out.k, out.last_row
-            T1, T2, mu1, mu2 = out.T1, out.T2, out.mu1, out.mu2
+            T, mu = out.T, out.mu
             total_iter, worst_iter = out.steps, (1 if out.steps else 0)
             if out.interrupted:
                 raise KeyboardInterrupt
@@ -263,70 +266,53 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
             if not full:
                 break
             flush()                     # the buffer is full: as the loop below does
+        if jit is not None and mech is not None:
+            old = mech.footprints()
         for n in range(n0 + 1, N + 1):
-            if fast:                    # staggered, one thermal step per step: the loop below, unrolled
-                mu1 = law1(T1, mech.N1 / area, mech.slip_v1)
-                mu2 = law2(T2, mech.N2 / area, mech.slip_v2)
-                dW1, dW2 = mech_step(mu1, mu2)
-                if heat:
-                    c1, c2 = (mech.centre1, mech.centre2) if two_d else (mech.s1, -mech.s2)
-                    P1, P2 = eta1 * dW1 / dt, eta2 * dW2 / dt
-                    if p1:
-                        T1 = p1_step(P1, c1)
-                    if p2:
-                        T2 = p2_step(P2, c2)
-                total_iter += 1
-                worst_iter = 1
-                if inject_failure_at is not None and n == inject_failure_at:
-                    mech.restore(tuple(float("nan") if isinstance(x, float) else x for x in mech.save()))
-            elif mech is None:                                   # thermal-only scene
-                P1, P2 = sim.heat_power
+            if mech is None:                                    # thermal-only scene
                 for _ in range(sub):
-                    if p1:
-                        T1 = p1.step(P1, 0.0)
-                    if p2:
-                        T2 = p2.step(P2, 0.0)
+                    for i, p in live:
+                        T[i] = p.step(sim.heat_power[i], 0.0)
             else:
-                snaps = (mech.save(), p1.save() if p1 else None, p2.save() if p2 else None) if iterated else None
-                Tg1, Tg2 = T1, T2
+                snaps = (mech.save(), [p.save() if p is not None else None for p in plates]) if iterated else None
+                Tg = T
                 it = 0
                 while True:
                     it += 1
-                    mu1 = law1(Tg1, mech.N1 / area, mech.slip_v1)
-                    mu2 = law2(Tg2, mech.N2 / area, mech.slip_v2)
-                    dW1, dW2 = mech.step(mu1, mu2)
+                    Nn, vn = mech.N, mech.slip_v
+                    mu = [law(Tg[i], Nn[i] / areas[i], vn[i]) for i, law in enumerate(laws)]
+                    dW = mech.step(*mu)
+                    Tn = list(T)
                     if heat:
-                        c1, c2 = (mech.centre1, mech.centre2) if two_d else (mech.s1, -mech.s2)
-                        P1, P2 = eta1 * dW1 / dt, eta2 * dW2 / dt
-                        if sub == 1:
-                            T1n = p1.step(P1, c1) if p1 else T1
-                            T2n = p2.step(P2, c2) if p2 else T2
-                        else:
-                            for j in range(1, sub + 1):
-                                w = j / sub
-                                T1n = p1.step(P1, c1_old + w * (c1 - c1_old)) if p1 else T1
-                                T2n = p2.step(P2, c2_old + w * (c2 - c2_old)) if p2 else T2
-                    else:
-                        T1n, T2n = T1, T2
-                    if not iterated or (abs(T1n - Tg1) <= tol and abs(T2n - Tg2) <= tol):
+                        new = mech.footprints()
+                        for i, p in live:
+                            P = eta[i] * dW[i] / dt
+                            if sub == 1:
+                                Tn[i] = p.step(P, new[i])
+                            else:
+                                c0, c1 = old[i], new[i]
+                                for j in range(1, sub + 1):
+                                    w = j / sub
+                                    Tn[i] = p.step(P, c0 + w * (c1 - c0))
+                    if not iterated or all(abs(a - b) <= tol for a, b in zip(Tn, Tg)):
                         break
                     if it >= max_iter:
                         raise NumericalFailure(n, n * dt, f"iterated coupling did not converge in {max_iter} "
-                                                          f"iterations (|dT| = {max(abs(T1n - Tg1), abs(T2n - Tg2)):.3g} K > tol_K = {tol:g})")
+                                               f"iterations (|dT| = {max(abs(a - b) for a, b in zip(Tn, Tg)):.3g} K "
+                                               f"> tol_K = {tol:g})")
                     mech.restore(snaps[0])
-                    if p1:
-                        p1.restore(snaps[1])
-                    if p2:
-                        p2.restore(snaps[2])
-                    Tg1, Tg2 = T1n, T2n
+                    for p, s in zip(plates, snaps[1]):
+                        if p is not None:
+                            p.restore(s)
+                    Tg = Tn
                 total_iter += it
                 worst_iter = max(worst_iter, it)
-                T1, T2 = T1n, T2n
-                if heat:
-                    c1_old, c2_old = mech.s1, -mech.s2
+                T = Tn
+                if heat and sub > 1:
+                    old = new
                 if inject_failure_at is not None and n == inject_failure_at:
                     # poison the state (tests of the failure path): every float of the snapshot
-                    mech.restore(tuple(float("nan") if isinstance(x, float) else x for x in mech.save()))
+                    mech.restore(_poisoned(mech.save()))
             if n % every == 0 or n == N or n == inject_failure_at:
                 r = row(n)
                 check_row(r, cols, n, dt)
@@ -339,7 +325,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                     sim.frame_values = dict(zip(cols, r))   # the CSV row, for the VTK frame
                     on_frame(n, sim)
             if hottest is not None and n % hot_every == 0:
-                hottest.update(sim.plates, n * dt)
+                hottest.update(plates, n * dt)
             if n % 2048 == 0:
                 bar.update(n)
     except LOOP_STOPS as exc:
@@ -352,7 +338,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     with signals_held():
         hist.finish()
     res = Result(order, None if hist.streamed else hist.data, status, message, runtime, total_iter, worst_iter,
-                 (p1, p2), dict(sim.info), history=hist)
+                 tuple(plates), dict(sim.info), history=hist)
     # a failed or interrupted step n is not counted, unless its row was already kept
     res.steps = n if status == "ok" or last_row == n else n - 1
     return res

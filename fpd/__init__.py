@@ -16,7 +16,7 @@ docs/reference.md (``fpd reference`` prints it).
 The names above are imported on first use, so ``import fpd`` itself stays
 cheap (no numpy, scipy or numba). The subpackages live at the top of the
 source repository (``mechanics/``, ``thermal/``, ``meshes/``, ``coupling/``,
-``scenes/``) and are installed as ``fpd.mechanics``, ``fpd.thermal``, ...
+``schema/``, ``outputs/``, ``studies/``, ``frontends/``, ``scenes/``) and are installed as ``fpd.mechanics``, ``fpd.thermal``, ...
 (pyproject's ``package-dir``). Run from a source checkout without an install,
 the repository root is added to this package's search path so that the same
 names resolve there.
@@ -32,14 +32,14 @@ _root = _os.path.dirname(_here)
 if not _os.path.isdir(_os.path.join(_here, "coupling")) and _os.path.isdir(_os.path.join(_root, "coupling")):
     __path__.append(_root)  # noqa: F821 (the package's own __path__)
 
-# the API lives in fpd.coupling.api; its names are imported on first access
+# the API lives in fpd.frontends.api; its names are imported on first access
 _API = ("run", "load_scene", "compare", "converge", "Result", "History", "StudyResult", "SceneError")
 __all__ = ["__version__", *_API]
 
 
 def __getattr__(name):
     if name in _API:
-        from fpd.coupling import api
+        from fpd.frontends import api
         value = getattr(api, name)
         globals()[name] = value
         return value

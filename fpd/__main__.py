@@ -1,4 +1,4 @@
 """``python -m fpd``: the ``fpd`` command."""
-from fpd.coupling.cli import entry
+from fpd.frontends.cli import entry
 
 entry()

@@ -50,15 +50,24 @@ def is_kernel_module(mod) -> bool:
     return isinstance(mod, types.ModuleType) and getattr(mod, "__kernel__", False) is True
 
 
-def compiled(name: str) -> types.ModuleType:
+def compiled(name: str, bind: dict | None = None) -> types.ModuleType:
     """The kernel module ``name`` with each of its functions compiled by numba.
 
     Module-level constants are taken from the pure module as it is now, so a
     value changed there before the first ``compiled()`` call reaches the
     compiled functions too (numba freezes globals at compile time; a cached
-    kernel keeps the globals it was compiled with, see ``fresh``)."""
-    if name in _compiled:
-        return _compiled[name]
+    kernel keeps the globals it was compiled with, see ``fresh``).
+
+    ``bind``: module-level names of ``name`` to rebind to other kernel
+    modules, ``{"dev": "fpd.mechanics.dev_tfp"}``: the same source loaded
+    once more with those modules in place (the coupled engine, one source
+    for every device: coupling/engine_kernel.py). Each binding is a module
+    of its own, compiled and cached on its own (its functions' cache files
+    carry the bound modules' names), so a scene compiles only its device."""
+    tag = "".join("__" + v.rsplit(".", 1)[-1] for _, v in sorted((bind or {}).items()))
+    key = name + tag
+    if key in _compiled:
+        return _compiled[key]
     import numba
 
     pure = importlib.import_module(name)
@@ -68,39 +77,45 @@ def compiled(name: str) -> types.ModuleType:
     if jit_options.get("inline") != "always":     # inlined kernels leave no cache of their own
         from fpd import jitcache
         jitcache.announce([name])   # "compiling kernels once", when numba has no cache for it yet
-    spec = importlib.util.spec_from_file_location(name + _SUFFIX, pure.__file__)
+    spec = importlib.util.spec_from_file_location(key + _SUFFIX, pure.__file__)
     mod = importlib.util.module_from_spec(spec)
     mod.__package__ = pure.__package__      # relative imports resolve as in the pure module
     sys.modules[spec.name] = mod
     spec.loader.exec_module(mod)
-    _compiled[name] = mod                   # before rewiring: kernel modules may import each other
+    for attr, target in (bind or {}).items():
+        if not is_kernel_module(getattr(mod, attr, None)):
+            raise TypeError(f"{name}.{attr} is not a kernel module: it cannot be bound to {target}")
+        mod.__dict__[attr] = importlib.import_module(target)
+    _compiled[key] = mod                    # before rewiring: kernel modules may import each other
     options = dict(JIT_OPTIONS, **jit_options)
     options["cache"] = options["cache"] and not os.environ.get("FPD_JIT_NO_CACHE")
     deps = [pure.__file__]
-    for key, val in list(vars(mod).items()):
-        if key.startswith("__"):
+    for attr, val in list(vars(mod).items()):
+        if attr.startswith("__"):
             continue
         if isinstance(val, types.FunctionType):
             owner = sys.modules.get(val.__module__)
             if val.__module__ == spec.name:
-                mod.__dict__[key] = numba.njit(**options)(val)
+                if tag:                     # numba names its cache files after the qualname
+                    val.__qualname__ += tag
+                mod.__dict__[attr] = numba.njit(**options)(val)
             elif is_kernel_module(owner):
-                mod.__dict__[key] = getattr(compiled(val.__module__), val.__name__)
+                mod.__dict__[attr] = getattr(compiled(val.__module__), val.__name__)
                 deps += _deps[val.__module__]
             elif _backend(owner) is not None:
-                mod.__dict__[key] = getattr(_backend(owner), val.__name__)
+                mod.__dict__[attr] = getattr(_backend(owner), val.__name__)
                 deps += [owner.__file__, _backend(owner).__file__]
         elif is_kernel_module(val):
-            mod.__dict__[key] = compiled(val.__name__)
+            mod.__dict__[attr] = compiled(val.__name__)
             deps += _deps[val.__name__]
         elif _backend(val) is not None:
-            mod.__dict__[key] = _backend(val)
+            mod.__dict__[attr] = _backend(val)
             deps += [val.__file__, _backend(val).__file__]
-        elif key in pure.__dict__ and not isinstance(val, (types.ModuleType, type)):
-            mod.__dict__[key] = pure.__dict__[key]
-    _deps[name] = sorted(set(deps))
-    if options["cache"] and len(_deps[name]) > 1:
-        _drop_stale_caches(mod, spec.name, _deps[name])
+        elif attr in pure.__dict__ and not isinstance(val, (types.ModuleType, type)):
+            mod.__dict__[attr] = pure.__dict__[attr]
+    _deps[key] = sorted(set(deps))
+    if options["cache"] and len(_deps[key]) > 1:
+        _drop_stale_caches(mod, spec.name, _deps[key])
     return mod
 
 

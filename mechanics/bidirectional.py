@@ -25,6 +25,7 @@ from . import bidirectional_kernel as _pure
 from .geometry import DeviceGeometry
 from .ground_motion import float_array
 from .phases import DIAGONAL_AC, MechanicsFailure
+from .protocol import TwoInterfaces
 from .two_phase import pivot_chain
 
 K = _pure
@@ -88,8 +89,14 @@ def constants(geom: DeviceGeometry, midpoint: bool, seated: bool = False) -> lis
     return C
 
 
-class _Base:
+class _Base(TwoInterfaces):
     columns = COLUMNS
+    two_d = True
+
+    def footprints(self) -> tuple:
+        """Footprint centres (x, y) on the lower and the upper plate (m)."""
+        c = _pure.centres(self.C, self.S)
+        return ((float(c[0]), float(c[1])), (float(c[2]), float(c[3])))
 
     def _setup(self, geom, dt, n_steps, midpoint, jit, u0=(0.0, 0.0), v0=(0.0, 0.0), seated=False):
         self.geom = geom
@@ -237,6 +244,27 @@ class BidirectionalStepper(_Base):
 
     def ground_position(self):
         return (float(self._xg[self.n]), float(self._yg[self.n]) if self._yg is not None else 0.0)
+
+    # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
+    engine_device = "fpd.mechanics.dev_bidirectional"
+
+    def engine_state(self):
+        """(C, S, L, X) as the engine reads them: the stepper's own arrays (it
+        steps with the compiled kernel from now on), the loading (ax, ay per
+        step, xg, yg per row), no scratch. ImportError without numba."""
+        self.use_compiled()
+        if not self.compiled:
+            raise ImportError("numba is not available")
+        f = (lambda x: np.ascontiguousarray(x, dtype=float))
+        xg = f(self._xg)
+        yg = f(self._yg) if self._yg is not None else np.zeros(len(xg))
+        return self.C, self.S, (f(self._ax), f(self._ay), xg, yg), (np.zeros(1),)
+
+    def engine_pull(self, S) -> None:
+        """Nothing to copy: the engine steps the stepper's own state."""
+
+    def engine_push(self, S, n: int) -> None:
+        self.n = n
 
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         if self.n >= self.n_steps:

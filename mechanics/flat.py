@@ -27,6 +27,7 @@ import numpy as np
 from . import flat_kernel as K
 from .geometry import G_ACC
 from .ground_motion import float_array
+from .protocol import TwoInterfaces
 from .seated import SLIP, STICK, MechanicsFailure
 
 COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J",
@@ -73,7 +74,7 @@ class PadTipped(MechanicsFailure):
     pass
 
 
-class FlatStepper:
+class FlatStepper(TwoInterfaces):
     """Flat bearing under a ground motion or in the test machine (two interfaces:
     the coupled loop of coupling/run.py drives it like the DFP steppers)."""
 

@@ -29,6 +29,7 @@ from .geometry import DeviceGeometry
 from . import seated_kernel as K
 from .ground_motion import float_array
 
+from .protocol import TwoInterfaces
 from .phases import PHASES, SLIP, STICK, TILT, MechanicsFailure  # noqa: F401
 
 SEATED_COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
@@ -36,7 +37,7 @@ SEATED_COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
                   "E_input_J", "E_kin_J", "E_pot_J")
 
 
-class _SeatedBase:
+class _SeatedBase(TwoInterfaces):
     columns = SEATED_COLUMNS
 
     def __init__(self, geom: DeviceGeometry, dt: float, n_steps: int):

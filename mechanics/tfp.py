@@ -326,6 +326,40 @@ class TFPStepper:
         self.n, self.t, S = snap
         self.S[:] = S
 
+    # -- the compiled engine (coupling/engine_kernel.py) ---------------------------
+    engine_device = "fpd.mechanics.dev_tfp"
+    two_d = False
+
+    @staticmethod
+    def engine_worth_loading(n_steps: int) -> bool:
+        """The TFP's Python step costs ~85 us: past ~5000 steps loading numba
+        (and the cached engine) pays for itself even without an fe1d part
+        (benchmarks/tfp_speed.py)."""
+        return n_steps >= 5000
+
+    def engine_state(self):
+        """(C, S, L, X) as the engine reads them: the stepper's own parameter
+        and state vectors, the loading (a per step; the machine's u, u' per
+        step, zeros for a ground motion; xg per row; d1..d4 and the machine
+        flag), the stepper's scratch."""
+        import numpy as np
+        f = (lambda x: np.ascontiguousarray(x, dtype=float))
+        N = self.n_steps
+        if self.machine:
+            U, UD = f(self._u), f(self._ud)
+            XG = -U
+        else:
+            U, UD, XG = np.zeros(N + 1), np.zeros(N + 1), f(self._xg)
+        g = self.geom
+        DD = np.array([g.d1, g.d2, g.d3, g.d4, 1.0 if self.machine else 0.0])
+        return self.par, self.S, (f(self._a), U, UD, XG, DD), (self.out, self._M, self._w, self._tmp, self._sc)
+
+    def engine_pull(self, S) -> None:
+        """Nothing to copy: the engine steps the stepper's own state."""
+
+    def engine_push(self, S, n: int) -> None:
+        self.n, self.t = n, n * self.dt
+
     # -- the step -----------------------------------------------------------------
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
         n = self.n

@@ -31,6 +31,7 @@ import math
 from .geometry import DeviceGeometry
 from .ground_motion import GroundMotion, float_array
 from . import two_phase_kernel as K
+from .protocol import TwoInterfaces
 from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, PadOverturned  # noqa: F401
 from .two_phase_kernel import rocking_acceleration  # noqa: F401  (Eq. 7, used by the tests)
 
@@ -173,7 +174,7 @@ _SAVED = (("n", K.SN, int), ("theta", K.TH, float), ("theta_dot", K.THD, float),
           ("slip_v1", K.SV1, float), ("slip_v2", K.SV2, float))
 
 
-class TwoPhaseStepper:
+class TwoPhaseStepper(TwoInterfaces):
     """Paper's two-phase stepper; implements the Stepper protocol (architecture.md).
 
     ``theta0``/``theta_dot0``: initial seated state (default at rest, centred).
@@ -272,6 +273,24 @@ class TwoPhaseStepper:
         if S[34] != 0.0:                             # S[K.ERR]
             self.raise_error()
         return dW
+
+    # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
+    engine_device = "fpd.mechanics.dev_two_phase"
+
+    def engine_state(self):
+        """(C, S, L, X) as the engine reads them: float64 copies of the
+        constants and state, the loading (a_step, t, d), no scratch."""
+        import numpy as np
+        f = (lambda x: np.asarray(x, dtype=float))
+        return f(self.C), f(self.S), (f(self._a_step), f(self._t), f(self._d)), (np.zeros(1),)
+
+    def engine_pull(self, S) -> None:
+        """The state into the engine's copy (before a chunk)."""
+        S[:] = self.S
+
+    def engine_push(self, S, n: int) -> None:
+        """The engine's copy back (after a chunk; the step count is in S)."""
+        self.S[:] = S.tolist()
 
     def raise_error(self) -> None:
         """The exception the step's error flag S[ERR] stands for."""

@@ -16,7 +16,7 @@ one multiblock per time), so each body carries only the fields it has.
 
 Two spellings of the same writer: ``VTKSeries(pvd_path)`` (the thermal
 models' tests) and ``PVDWriter(folder, name)`` (the run's ``vtk/`` folder,
-coupling/vtk_output.py), which also writes an empty but valid index at once
+outputs/vtk_output.py), which also writes an empty but valid index at once
 and has ``close()``.
 """
 from __future__ import annotations

@@ -5,7 +5,7 @@ import numpy as np
 
 from fpd.mechanics.geometry import G_ACC, DeviceGeometry
 from fpd.mechanics.ground_motion import GroundMotion, ground_motion_from_samples, read_record
-from fpd.coupling.scene import SCENES_DIR
+from fpd.schema.scene import SCENES_DIR
 
 
 def dfp(pad_mass=30.0, mass=1.0e5, R1=2.2, R2=2.2, h=0.10, D=0.25, kind="DFP") -> DeviceGeometry:

@@ -40,7 +40,7 @@ EVERY = 25     # rows kept: every 25th plus the last
 
 
 def run_case(name):
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
 

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import fpd
-from fpd.coupling.cli import main
+from fpd.frontends.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
 ENV = dict(os.environ, PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
@@ -25,7 +25,7 @@ ENV = dict(os.environ, PYTHONPATH=str(ROOT), MPLBACKEND="Agg")
 def test_import_fpd_is_cheap():
     code = ("import sys, fpd; assert fpd.__version__; "
             "bad = [m for m in ('numpy', 'scipy', 'numba', 'skfem', 'matplotlib', 'fpd.coupling') if m in sys.modules]; "
-            "assert not bad, bad; fpd.run; assert 'fpd.coupling.api' in sys.modules")
+            "assert not bad, bad; fpd.run; assert 'fpd.frontends.api' in sys.modules")
     r = subprocess.run([sys.executable, "-c", code], cwd="/", env=ENV, capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
     assert set(fpd.__all__) <= set(dir(fpd))
@@ -72,7 +72,7 @@ def test_run_matches_the_command_line(tmp_path):
 def test_scene_forms_and_overrides_agree(tmp_path):
     """A name, a path, a dict and a Scene give the same resolved scene; nested
     and dotted overrides are the same override; --set is the same again."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
 
     by_name = fpd.load_scene("lab-sine", friction={"mu_ref": 0.07}, solver={"dt": 2e-3})
     by_dots = fpd.load_scene("lab-sine", **{"friction.mu_ref": 0.07, "solver.dt": 2e-3})

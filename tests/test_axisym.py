@@ -312,7 +312,7 @@ def test_modal_stepping_equals_nodal_stepping(scheme, back):
     for q in ("stored_heat", "heat_lost"):
         assert abs(getattr(fast, q)() - getattr(ref, q)()) < 1e-12 * hin
     assert abs(fast.heat_in() - fast.stored_heat() - fast.heat_lost()) < 1e-12 * hin
-    # the nodal capacities (coupling/study_runner.py reads integ.mass) do not depend on the basis
+    # the nodal capacities (studies/study_runner.py reads integ.mass) do not depend on the basis
     n = len(ref.integ.u)
     assert np.array_equal(fast.integ.mass(np.ones(n)), ref.integ.mass(np.ones(n)))
 
@@ -323,7 +323,7 @@ def test_default_mesh_resolves_a_small_footprint():
     20 elements per footprint radius over the band it covers, graded beyond):
     footprint mean within 0.5 % of the closed form at 2 s and 20 s (measured
     -0.22 %, -0.13 %; the old 60 uniform elements gave -4.6 %, -2.9 %)."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
 
@@ -347,7 +347,7 @@ def test_default_mesh_resolves_a_small_footprint():
 
 def test_coarse_radial_mesh_refused_at_load():
     """Fewer than 10 elements per footprint radius: one line naming thermal.nr."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
 
     with pytest.raises(scn.SceneError, match=r"thermal\.nr.*elements per footprint radius"):
         scn.load("heat-disk", ["device.pad_diameter=0.03", "thermal.plate_radius=0.4", "thermal.nr=60"])

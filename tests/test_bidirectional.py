@@ -227,7 +227,7 @@ def test_midpoint_second_order_el_centro():
 def test_summary_energy_residual_is_the_largest_over_the_history():
     """A ledger that is off in the middle and closes at the end is reported
     by its worst row (coupling/history.Stats, summary.json)."""
-    from fpd.coupling.history import Stats
+    from fpd.coupling.recording import Stats
     cols = ["t_s", "E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J", "E_reseat_J"]
     st = Stats(cols)
     st.add(np.array([[0.0, 0, 0, 0, 0, 0, 0], [1.0, 10, 5, 0, 0, 0, 0]]))
@@ -237,7 +237,8 @@ def test_summary_energy_residual_is_the_largest_over_the_history():
 
 
 def _pair(dt, duration):
-    from fpd.coupling import build, scene
+    from fpd.coupling import build
+    from fpd.schema import scene
     over = [f"solver.dt={dt}"] + ([f"solver.duration={duration}"] if duration is not None else [])
     s = scene.load("impvall-bidirectional", over)
     return build.bidirectional_loading_of(s, dt)
@@ -356,7 +357,7 @@ def test_sine_test_machine_in_a_direction_is_the_planar_one_turned():
 def test_vtk_device_3d_pad_sits_on_both_spheres():
     """The 3D device drawing: the pad cylinder's bottom face centre is on the
     lower sphere (C1 + R1 n), its top face centre on the upper one (|p - C2| = R2)."""
-    from fpd.coupling.vtk_bidirectional import device_3d
+    from fpd.outputs.vtk_bidirectional import device_3d
     from fpd.thermal.params import PlateParams
     pp = PlateParams(a_contact_m=DEVICE.a)
     L = DEVICE.L
@@ -410,22 +411,24 @@ def test_ledger_passes_a_consistent_physics_error(monkeypatch):
 @pytest.mark.parametrize("thermal", [["thermal.model=fe1d"], ["thermal.model=lumped"],
                                      ["thermal.model=fe1d", "thermal.source=fixed-point", "thermal.radius_m=0.03"]])
 def test_compiled_coupled_loop_gives_the_python_loops_rows(monkeypatch, thermal):
-    """simulate()'s compiled loop for the bidirectional stepper (coupling/
-    bidirectional_loop.py) writes the rows of the Python loop (same kernels,
-    same order): every column to 1e-12 of its scale."""
-    from fpd.coupling import bidirectional_loop, build, scene
+    """simulate()'s compiled engine for the bidirectional stepper (coupling/
+    engine_kernel.py bound to mechanics/dev_bidirectional.py) writes the rows
+    of the Python loop (same kernels, same order): every column to 1e-12 of
+    its scale."""
+    from fpd.coupling import build, run
+    from fpd.schema import scene
     from fpd.coupling.run import simulate
     s = scene.load("impvall-bidirectional", ["solver.duration=9.0", "solver.dt=2e-3"] + thermal)
     used = []
-    orig = bidirectional_loop.compiled_loop_2d
+    orig = run.compiled_loop
 
     def spy(*a, **k):
         loop = orig(*a, **k)
         used.append(loop is not None)
         return loop
-    monkeypatch.setattr(bidirectional_loop, "compiled_loop_2d", spy)
+    monkeypatch.setattr(run, "compiled_loop", spy)
     fast = simulate(build.build(s))
-    monkeypatch.setattr(bidirectional_loop, "compiled_loop_2d", lambda *a, **k: None)
+    monkeypatch.setattr(run, "compiled_loop", lambda *a, **k: None)
     slow = simulate(build.build(s))
     assert used == [True] and fast.status == slow.status == "ok"
     scale = 1.0 + np.max(np.abs(slow.data), axis=0)
@@ -436,7 +439,7 @@ def test_compiled_coupled_loop_gives_the_python_loops_rows(monkeypatch, thermal)
 # -- scene keys, the command, outputs ----------------------------------------------------
 
 def _scene(over):
-    from fpd.coupling import scene
+    from fpd.schema import scene
     return scene.load("impvall-bidirectional", over)
 
 
@@ -449,7 +452,7 @@ def _scene(over):
     (['mechanics.normal_force="end"'], 'mechanics.normal_force = \'end\': must be one of "midpoint", "start"'),
 ])
 def test_bad_bidirectional_keys_are_one_line_errors(over, needle):
-    from fpd.coupling.scene import SceneError
+    from fpd.schema.scene import SceneError
     with pytest.raises(SceneError) as exc:
         _scene(over)
     msg = str(exc.value)
@@ -457,13 +460,13 @@ def test_bad_bidirectional_keys_are_one_line_errors(over, needle):
 
 
 def test_orbit_longer_than_its_programme_is_refused():
-    from fpd.coupling import scene
+    from fpd.schema import scene
     with pytest.raises(scene.SceneError, match="solver.duration = 10: must not exceed the orbit's length 7.5 s"):
         scene.load("lab-sine", ["loading.waveform=circle", "solver.duration=10"])
 
 
 def test_scene_defaults_and_kinds(tmp_path):
-    from fpd.coupling import scene
+    from fpd.schema import scene
     s = _scene([])
     assert s["mechanics"]["normal_force"] == "midpoint" and scene.is_bidirectional(s.data)
     d = scene.load("default")
@@ -519,7 +522,7 @@ def test_fpd_run_writes_bidirectional_outputs(tmp_path):
 def test_target_pga_scales_the_pair_as_one():
     """loading.target_pga_g brings the x record's PGA to the target and the y
     record by the same factor: the pair keeps its proportions."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
 
     sim = build(scn.load("impvall-bidirectional", ["solver.duration=0.5", "loading.target_pga_g=0.5",

@@ -9,8 +9,8 @@ import sys
 from pathlib import Path
 
 import fpd
-from fpd.coupling import cli
-from fpd.coupling import scene as scn
+from fpd.frontends import cli
+from fpd.schema import scene as scn
 
 ROOT = Path(__file__).resolve().parent.parent
 

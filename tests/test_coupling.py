@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from fpd.coupling import scene as scn
+from fpd.schema import scene as scn
 from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 

@@ -18,9 +18,9 @@ from pathlib import Path
 
 import pytest
 
-from fpd.coupling import cli
-from fpd.coupling import output as out_mod
-from fpd.coupling.scene import SceneError, load, parse_override
+from fpd.frontends import cli
+from fpd.outputs import output as out_mod
+from fpd.schema.scene import SceneError, load, parse_override
 
 ROOT = Path(__file__).resolve().parent.parent
 SCENE = """

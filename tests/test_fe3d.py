@@ -280,7 +280,7 @@ def test_fe3d_scene_runs_and_is_validated(tmp_path):
     import sys
     from pathlib import Path
 
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
 
     root = Path(__file__).resolve().parent.parent
     out = tmp_path / "run"

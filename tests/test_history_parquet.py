@@ -53,9 +53,9 @@ def test_parquet_history_is_the_csv_history(tmp_path):
 
 
 def test_parquet_without_pyarrow_is_one_clear_line(monkeypatch):
-    from fpd.coupling import scene as scn
-    from fpd.coupling.output import history_format
-    from fpd.coupling.scene import SceneError
+    from fpd.schema import scene as scn
+    from fpd.outputs.output import history_format
+    from fpd.schema.scene import SceneError
 
     sc = scn.load("lab-sine", ['output.history="parquet"'])
     monkeypatch.setitem(sys.modules, "pyarrow", None)

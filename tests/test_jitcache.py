@@ -67,7 +67,7 @@ _PROBE = """
 import sys
 from fpd import jitcache
 jitcache.needs_compile = lambda names: True       # as on the first run after an install
-from fpd.coupling.cli import main
+from fpd.frontends.cli import main
 sys.exit(main(sys.argv[1:]))
 """
 
@@ -88,7 +88,7 @@ def test_cli_prints_the_notice_unless_quiet(tmp_path, quiet):
 def test_progress_clock_starts_after_the_kernels_load(monkeypatch):
     """A slow kernel load (a compile) before the loop must not enter the bar's ETA."""
     from fpd.coupling import run as runmod
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
 
     sim = build(scn.load("sfp-harmonic", ["solver.duration=0.05"]))

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from fpd.coupling import fast_loop
-from fpd.coupling import scene as scn
+from fpd.schema import scene as scn
 from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 
@@ -213,7 +213,7 @@ def test_a_step_python_would_fail_is_replayed_by_python(monkeypatch):
 
 
 def test_frames_and_hottest_fields_as_the_python_loop(monkeypatch):
-    from fpd.coupling.hottest import HottestFields
+    from fpd.outputs.hottest import HottestFields
 
     def recorder(log):
         def on_frame(n, sim):
@@ -290,14 +290,14 @@ def test_rows_into_a_small_buffer():
     loop = fast_loop.compiled_loop(sim, 3, ref.n_rows, cols)
     buf, got, log = np.full((64, len(cols)), np.nan), [], []
     k = last_row = start = 0
-    T1, T2, mu1, mu2 = ref["T1_C"][0], ref["T2_C"][0], ref["mu1"][0], ref["mu2"][0]
+    T, mu = [ref["T1_C"][0], ref["T2_C"][0]], [ref["mu1"][0], ref["mu2"][0]]
     full = False
     while True:
-        out = loop.run(buf, k, last_row, T1, T2, mu1, mu2, on_frame=lambda n, sim: log.append(n), frame_every=30,
+        out = loop.run(buf, k, last_row, T, mu, on_frame=lambda n, sim: log.append(n), frame_every=30,
                        start=start, pending=full)
         assert not out.failure and not out.interrupted
         k, last_row, start, full = out.k, out.last_row, out.steps, out.full
-        T1, T2, mu1, mu2 = out.T1, out.T2, out.mu1, out.mu2
+        T, mu = out.T, out.mu
         if not full:
             break
         got.append(buf[:k].copy())
@@ -317,7 +317,7 @@ def test_streamed_history_and_ctrl_c_while_a_block_is_taken(monkeypatch, tmp_pat
     """fpd run's StreamHistory with small blocks: the compiled loop stops at
     every full buffer for simulate() to hand it over; a Ctrl-C while a block
     is formatted ends the run there, as with the Python loop."""
-    from fpd.coupling.history import StreamHistory
+    from fpd.outputs.history import StreamHistory
 
     over = ["solver.duration=2"]
     for interrupt in (False, True):

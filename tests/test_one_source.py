@@ -32,7 +32,8 @@ if what == "law":
     P = np.array(law.P)
     np.savez(out, pure=[law(t, 3e7, 0.1) for t in T], comp=[comp(P, t, 3e7, 0.1) for t in T])
 else:
-    from fpd.coupling import fast_loop, scene as scn
+    from fpd.coupling import fast_loop
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate, _columns
     res = {}
@@ -122,6 +123,6 @@ def test_no_numba_twin_of_a_kernel():
 def test_the_kernel_modules_are_kernels():
     import importlib
     for name in ("fpd.mechanics.friction_kernel", "fpd.mechanics.two_phase_kernel", "fpd.mechanics.seated_kernel",
-                 "fpd.thermal.lumped_kernel", "fpd.thermal.column_kernel", "fpd.coupling.loop_kernel",
-                 "fpd.coupling.bidirectional_loop_kernel", "fpd.coupling.tfp_loop_kernel"):
+                 "fpd.thermal.lumped_kernel", "fpd.thermal.column_kernel", "fpd.coupling.engine_kernel",
+                 "fpd.mechanics.dev_two_phase", "fpd.mechanics.dev_bidirectional", "fpd.mechanics.dev_tfp"):
         assert kernels.is_kernel_module(importlib.import_module(name)), name

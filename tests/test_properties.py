@@ -21,7 +21,7 @@ from hypothesis.control import currently_in_test_context
 from hypothesis import strategies as st
 
 from fpd.coupling.build import build
-from fpd.coupling.scene import SceneError, apply_overrides, load, loading_length, to_toml, validate
+from fpd.schema.scene import SceneError, apply_overrides, load, loading_length, to_toml, validate
 from fpd.mechanics.ground_motion import RecordError, parse_at2, parse_two_column, read_record
 
 SETTINGS = settings(max_examples=200, deadline=None,
@@ -193,14 +193,14 @@ RECORD_FILES = [str(Path(__file__).resolve().parent.parent / "scenes" / "records
 
 
 def _table_of(schema: dict, fixed=None):
-    from fpd.coupling.scene import REQUIRED
+    from fpd.schema.scene import REQUIRED
     need = {k: _value_of(v) for k, v in schema.items() if v[1] is REQUIRED or k == "R2"}
     return st.fixed_dictionaries((fixed or {}) | need,
                                  optional={k: _value_of(v) for k, v in schema.items() if k not in need})
 
 
 def _plausible():
-    from fpd.coupling.scene import FRICTION_KEYS, LOADING_KEYS, TABLES as SCHEMA, THERMAL_KEYS
+    from fpd.schema.scene import FRICTION_KEYS, LOADING_KEYS, TABLES as SCHEMA, THERMAL_KEYS
     loading = st.one_of(*[_table_of(keys, {"kind": st.just(kind)}) for kind, keys in LOADING_KEYS.items()
                           if kind != "record"],
                         _table_of({k: v for k, v in LOADING_KEYS["record"].items() if k not in ("record", "file")},

@@ -38,7 +38,7 @@ def _write(tmp_path):
 
 def _scene(tmp_path, path, extra=""):
     """The default scene with the record file in place of its packaged record."""
-    from fpd.coupling.scene import SCENES_DIR
+    from fpd.schema.scene import SCENES_DIR
 
     text = (SCENES_DIR / "default.toml").read_text()
     text = text.replace('record = "elcentro-1940"', f'file = "{path}"\nunits = "g"\n{extra}')
@@ -48,7 +48,7 @@ def _scene(tmp_path, path, extra=""):
 
 
 def _run(path, extra=""):
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
 
@@ -107,7 +107,7 @@ def test_errors_name_the_first_real_problem(tmp_path, content, units, dt, tokens
 
 
 def test_at2_with_dt_is_refused():
-    from fpd.coupling.scene import SCENES_DIR
+    from fpd.schema.scene import SCENES_DIR
     with pytest.raises(RecordError, match="remove loading.dt"):
         read_record(SCENES_DIR / "records" / "IELC180.AT2", None, 0.01)
 

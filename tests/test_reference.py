@@ -2,7 +2,7 @@
 
 Fails when the committed reference differs from what the code generates,
 when a scene key, a column, a summary field or an exit status has no
-description (coupling/descriptions.py), or when a description names
+description (frontends/descriptions.py), or when a description names
 something that no longer exists.
 """
 from __future__ import annotations
@@ -19,9 +19,10 @@ from pathlib import Path
 
 
 import fpd
-from fpd.coupling import cli, cycles
-from fpd.coupling import descriptions as D
-from fpd.coupling import reference as ref
+from fpd.frontends import cli
+from fpd.outputs import cycles
+from fpd.frontends import descriptions as D
+from fpd.frontends import reference as ref
 
 ROOT = Path(__file__).resolve().parent.parent
 REFERENCE = ROOT / "docs" / "reference.md"
@@ -30,15 +31,15 @@ REFERENCE = ROOT / "docs" / "reference.md"
 def test_committed_reference_is_generated_from_the_code():
     assert REFERENCE.read_text() == ref.generate(), (
         f"docs/reference.md is out of date with the code: regenerate it with `{ref.REGENERATE}` "
-        "(after describing any new key, column or summary field in coupling/descriptions.py)")
+        "(after describing any new key, column or summary field in frontends/descriptions.py)")
 
 
 def test_every_declared_key_and_column_is_described():
     assert ref.missing_descriptions() == [], (
-        "describe these (unit, meaning) in coupling/descriptions.py, then run " + ref.REGENERATE)
-    assert ref.stale_descriptions() == [], "coupling/descriptions.py describes keys the schema no longer has"
+        "describe these (unit, meaning) in frontends/descriptions.py, then run " + ref.REGENERATE)
+    assert ref.stale_descriptions() == [], "frontends/descriptions.py describes keys the schema no longer has"
     stale_cols = [c for c in D.COLUMNS if c not in ref.declared_columns()]
-    assert stale_cols == [], "coupling/descriptions.py describes columns no stepper declares"
+    assert stale_cols == [], "frontends/descriptions.py describes columns no stepper declares"
     for table in (D.KEYS, D.COLUMNS, D.SUMMARY):
         for name, entry in table.items():
             assert isinstance(entry, tuple) and len(entry) == 2 and entry[1].strip(), name
@@ -50,7 +51,7 @@ def test_every_exit_status_is_described():
 
 
 def test_allowed_values_come_from_the_checks():
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     assert ref.allowed(scn.THERMAL_KEYS["n_elements"]) == ">= 2"
     assert ref.allowed(scn.TABLES["device"]["R1"]) == "> 0"
     assert ref.allowed(scn.FRICTION_KEYS["constant"]["mu"]) == "in [0, 1)"
@@ -151,7 +152,7 @@ def test_every_column_and_summary_field_is_in_the_reference(tmp_path, monkeypatc
     for c in cycles.CSV_COLUMNS:            # cycles.csv: the per-cycle fields
         assert f"test_machine.cycles[].{c}" in D.SUMMARY, f"cycles.csv column {c} is not described"
     # writing the results fails after the run (a full disk): what the summary then says
-    from fpd.coupling import output
+    from fpd.outputs import output
 
     def full(folder, *a, **k):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(folder.path("summary.json")))
@@ -166,7 +167,7 @@ def test_every_column_and_summary_field_is_in_the_reference(tmp_path, monkeypatc
     for s in summaries:
         for path in _summary_paths(s):
             match = [f for f in D.SUMMARY if _field_matches(path, f)]
-            assert match, f"summary field {path} has no description in coupling/descriptions.py"
+            assert match, f"summary field {path} has no description in frontends/descriptions.py"
             assert f"| `{match[0]}` |" in text, f"summary field {path} is not in docs/reference.md"
             seen.update(match)
     assert set(D.SUMMARY) - seen == set(), "described summary fields that no run writes"

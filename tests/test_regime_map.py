@@ -1,4 +1,4 @@
-"""fpd map (coupling/regime_map.py): the measures on synthetic results, and a
+"""fpd map (studies/regime_map.py): the measures on synthetic results, and a
 tiny map end to end on a 2-worker cluster (the quick map itself is slow)."""
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 
 pytest.importorskip("dask.distributed")
 
-from fpd.coupling import regime_map as rm  # noqa: E402
+from fpd.studies import regime_map as rm  # noqa: E402
 
 
 def _run(**summary):

@@ -66,8 +66,8 @@ def test_resolved_scene_reruns_identically(tmp_path):
 
 def test_every_packaged_scene_checks(tmp_path, capsys):
     # in-process: 21 scenes (stability/* included) in ~1 s instead of 21 interpreters
-    from fpd.coupling import scene
-    from fpd.coupling.cli import main
+    from fpd.schema import scene
+    from fpd.frontends.cli import main
     names = scene.packaged_scenes()
     assert "stability/tall-pad" in names
     for name in names:

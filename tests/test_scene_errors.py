@@ -84,7 +84,7 @@ def fpd(args, cwd, env_extra=None, timeout=60):
 @pytest.fixture
 def fpd_inproc(capsys, monkeypatch):
     """``fpd`` called in-process: (args, cwd) -> an object like CompletedProcess."""
-    from fpd.coupling import cli
+    from fpd.frontends import cli
 
     def call(args, cwd):
         monkeypatch.chdir(cwd)
@@ -364,6 +364,6 @@ def test_out_under_a_file(dirs):
 
 
 def test_grading_that_makes_the_first_element_vanish(tmp_path):
-    from fpd.coupling.scene import SceneError, load
+    from fpd.schema.scene import SceneError, load
     with pytest.raises(SceneError, match=r"default.toml: thermal.n_elements = 1000: with grading = 1.05"):
         load("default", ["thermal.n_elements=1000", "thermal.grading=1.05"])

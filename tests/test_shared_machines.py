@@ -4,7 +4,7 @@
   errors injected at the file layer in a subprocess otherwise, and for the
   causes a tmpfs cannot produce: quota, permission), the folder removed
   underneath a run;
-- two writers of one results folder (coupling/claim.py): concurrent runs,
+- two writers of one results folder (outputs/claim.py): concurrent runs,
   --force against a live run, every writing command, a killed holder;
 - SIGTERM (a batch scheduler's time limit) during the run and during the
   final write;
@@ -23,9 +23,9 @@ from pathlib import Path
 
 import pytest
 
-from fpd.coupling import cli
-from fpd.coupling.claim import FolderBusy, claim, lock_path
-from fpd.coupling.scene import SCENES_DIR, SceneError, load
+from fpd.frontends import cli
+from fpd.outputs.claim import FolderBusy, claim, lock_path
+from fpd.schema.scene import SCENES_DIR, SceneError, load
 from fpd.mechanics.ground_motion import RecordError, read_record
 
 from test_failures import _env, fpd, keep_sigterm, no_leftovers, read_rows  # noqa: F401 (a fixture)
@@ -118,7 +118,7 @@ def test_disk_already_full(small_fs, tmp_path):
 # fail (a quota reached mid-run), or a file of the final write cannot be created
 INJECT = r"""
 import errno, os, pathlib, sys
-from fpd.coupling import history
+from fpd.outputs import history
 kind, limit = sys.argv[1], int(sys.argv[2])
 del sys.argv[1:3]
 if kind == "csv":
@@ -141,7 +141,7 @@ else:                                                     # the final write: the
             raise PermissionError(errno.EACCES, os.strerror(errno.EACCES), str(self))
         return real(self, *a, **k)
     pathlib.Path.write_text = write_text
-from fpd.coupling.cli import entry
+from fpd.frontends.cli import entry
 entry()
 """
 
@@ -308,8 +308,8 @@ def test_claim_api(tmp_path):
 
 HOLD = r"""
 import sys, time
-from fpd.coupling.claim import claim
-from fpd.coupling.output import ResultsFolder
+from fpd.outputs.claim import claim
+from fpd.outputs.output import ResultsFolder
 with claim(sys.argv[1]):
     f = ResultsFolder(sys.argv[1])
     (f.path("timeseries.csv")).write_text("t_s\n0\n0.0")      # half a row, never committed
@@ -456,7 +456,7 @@ def test_records_bom_and_encodings(tmp_path):
 
 STRESS = r"""
 import os, sys, time
-from fpd.coupling.claim import FolderBusy, claim
+from fpd.outputs.claim import FolderBusy, claim
 out, mark, until = sys.argv[1], sys.argv[2], time.monotonic() + float(sys.argv[3])
 got = busy = 0
 while time.monotonic() < until:
@@ -489,7 +489,7 @@ def test_claim_exclusive_under_contention(tmp_path):
 
 # -- the studies and render: a failed write leaves DIR as it was ------------------------------
 def test_study_write_failure_one_line_dir_unchanged(tmp_path, monkeypatch, capsys, keep_sigterm):
-    from fpd.coupling import stability
+    from fpd.studies import stability
 
     def full(path, *a, **k):
         raise OSError(28, "No space left on device", str(path))
@@ -511,7 +511,7 @@ def test_study_write_failure_one_line_dir_unchanged(tmp_path, monkeypatch, capsy
 
 
 def test_render_write_failure_keeps_old_render(tmp_path, monkeypatch, capsys, keep_sigterm):
-    from fpd.coupling import render
+    from fpd.outputs import render
 
     run = tmp_path / "run"
     (run / "vtk").mkdir(parents=True)
@@ -543,7 +543,7 @@ def test_claim_without_flock(tmp_path, monkeypatch):
     import errno
     import types
 
-    from fpd.coupling import claim as claim_mod
+    from fpd.outputs import claim as claim_mod
 
     def no_flock(fd, op):
         raise OSError(errno.ENOLCK, "No locks available")

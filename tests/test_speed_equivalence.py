@@ -35,7 +35,7 @@ def test_history_matches_pre_optimisation(ref, name):
 
 
 def test_chunked_csv_writes_the_bytes_savetxt_wrote(tmp_path):
-    from fpd.coupling.output import write_csv
+    from fpd.outputs.output import write_csv
     from fpd.mechanics.seated import PHASES
 
     class R:

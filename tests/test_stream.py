@@ -15,9 +15,12 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from fpd.coupling import output, scene as scn
+from fpd.outputs import output
+
+from fpd.schema import scene as scn
 from fpd.coupling.build import build
-from fpd.coupling.history import PlotSampler, Stats, StreamHistory
+from fpd.coupling.recording import Stats
+from fpd.outputs.history import PlotSampler, StreamHistory
 from fpd.coupling.run import simulate
 
 
@@ -75,8 +78,8 @@ def test_streamed_csv_and_summary_identical_to_in_memory(tmp_path, case):
 
 def test_fpd_run_writes_the_in_memory_bytes(tmp_path, monkeypatch, restore_sigterm):
     """The command line streams; its folder holds what the in-memory path writes."""
-    from fpd.coupling import cli, history
-
+    from fpd.frontends import cli
+    from fpd.outputs import history
     monkeypatch.setattr(history, "CHUNK_ROWS", 500)
     over = ["solver.duration=2", "output.plots=false", "output.vtk_every=0"]
     assert cli.main(["run", "heat-halfspace", "--out", str(tmp_path / "o"), "--quiet",

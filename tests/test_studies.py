@@ -11,8 +11,9 @@ import math
 
 import pytest
 
-from fpd.coupling.cli import main
-from fpd.coupling.studies import model_available, richardson
+from fpd.frontends.cli import main
+from fpd.studies.converge import richardson
+from fpd.studies.study_runner import model_available
 
 
 def _rows(path):
@@ -180,8 +181,8 @@ def test_stability_fast(tmp_path):
 
 
 def test_stability_catalogue_scenes_are_valid_and_described():
-    from fpd.coupling import scene as scn
-    from fpd.coupling.stability import catalogue
+    from fpd.schema import scene as scn
+    from fpd.studies.stability import catalogue
     paths = catalogue()
     assert len(paths) >= 12
     for p in paths:
@@ -193,7 +194,7 @@ def test_stability_catalogue_scenes_are_valid_and_described():
 def test_pulse_loading_step_is_an_impulse():
     """The ground velocity step gives the same impulse at any dt."""
     from fpd.coupling.build import build
-    from fpd.coupling.scene import load
+    from fpd.schema.scene import load
     for dt in (2e-3, 5e-4):
         sc = load("scenes/stability/velocity-step.toml", [f"solver.dt={dt}"])
         gm = build(sc).mechanics.ground
@@ -225,7 +226,7 @@ def test_stability_full(tmp_path):
 def test_stability_failure_exits_1_and_is_reported(tmp_path, monkeypatch):
     """A case that breaks a criterion fails the command (exit 1) and the
     report names it and says why; the folder is still written."""
-    from fpd.coupling import stability
+    from fpd.studies import stability
     one = [p for p in stability.catalogue() if p.stem == "velocity-step"]
     monkeypatch.setattr(stability, "catalogue", lambda: one)
     monkeypatch.setattr(stability, "MECH_TOL", 1e-15)
@@ -242,7 +243,7 @@ def test_converge_fast_fe3d(tmp_path):
     plate. Constant flux: each mode is integrated exactly, so the dt and
     thermal-step sweeps agree to round-off; the face mesh (per_radius 10, 20,
     40) converges at order ~1.8 (measured 1.84), the depth mesh at ~2 (1.88)."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     src = (scn.SCENES_DIR / "heat-disk.toml").read_text()
     src = src.replace('model = "axisym"', 'model = "fe3d"').replace("nr = 90\n", "")
     src = src.replace('name = "heat-disk"', 'name = "heat-disk-fe3d"')

@@ -1,4 +1,4 @@
-"""fpd sweep (coupling/sweep.py): the sweep file, the table, resuming, and the
+"""fpd sweep (studies/sweep.py): the sweep file, the table, resuming, and the
 fault paths on a real 2-worker dask LocalCluster (failing members, a killed
 worker, Ctrl-C then a rerun). Members are 1.5 s pulses on lumped plates
 (about 0.05 s each) so each test takes a few seconds, most of it the cluster."""
@@ -18,8 +18,8 @@ import pytest
 
 pytest.importorskip("dask.distributed")
 
-from fpd.coupling import cli  # noqa: E402
-from fpd.coupling import sweep as swp  # noqa: E402
+from fpd.frontends import cli  # noqa: E402
+from fpd.studies import sweep as swp  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "scenes" / "records" / "IELC180.AT2"
@@ -106,7 +106,7 @@ def test_sweep_refuses_a_folder_another_command_writes(lite, capsys):
     """Two writers never share a sweep's DIR: with the folder claimed (as a
     running fpd run, sweep or map holds it), fpd sweep exits 2 with one line
     and writes nothing there."""
-    from fpd.coupling.claim import claim
+    from fpd.outputs.claim import claim
 
     s = _write(lite, 'scene = "lite.toml"\n[axes]\n"friction.mu" = [0.05]\n')
     out = lite / "out"

@@ -1,4 +1,4 @@
-"""Per-cycle bearing-test quantities of a test-machine run (coupling/cycles.py,
+"""Per-cycle bearing-test quantities of a test-machine run (outputs/cycles.py,
 docs/test_machine.md) against the run's own timeseries.csv, computed here
 independently with numpy."""
 from __future__ import annotations
@@ -86,7 +86,7 @@ def test_lab_sine_cycles_csv_and_plot(lab):
 
 def test_cycle_meter_is_blocking_invariant():
     """The streamed meter sees the rows in blocks: any chunking gives the same cycles."""
-    from fpd.coupling.cycles import CycleMeter
+    from fpd.outputs.cycles import CycleMeter
 
     cols = ["t_s", "u_m", "v_mps", "F_N"]
     t = np.arange(0, 2001) * 1e-3

@@ -258,27 +258,22 @@ def test_small_angle_loop_area_and_the_series_model():
 
 
 def test_compiled_loop_matches_python_loop(monkeypatch):
-    """coupling/tfp_fast.py (coupling/tfp_loop_kernel.py compiled: the TFP
-    kernel, the fe1d / lumped plates and the laws of loop_kernel and
-    friction_kernel) gives the Python loop's history bit for bit."""
+    """The compiled engine (coupling/engine_kernel.py bound to
+    mechanics/dev_tfp.py: the TFP kernel, the fe1d / lumped plates and the
+    laws of friction_kernel) gives the Python loop's history bit for bit."""
     pytest.importorskip("numba")
     from fpd import kernels
     if not kernels.available():
         pytest.skip("FPD_NO_JIT")
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
-    from fpd.coupling import loop_kernel as lk
-    from fpd.coupling import tfp_fast
-    from fpd.coupling.tfp_fast import compiled_tfp
+    from fpd.coupling import fast_loop
 
-    assert (tfp_fast.OK, tfp_fast.REPLAY, tfp_fast.ROW_FAILED, tfp_fast.FULL) == (lk.DONE, lk.REPLAY,
-                                                                                  lk.ROW_FAILED, lk.FULL)
     sets = ["solver.duration=3", "thermal.slider_upper.model=lumped", "output.csv_every=7"]
     sim = build(scn.load("tfp-elcentro", sets))
-    from fpd.coupling.tfp_loop import columns_of
     assert sim.scene["mechanics"]["model"] == "two-phase"          # the packaged scene's
-    assert compiled_tfp(sim, 7, len(columns_of(sim)[0])) is not None
+    assert fast_loop.compiled_loop(sim, 7, 2, fast_loop.loop_columns(sim)) is not None
     a = simulate(sim, every=7)
     monkeypatch.setenv("FPD_NO_JIT", "1")
     sim = build(scn.load("tfp-elcentro", sets))
@@ -292,7 +287,7 @@ def test_tfp_vtk_five_bodies(tmp_path):
     """vtk/device.pvd: six polygons per frame (five bodies and the superstructure),
     the pad seated on both slider plates (its apexes on S2 and S3)."""
     meshio = pytest.importorskip("meshio")
-    from fpd.coupling.tfp_vtk import tfp_polygons
+    from fpd.outputs.tfp_vtk import tfp_polygons
     from fpd.thermal.params import PlateParams
     out = tmp_path / "r"
     p = _run_cli(["run", "tfp-lab", "--out", str(out), "--quiet", "--set", "loading.cycles=0.5",
@@ -321,9 +316,9 @@ def test_tfp_vtk_five_bodies(tmp_path):
 def test_heat_at_four_interfaces_any_plate_model():
     """S1..S4 heat their own parts with different plate models in one run;
     friction work of each surface = heat delivered = stored + lost."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
-    from fpd.coupling.output import heat_ledger
+    from fpd.outputs.output import heat_ledger
     from fpd.coupling.run import simulate
     sets = ["solver.duration=4", "solver.dt=2e-3", "loading.scale=1.0", "thermal.lower.model=lumped",
             "thermal.slider_lower.model=fe1d", "thermal.slider_upper.model=axisym", "thermal.slider_upper.nr=12",
@@ -373,7 +368,7 @@ def test_backbone_slow_three_cycles(mus):
 def test_planar_devices_refuse_bidirectional_inputs(scene_name, override, key):
     """The TFP and the flat bearing are planar: a bidirectional input is
     refused at load with one line naming the key, never silently ignored."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     with pytest.raises(scn.SceneError) as err:
         scn.load(scene_name, [override])
     msg = str(err.value)
@@ -383,7 +378,7 @@ def test_planar_devices_refuse_bidirectional_inputs(scene_name, override, key):
 @pytest.mark.parametrize("override,key", [("loading.angle_deg=10.0", "loading.angle_deg"),
                                           ('loading.record="impvall-1979-e11"', "loading.record")])
 def test_tfp_refuses_a_record_pair(override, key):
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     with pytest.raises(scn.SceneError) as err:
         scn.load("tfp-elcentro", [override])
     assert key in str(err.value)
@@ -393,7 +388,7 @@ def test_vertical_load_key_is_refused_where_it_is_not_read():
     """loading.vertical is read by the planar DFP / SFP test machine only: the
     TFP and the flat bearing refuse it, an orbit takes only the riding mass
     its machine carries (one line each, never silently ignored)."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     for name in ("tfp-lab", "flat-lab"):
         with pytest.raises(scn.SceneError, match=r"loading\.vertical"):
             scn.load(name, ['loading.vertical="riding-mass"'])
@@ -410,7 +405,7 @@ def test_a_surface_may_replace_the_law_of_the_base_friction_table(tmp_path):
     law written in the surface's own table is still refused; the same for a
     DFP side."""
     import fpd
-    from fpd.coupling.scene import SceneError
+    from fpd.schema.scene import SceneError
 
     text = (ROOT / "scenes" / "tfp-lab.toml").read_text()
     text = text.replace('[friction.S2]\nlaw = "constant"\nmu = 0.02\n',
@@ -551,15 +546,14 @@ def test_a_long_lumped_tfp_run_takes_the_compiled_loop(monkeypatch):
     from fpd import kernels
     if not kernels.available():
         pytest.skip("FPD_NO_JIT")
-    from fpd.coupling import fast_loop, scene as scn
+    from fpd.coupling import fast_loop
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
-    from fpd.coupling.tfp_fast import WORTH_LOADING_STEPS
+    from fpd.mechanics.tfp import TFPStepper
 
     monkeypatch.setattr(fast_loop, "_numba_loaded", lambda: False)
     long_ = build(scn.load("tfp-lab", ["thermal.model=lumped"]))
     short = build(scn.load("tfp-lab", ["thermal.model=lumped", "loading.cycles=1", "solver.dt=5e-3"]))
-    assert long_.n_steps >= WORTH_LOADING_STEPS > short.n_steps
-    from fpd.coupling.tfp_fast import compiled_tfp
-    from fpd.coupling.tfp_loop import columns_of
-    assert compiled_tfp(long_, 1, len(columns_of(long_)[0])) is not None
-    assert compiled_tfp(short, 1, len(columns_of(short)[0])) is None
+    assert TFPStepper.engine_worth_loading(long_.n_steps) and not TFPStepper.engine_worth_loading(short.n_steps)
+    assert fast_loop.compiled_loop(long_, 1, 2, fast_loop.loop_columns(long_)) is not None
+    assert fast_loop.compiled_loop(short, 1, 2, fast_loop.loop_columns(short)) is None

@@ -34,7 +34,7 @@ _RUNS = {}
 
 
 def run(sets):
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
 
@@ -158,7 +158,7 @@ def test_fe3d_grading_is_checked_at_load():
     """A grading that makes fe3d's first element vanish is one scene line
     (file, key, value), as for fe1d and axisym; before, the TFP let it through
     to scipy (RuntimeWarning, 'array must not contain infs or NaNs')."""
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
 
     with pytest.raises(scn.SceneError, match=r"tfp-lab\.toml: thermal\.lower\.nz = 2000: with grading = 1\.5"):
         scn.load("tfp-lab", ["thermal.model=fe3d", "thermal.nz=2000", "thermal.grading=1.5"])

@@ -45,7 +45,7 @@ def test_render_draws_the_tfp_bodies_with_per_surface_labels(tfp_run):
     from matplotlib.colors import Normalize
     from PIL import Image
 
-    from fpd.coupling import render as rd
+    from fpd.outputs import render as rd
 
     r = _fpd("render", tfp_run, "--quiet")
     assert r.returncode == 0, r.stderr
@@ -83,7 +83,7 @@ def test_render_paints_lumped_tfp_parts_by_their_own_temperature():
     from matplotlib import colormaps
     from matplotlib.colors import Normalize
 
-    from fpd.coupling import render as rd
+    from fpd.outputs import render as rd
 
     f = {"time": 1.0, "body": np.arange(6), "T_C": np.array([30.0, 40.0, np.nan, 41.0, 31.0, np.nan]),
          "mu": np.array([0.1, 0.02, np.nan, 0.021, 0.11, np.nan]), "polygons": [np.zeros((3, 2))] * 6}
@@ -129,9 +129,9 @@ def test_hottest_fields_python_and_compiled_loops(monkeypatch):
     compiled loop (chunks cut at those steps) keeps the same fields as the
     Python loop, bit for bit."""
     from fpd import kernels
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
-    from fpd.coupling.hottest import TFP_SIDES, HottestFields
+    from fpd.outputs.hottest import TFP_SIDES, HottestFields
     from fpd.coupling.run import simulate
 
     sets = ["solver.duration=5", "output.csv_every=1"]
@@ -192,7 +192,7 @@ def test_render_clips_each_field_to_its_body(tmp_path):
     import pyvista
     from PIL import Image
 
-    from fpd.coupling import render as rd
+    from fpd.outputs import render as rd
 
     sq = np.array([[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]])
     at = [(-1.5, -1.5), (0.0, 0.0), (1.5, -1.5), (-1.5, 1.5), (1.5, 1.5), (0.0, 1.5)]   # body 1 in the middle

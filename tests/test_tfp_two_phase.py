@@ -330,7 +330,7 @@ def test_compiled_loop_matches_python_loop_seated(monkeypatch):
     from fpd import kernels
     if not kernels.available():
         pytest.skip("FPD_NO_JIT")
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
 

@@ -84,7 +84,7 @@ def test_device_series_matches_timeseries(run_dir):
 
 
 def test_seated_dfp_polygons_touch_both_surfaces():
-    from fpd.coupling.vtk_output import device_polygons, pad_pose
+    from fpd.outputs.vtk_output import device_polygons, pad_pose
     from fpd.mechanics.geometry import DeviceGeometry
     from fpd.thermal.params import PlateParams
 
@@ -104,7 +104,7 @@ def test_seated_dfp_polygons_touch_both_surfaces():
 
 
 def test_tilting_pad_rotates_about_its_pivot_corner():
-    from fpd.coupling.vtk_output import pad_pose
+    from fpd.outputs.vtk_output import pad_pose
     from fpd.mechanics.geometry import DeviceGeometry
 
     g = DeviceGeometry("DFP", 2.2, 2.2, 0.10, 0.25, 30.0, 1e5)
@@ -166,10 +166,10 @@ class LinePlate:
 def test_plate_field_series_and_hottest_picture(tmp_path):
     import pyvista
 
-    from fpd.coupling import scene as scn
+    from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
-    from fpd.coupling.vtk_output import VTKSeries
+    from fpd.outputs.vtk_output import VTKSeries
 
     sc = scn.load("sfp-harmonic", ["loading.cycles=1", f"output.vtk_every={EVERY}"])
     sim = build(sc)
@@ -272,7 +272,7 @@ def test_render_frames_and_gif(run_dir):
 
 
 def test_render_caps_frames():
-    from fpd.coupling.render import frame_indices
+    from fpd.outputs.render import frame_indices
 
     idx = frame_indices(1001, 200)
     assert len(idx) == 200 and idx[0] == 0 and idx[-1] == 1000 and np.all(np.diff(idx) > 0)
@@ -291,8 +291,8 @@ def test_render_bad_dirs(tmp_path):
 # -- import hygiene ---------------------------------------------------------------------
 _IMPORT_PROBE = """
 import sys
-from fpd.coupling import cli
-from fpd.coupling import scene as scn
+from fpd.frontends import cli
+from fpd.schema import scene as scn
 from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 over = ["solver.duration=0.5", "output.plots=false", "thermal.model={model}"]

@@ -1,4 +1,4 @@
-"""Plate fields in device coordinates (coupling/placement.py): they overlay
+"""Plate fields in device coordinates (outputs/placement.py): they overlay
 device.pvd (the hot column under the pad, on the concave surfaces), and
 every cell array of the series is finite (issue 18)."""
 from __future__ import annotations
@@ -86,7 +86,7 @@ def test_place_field_conventions():
     an axisym section is mirrored; a 3-D point on the face wraps onto the sphere."""
     from types import SimpleNamespace
 
-    from fpd.coupling.placement import place_field
+    from fpd.outputs.placement import place_field
     from fpd.mechanics.geometry import DeviceGeometry
 
     geom = DeviceGeometry("DFP", 2.0, 3.0, 0.1, 0.2, 10.0, 1e4)
@@ -184,8 +184,8 @@ def test_three_d_field_series_and_picture(tmp_path):
     import pyvista
     from types import SimpleNamespace
 
-    from fpd.coupling.hottest import plot_plate_field
-    from fpd.coupling.placement import place_field
+    from fpd.outputs.hottest import plot_plate_field
+    from fpd.outputs.placement import place_field
     from fpd.mechanics.geometry import DeviceGeometry
     from fpd.meshes.vtk import PVDWriter
 

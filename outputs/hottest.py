@@ -22,14 +22,6 @@ TFP_SIDES = (("lower", "lower plate", "T1_C", "lower slider plate"),
              ("upper", "upper plate", "T4_C", "upper slider plate"))
 
 
-LOOKS = 2000        # looks at the fields per run: often enough to catch the peak, cheap
-
-
-def look_every(n_steps: int) -> int:
-    """Steps between two looks at the plate fields (every loop: DFP, TFP)."""
-    return max(1, n_steps // LOOKS)
-
-
 def parts_of(sim) -> tuple:
     """The parts of a simulation's plates (DFP_SIDES or TFP_SIDES)."""
     return TFP_SIDES if len(getattr(sim, "plates", ())) == 4 else DFP_SIDES

@@ -45,8 +45,8 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from . import scene as scn
-from .scene import SceneError
+from fpd.schema import scene as scn
+from fpd.schema.scene import SceneError
 
 EXIT_OK, EXIT_INTERRUPTED = 0, 130
 SWEEP_KEYS = ("name", "description", "scene", "mode", "axes", "set", "run")
@@ -311,8 +311,8 @@ def run_member(spec: dict) -> dict:
     raises for a member's own failure: the row says what went wrong."""
     from fpd.mechanics.ground_motion import RecordError
 
-    from .build import build
-    from .run import simulate
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate
 
     _test_hooks(spec)
     t0 = time.perf_counter()
@@ -325,7 +325,7 @@ def run_member(spec: dict) -> dict:
             s, result = _run_kept(scene, sim, Path(spec["folder"]))
         else:
             result = simulate(sim)
-            from .output import summary
+            from fpd.outputs.output import summary
             s = summary(scene, result, sim)
         s.update(_extra(result))
         s = json.loads(json.dumps(s, default=float))     # plain floats (numpy scalars in ledgers)
@@ -342,8 +342,8 @@ def run_member(spec: dict) -> dict:
 
 def _run_kept(scene, sim, dest: Path):
     """keep = "timeseries": the member's results folder, as fpd run writes it."""
-    from .output import ResultsFolder, stream_history, write_all
-    from .run import simulate
+    from fpd.outputs.output import ResultsFolder, stream_history, write_all
+    from fpd.coupling.run import simulate
 
     folder = ResultsFolder(dest)
     try:
@@ -379,8 +379,8 @@ def warm(raw: dict, path: str) -> float:
     set read once, before the members arrive."""
     t0 = time.perf_counter()
     try:
-        from .build import build
-        from .run import simulate
+        from fpd.coupling.build import build
+        from fpd.coupling.run import simulate
         r = scn.apply_overrides(raw, ["solver.duration=0.02", "output.plots=false"])
         scene = scn.validate(r, path)
         simulate(build(scene))
@@ -505,7 +505,7 @@ def _cluster(workers: int | None, scheduler: str | None):
 
 
 def run_sweep(sw: Sweep, out: Path, workers=None, scheduler=None, force=False, quiet=False) -> int:
-    from .output import ResultsFolder
+    from fpd.outputs.output import ResultsFolder
 
     if out.exists() and not out.is_dir():
         raise SceneError(f"{out}: exists and is not a folder (--out)")
@@ -540,7 +540,7 @@ def run_sweep(sw: Sweep, out: Path, workers=None, scheduler=None, force=False, q
             if m.id not in results and m.hash in done:
                 results[m.id] = done[m.hash]
         rows = table_rows(sw, results)
-        from .history import signals_held
+        from fpd.coupling.recording import signals_held
         with signals_held():     # the table and the move into place are not cut short
             write_tables(folder, sw, rows, time.perf_counter() - t_start, ran)
             if sw.keep == "timeseries":
@@ -616,7 +616,7 @@ def _dispatch(sw, todo, store, workers, scheduler, quiet, results, done):
             except Exception as exc:
                 res = {"id": m.id, "hash": m.hash, "status": "error", "summary": {},
                        "message": " ".join(f"{type(exc).__name__}: {exc}".split())}
-            from .history import signals_held
+            from fpd.coupling.recording import signals_held
             with signals_held():
                 _write_json_atomic(store / f"{m.hash}.json", res)
             done[m.hash] = res
@@ -747,8 +747,8 @@ def cmd_sweep(args) -> int:
     out = Path(args.out) if args.out else Path("results") / sw.name
     if args.workers is not None and args.workers < 1:
         raise SceneError(f"--workers {args.workers}: must be >= 1")
-    from .claim import hold
-    # one writer of DIR at a time (coupling/claim.py); checking DIR, resuming and taking over a
+    from fpd.outputs.claim import hold
+    # one writer of DIR at a time (outputs/claim.py); checking DIR, resuming and taking over a
     # killed sweep's finished members (its temporary folder) are run_sweep's
     hold(args, out, check=False, partials=False)
     return run_sweep(sw, out, args.workers, args.scheduler, args.force, args.quiet)

@@ -14,7 +14,7 @@
   superstructure) with ``body`` (1, 3) only.
 - ``lower_plate.pvd`` / ``upper_plate.pvd``: each plate model's temperature
   field (``PlateModel.field()``: points, meshio-style cells, nodal T_C)
-  placed in the device's coordinates (coupling/placement.py: wrapped onto
+  placed in the device's coordinates (outputs/placement.py: wrapped onto
   the plate's concave surface, the column or section under the footprint,
   moving with the ground or the superstructure), so it overlays device.pvd;
   no series for plates without a field (lumped, none).
@@ -231,7 +231,7 @@ class VTKSeries:
             p, c, Tf = fld
             Tf = np.asarray(Tf, dtype=float)
             p = np.asarray(p, dtype=float)
-            # placed in the device's coordinates, so it overlays device.pvd (coupling/placement.py)
+            # placed in the device's coordinates, so it overlays device.pvd (outputs/placement.py)
             pw, cw, Tw = place_field(side, (p, c, Tf), geom, sim.plate_params[0 if side == "lower" else 1], vals)
             if len(Tw) == len(pw):
                 writer.add(t, pw, cw, point_data={"T_C": Tw})
@@ -267,8 +267,8 @@ class VTKSeries:
 
 def series_class(scene, sim):
     """The VTK series that draws this simulation's device: the TFP's
-    (coupling/tfp_vtk.py), a bidirectional run's in 3D
-    (coupling/vtk_bidirectional.py) or the planar DFP / SFP above (one
+    (outputs/tfp_vtk.py), a bidirectional run's in 3D
+    (outputs/vtk_bidirectional.py) or the planar DFP / SFP above (one
     choice for ``fpd run`` and ``fpd.run``)."""
     if scene["device"]["kind"] == "TFP":
         from .tfp_vtk import TFPVTKSeries

@@ -36,9 +36,6 @@ def sides(scene) -> tuple[str, ...]:
 
 
 def make_plots(folder: Path, result, scene) -> list[str]:
-    if "W4_J" in result:                     # the TFP: four surfaces, regimes
-        from .tfp_plots import make_tfp_plots
-        return make_tfp_plots(folder, result, scene)
     made = []
     title = scene.name
     machine = scene["loading"]["kind"] == "displacement"

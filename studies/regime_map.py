@@ -40,8 +40,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import scene as scn
-from .scene import SceneError
+from fpd.schema import scene as scn
+from fpd.schema.scene import SceneError
 from .sweep import STORE, Member, Sweep, finalize, run_sweep
 
 LEVELS = (0.01, 0.05, 0.20)
@@ -103,8 +103,8 @@ def cmd_map(args) -> int:
     kind = "quick" if args.quick else "full"
     grid = GRIDS[kind]
     out = Path(args.out) if args.out else Path("results") / f"map-{kind}"
-    from .claim import hold
-    hold(args, out, check=False)    # one writer of DIR at a time (coupling/claim.py)
+    from fpd.outputs.claim import hold
+    hold(args, out, check=False)    # one writer of DIR at a time (outputs/claim.py)
     if out.exists() and not out.is_dir():
         raise SceneError(f"{out}: exists and is not a folder (--out)")
     if out.is_dir() and any(out.iterdir()) and not (out / "sweep").is_dir() and not args.force:
@@ -137,7 +137,7 @@ def cmd_map(args) -> int:
             res[m.id] = {"status": "missing", "summary": {}}
     cells = reduce(sw.members, res, grid)
     wall = time.perf_counter() - t0
-    from .history import signals_held
+    from fpd.coupling.recording import signals_held
     figs = figures(cells, grid, out)
     with signals_held():
         _atomic_text(out / "map.md", report(cells, grid, kind, wall, figs, sw, res))

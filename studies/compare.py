@@ -1,7 +1,7 @@
 """``fpd compare``: the thermal models side by side on one scene (lumped, fe1d
 follow-pad and fixed-point, axisym, fe3d), each model's error against the
 reference (the first of fe3d, axisym, fe1d follow-pad that ran) and the
-lumped model's validity numbers. The shared runner is coupling/study_runner.py.
+lumped model's validity numbers. The shared runner is studies/study_runner.py.
 """
 from __future__ import annotations
 
@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import scene as scn
-from .output import ResultsFolder
+from fpd.schema import scene as scn
+from fpd.outputs.output import ResultsFolder
 from .study_runner import (EXIT_FAILED, EXIT_OK, Case, _json, _plt, _say, _scene_name, fmt, md_table,
                            model_available, out_dir, run_case, thermal_set, write_rows)
 
@@ -168,7 +168,7 @@ def compare_plots(folder: Path, cases, name) -> list[str]:
     for c in ok:
         r = c.result
         if "T1_C" in r:
-            from .hottest import quantity_of
+            from fpd.outputs.hottest import quantity_of
             t = c.scene.thermal("lower")
             what = quantity_of(t["model"], t.get("source", "follow-pad"), t.get("radius_m", 0.0))
             ax.plot(r["t_s"], r["T1_C"], styles.get(c.label, "-"), lw=1, label=f"{c.label}, lower: {what}")

@@ -29,8 +29,8 @@ import tempfile
 from collections.abc import Mapping
 from pathlib import Path
 
-from . import scene as scn
-from .scene import Scene, SceneError
+from fpd.schema import scene as scn
+from fpd.schema.scene import Scene, SceneError
 
 __all__ = ["run", "load_scene", "compare", "converge", "Result", "History", "StudyResult", "SceneError"]
 
@@ -95,7 +95,7 @@ def load_scene(scene=None, **overrides) -> Scene:
 
     The returned Scene is fully resolved (every default filled in):
     ``s["solver"]["dt"]``, ``s.thermal("lower")``, ``s.friction("upper")``;
-    ``fpd.coupling.scene.to_toml(s)`` gives it back as TOML.
+    ``fpd.schema.scene.to_toml(s)`` gives it back as TOML.
     """
     raw, path = _raw_and_path(scene)
     try:
@@ -222,9 +222,9 @@ def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **
     Raises ``SceneError`` on bad input. A numerical failure does not raise:
     ``result.status == "failed"``, ``result.summary["message"]`` says where.
     """
-    from .build import build
-    from .output import ResultsFolder, check_out_dir, summary, write_all
-    from .run import simulate
+    from fpd.coupling.build import build
+    from fpd.outputs.output import ResultsFolder, check_out_dir, summary, write_all
+    from fpd.coupling.run import simulate
 
     sc = load_scene(scene, **overrides)
     if progress:
@@ -246,10 +246,10 @@ def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **
     try:
         vtk = hottest = None
         if sc["output"]["vtk_every"] > 0:
-            from .vtk_output import series_class         # as fpd run: the TFP's, the 3D, the planar
+            from fpd.outputs.vtk_output import series_class         # as fpd run: the TFP's, the 3D, the planar
             vtk = series_class(sc, sim)(folder.subdir("vtk"), sim)
         if sc["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
-            from .hottest import HottestFields
+            from fpd.outputs.hottest import HottestFields
             hottest = vtk.hottest if vtk else HottestFields.of(sim)   # two plates or the TFP's four parts
         result = simulate(sim, progress=progress, every=sc["output"]["csv_every"],
                           on_frame=vtk.frame if vtk else None, frame_every=sc["output"]["vtk_every"],
@@ -307,7 +307,8 @@ def _cell(v: str):
 def _study(kind: str, table: str, scene, out, force, fast, quiet, overrides) -> StudyResult:
     import argparse
 
-    from .studies import cmd_compare, cmd_converge
+    from fpd.studies.compare import cmd_compare
+    from fpd.studies.converge import cmd_converge
 
     with tempfile.TemporaryDirectory(prefix=f"fpd-{kind}-") as tmp:
         if overrides or isinstance(scene, (Mapping, Scene)):

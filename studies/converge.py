@@ -1,6 +1,6 @@
 """``fpd converge``: dt, mesh and thermal-step sweeps of a scene, observed
 orders against a closed form or Richardson extrapolation. The shared runner
-is coupling/study_runner.py.
+is studies/study_runner.py.
 """
 from __future__ import annotations
 
@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import scene as scn
-from .output import ResultsFolder
-from .scene import SceneError
+from fpd.schema import scene as scn
+from fpd.outputs.output import ResultsFolder
+from fpd.schema.scene import SceneError
 from .study_runner import (EXIT_FAILED, EXIT_OK, _json, _plt, _say, fmt, md_table, model_available, out_dir,
                            run_case, thermal_set, write_rows)
 

@@ -1,11 +1,11 @@
 """docs/reference.md, generated from the code so that it cannot drift.
 
     fpd reference > docs/reference.md
-    python -m fpd.coupling.reference > docs/reference.md     (the same)
+    python -m fpd.frontends.reference > docs/reference.md     (the same)
 
-Sources: the command line's parser (coupling/cli.py), the scene schema
-(coupling/scene.py: kinds, defaults, checks), the units and meanings in
-coupling/descriptions.py, the packaged default scene. tests/test_reference.py
+Sources: the command line's parser (frontends/cli.py), the scene schema
+(schema/scene.py: kinds, defaults, checks), the units and meanings in
+frontends/descriptions.py, the packaged default scene. tests/test_reference.py
 fails when the committed file differs from what this prints, and when a key,
 column or summary field has no description.
 """
@@ -16,10 +16,10 @@ import os
 import sys
 
 from . import descriptions as D
-from . import scene as scn
+from fpd.schema import scene as scn
 
 COLUMNS = D.COLUMNS
-REGENERATE = "python3 -m fpd.coupling.reference > docs/reference.md"
+REGENERATE = "python3 -m fpd.frontends.reference > docs/reference.md"
 
 _PROBES_FLOAT = (-1e300, -1.0, 0.0, 0.5, 1.0, 1e300)
 _PROBES_INT = (-10**9, -1, 0, 1, 10**9)
@@ -87,7 +87,6 @@ COLUMN_SOURCES = (
     "fpd.mechanics.seated:SEATED_COLUMNS",
     "fpd.mechanics.two_phase:COLUMNS",
     "fpd.mechanics.bidirectional:COLUMNS",
-    "fpd.coupling.tfp_loop:ORDER",
     "fpd.mechanics.tfp:COLUMNS",
     "fpd.mechanics.tfp:TWO_PHASE_COLUMNS",
     "fpd.mechanics.flat:COLUMNS",
@@ -194,9 +193,9 @@ _INTRO = """\
 # fpd reference
 
 <!-- Generated from the code by `{regen}` (or `fpd reference`): do not edit
-by hand. Units and meanings live in coupling/descriptions.py, kinds, defaults
-and allowed values in the schema of coupling/scene.py, the command help in
-coupling/cli.py; tests/test_reference.py fails when this file is out of date. -->
+by hand. Units and meanings live in frontends/descriptions.py, kinds, defaults
+and allowed values in the schema of schema/scene.py, the command help in
+frontends/cli.py; tests/test_reference.py fails when this file is out of date. -->
 
 Everything here is a contract: scripts use these names, so keys, commands and
 columns are added, never renamed or dropped. Everything is SI; names carry

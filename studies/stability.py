@@ -29,8 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import scene as scn
-from .output import ResultsFolder
+from fpd.schema import scene as scn
+from fpd.outputs.output import ResultsFolder
 from .study_runner import (EXIT_FAILED, EXIT_OK, _plt, _say, fmt, md_table, min_heat_capacity, out_dir, run_case,
                            write_rows)
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from .hottest import TFP_SIDES, HottestFields
 from .placement import local_points, mirror_section
-from .scene import TFP_PARTS
+from fpd.schema.scene import TFP_PARTS
 
 BODIES = ("lower_plate", "lower_slider", "pad", "upper_slider", "upper_plate", "superstructure")
 N_ARC = 32
@@ -85,7 +85,7 @@ def tfp_polygons(g, plate_params, xg: float, phi: float, alpha: float, n: int = 
 
 def place_part_field(i: int, fld, g, params, vals: dict):
     """(points, cells, T) of part i's field (0..3: lower plate, lower slider,
-    upper slider, upper plate; plate-local coordinates, coupling/placement.py)
+    upper slider, upper plate; plate-local coordinates, outputs/placement.py)
     in the device's coordinates at the frame whose CSV values are ``vals``.
 
     Part i carries surface S(i+1), a sphere of radius R about the centre C
@@ -197,5 +197,5 @@ class TFPVTKSeries:
             writer.close()
 
     def hottest_pictures(self, plots_dir) -> list:
-        """One PNG per heated part with a field (coupling/hottest.py)."""
+        """One PNG per heated part with a field (outputs/hottest.py)."""
         return self.hottest.pictures(plots_dir)

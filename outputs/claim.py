@@ -47,7 +47,7 @@ import socket
 import sys
 from pathlib import Path
 
-from .scene import SceneError
+from fpd.schema.scene import SceneError
 
 try:
     import fcntl

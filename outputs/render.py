@@ -7,7 +7,7 @@ whole animation, with its colour bar; pad and superstructure, which carry no
 temperature, in grey), the time and the friction coefficients in the title.
 The device is read from the series itself: four bodies (a DFP, an SFP: lower
 plate, pad, upper plate, superstructure; mu1, mu2, T1, T2) or six (a TFP,
-coupling/tfp_vtk.py: lower plate, lower slider plate, pad, upper slider plate,
+outputs/tfp_vtk.py: lower plate, lower slider plate, pad, upper slider plate,
 upper plate, superstructure; mu1..mu4, T1..T4 of the surfaces S1..S4, as the
 TFP's timeseries columns name them). A flat-bearing run writes no VTK: its
 folder is refused in one line.
@@ -45,7 +45,7 @@ class Layout:
 
 DFP_LAYOUT = Layout("DFP", BODY_NAMES, GREYS, {0: "lower", 2: "upper"}, ((0, "1"), (2, "2")),
                     "pad and superstructure")
-# coupling/tfp_vtk.py's BODIES order; T_C, mu of body 0, 1, 3, 4 are S1..S4's
+# outputs/tfp_vtk.py's BODIES order; T_C, mu of body 0, 1, 3, 4 are S1..S4's
 TFP_LAYOUT = Layout("TFP", ("lower plate", "lower slider plate", "pad", "upper slider plate", "upper plate",
                             "superstructure"),
                     ("#9a9a9a", "#b3b3b3", "#c8c8c8", "#b3b3b3", "#9a9a9a", "#d9d9d9"),
@@ -101,7 +101,7 @@ def read_device_series(pvd: Path, cap: int = MAX_FRAMES) -> list[dict]:
     (k, 2) x-z arrays), body, T_C, mu (per polygon)."""
     import pyvista
 
-    from .scene import SceneError
+    from fpd.schema.scene import SceneError
 
     try:
         reader = pyvista.PVDReader(str(pvd))
@@ -353,7 +353,7 @@ def render(run_dir, cap: int = MAX_FRAMES, force: bool = False, progress=None) -
     """Render DIR's device series (and its placed plate fields) into
     DIR/render/; returns (PNG paths, GIF path). An existing DIR/render is
     refused unless ``force`` (then replaced once the new one is complete)."""
-    from .scene import SceneError
+    from fpd.schema.scene import SceneError
 
     d = Path(run_dir)
     if not d.is_dir():
@@ -429,7 +429,7 @@ def _footprint_widths(d: Path) -> dict:
 
 def cmd_render(args) -> int:
     from .claim import hold
-    hold(args, args.dir, check=False)   # one writer of DIR at a time (coupling/claim.py)
+    hold(args, args.dir, check=False)   # one writer of DIR at a time (outputs/claim.py)
     import shutil
     for stale in Path(args.dir).glob(".render.partial-*"):   # of a render that was killed: ours to tidy now
         shutil.rmtree(stale, ignore_errors=True)

@@ -1,8 +1,8 @@
 """Units and meanings of every scene key, output column and summary.json field.
 
 The one place to describe a name: docs/reference.md is generated from this
-module and the schema in coupling/scene.py (``fpd reference``, or
-``python -m fpd.coupling.reference``), and tests/test_reference.py fails when
+module and the schema in schema/scene.py (``fpd reference``, or
+``python -m fpd.frontends.reference``), and tests/test_reference.py fails when
 a schema key, a column or a summary field has no entry here, when an entry
 names something that no longer exists, or when the committed reference is
 out of date. Adding a scene key, a column or a summary field therefore means:
@@ -504,7 +504,7 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "bidirectional.normal_force": ("", 'Bidirectional stepper: the normal-force scheme that ran ("midpoint", '
                                        '"start"; the bidirectional test machine: "seated", step-averaged normal '
                                        'forces).'),
-    # the test machine's per-cycle quantities (coupling/cycles.py, docs/test_machine.md)
+    # the test machine's per-cycle quantities (outputs/cycles.py, docs/test_machine.md)
     "test_machine.definitions": ("", "Test machine (loading.kind = \"displacement\", a DFP or SFP sine), at least "
                                      "one complete cycle: the definitions of the per-cycle quantities, as text."),
     "test_machine.vertical_load_N": ("N", "Test machine: the test's vertical load W = M g (superstructure.mass "

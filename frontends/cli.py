@@ -148,7 +148,7 @@ def _parser() -> argparse.ArgumentParser:
                     "field. docs/reference.md is this output."),
         epilog="examples:\n  fpd reference > docs/reference.md\n  fpd reference | grep flux\n")
 
-    # coupling/sweep.py: many runs on Dask, one table (docs/sweeps.md)
+    # studies/sweep.py: many runs on Dask, one table (docs/sweeps.md)
     w = sub.add_parser(
         "sweep", formatter_class=_FMT, help="run a scene over axes of values on Dask workers; one table",
         description=_wrap("Run a base scene over axes of values (any dotted scene key with a list of values, "
@@ -215,11 +215,11 @@ class _HoldSignals:
 
 
 def cmd_run(args) -> int:
-    from . import scene as scn
-    from .build import build
-    from .claim import hold
-    from .output import ResultsFolder, after_write_error, guard_frames, stream_history, write_all
-    from .run import simulate
+    from fpd.schema import scene as scn
+    from fpd.coupling.build import build
+    from fpd.outputs.claim import hold
+    from fpd.outputs.output import ResultsFolder, after_write_error, guard_frames, stream_history, write_all
+    from fpd.coupling.run import simulate
 
     scene = scn.load(args.scene, args.set)
     out = Path(args.out) if args.out else Path("results") / scene.name
@@ -238,11 +238,11 @@ def cmd_run(args) -> int:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
         if scene["output"]["vtk_every"] > 0:
-            from .vtk_output import series_class        # the TFP's, a bidirectional run's 3D, the planar
+            from fpd.outputs.vtk_output import series_class        # the TFP's, a bidirectional run's 3D, the planar
             vtk = series_class(scene, sim)(folder.subdir("vtk"), sim)
         hottest = None
         if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
-            from .hottest import HottestFields
+            from fpd.outputs.hottest import HottestFields
             hottest = vtk.hottest if vtk else HottestFields.of(sim)   # two plates or the TFP's four parts
         # timeseries.csv is written as the run goes (memory bounded whatever the
         # steps); signals are held from the end of the stepping until the folder is complete
@@ -293,24 +293,24 @@ def _report(s: dict, out: Path) -> None:
     if "peak_T1_C" in s:
         parts.append(f"peak T {s['peak_T1_C']:.1f} / {s['peak_T2_C']:.1f} \N{DEGREE SIGN}C")
     print("; ".join(parts))
-    if s.get("test_machine", {}).get("cycles"):        # coupling/cycles.py
+    if s.get("test_machine", {}).get("cycles"):        # outputs/cycles.py
         print("per cycle: " + "; ".join(f"{c['cycle']}: EDC {c['EDC_J'] / 1e3:.1f} kJ, K_eff {c['K_eff_N_m'] / 1e3:.0f} kN/m, "
                                         f"mu_eff {c['mu_eff']:.4f}" for c in s["test_machine"]["cycles"]))
     print(f"results in {out}/")
 
 
 def cmd_check(args) -> int:
-    from . import scene as scn
+    from fpd.schema import scene as scn
     scene = scn.load(args.scene, args.set)
     if scene["loading"]["kind"] == "record":
-        from .build import build
+        from fpd.coupling.build import build
         build(scene)  # reads and checks the record too
     sys.stdout.write(scn.to_toml(scene))
     return EXIT_OK
 
 
 def cmd_scenes(args) -> int:
-    from . import scene as scn
+    from fpd.schema import scene as scn
     for name in scn.packaged_scenes():
         try:
             raw = scn.read_toml(scn.SCENES_DIR / f"{name}.toml")
@@ -332,17 +332,17 @@ def main(argv=None) -> int:
         jitcache.enable()           # one line on stderr before the first compile of the kernels
     from fpd.mechanics.ground_motion import RecordError
 
-    from .scene import SceneError
-    args.claims = contextlib.ExitStack()     # results folders claimed (coupling/claim.py), released on return
+    from fpd.schema.scene import SceneError
+    args.claims = contextlib.ExitStack()     # results folders claimed (outputs/claim.py), released on return
     try:
         handler = {"run": cmd_run, "check": cmd_check, "scenes": cmd_scenes}.get(args.cmd)
         if handler is None:
-            # coupling/studies.py: cmd_compare, cmd_converge, cmd_stability;
-            # coupling/render.py: cmd_render (imported only when asked for)
+            # the studies (studies/<name>.py: cmd_compare, cmd_converge, cmd_stability,
+            # cmd_sweep; regime_map.py: cmd_map), outputs/render.py: cmd_render,
+            # frontends/reference.py: cmd_reference (imported only when asked for)
             import importlib
-            # coupling/sweep.py: cmd_sweep; coupling/regime_map.py: cmd_map
-            module = importlib.import_module({"render": ".render", "reference": ".reference", "sweep": ".sweep",
-                                              "map": ".regime_map"}.get(args.cmd, ".studies"), __package__)
+            module = importlib.import_module({"render": "fpd.outputs.render", "reference": "fpd.frontends.reference",
+                                              "map": "fpd.studies.regime_map"}.get(args.cmd, f"fpd.studies.{args.cmd}"))
             handler = getattr(module, f"cmd_{args.cmd}")
         with args.claims:
             return handler(args)
@@ -355,7 +355,7 @@ def main(argv=None) -> int:
         claimed = getattr(args, "claimed", None)
         if exc.errno is None or isinstance(exc, BrokenPipeError) or not claimed:
             raise
-        from .output import describe_os_error
+        from fpd.outputs.output import describe_os_error
         sys.stderr.write(f"fpd: {describe_os_error(exc)}; {args.cmd} wrote nothing, {claimed[0]} unchanged\n")
         return EXIT_FAILED
 

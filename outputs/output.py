@@ -16,8 +16,8 @@ import numpy as np
 
 from fpd.mechanics.phases import PHASES, TFP_PHASES  # noqa: F401
 
-from .history import CsvWriter, StreamHistory  # noqa: F401 (CsvWriter: callers import it from here too)
-from .scene import Scene, SceneError, to_toml
+from .history import CsvWriter, StreamHistory, WriteError  # noqa: F401 (callers import these from here too)
+from fpd.schema.scene import Scene, SceneError, to_toml
 
 from fpd import __version__ as VERSION
 
@@ -27,16 +27,6 @@ def check_out_dir(out: Path, force: bool) -> None:
         raise SceneError(f"{out}: exists and is not a folder (--out)")
     if out.exists() and any(out.iterdir()) and not force:
         raise SceneError(f"{out}: results folder exists and is not empty; use --force to replace it")
-
-
-class WriteError(OSError):
-    """Writing the results failed (disk full, quota, permission, the folder
-    removed underneath): the system's error, its file, and the time of the
-    last step computed when it happened (``t_s``, None if unknown)."""
-
-    def __init__(self, cause: OSError, path=None, t_s=None):
-        super().__init__(cause.errno, cause.strerror or str(cause), path or cause.filename)
-        self.t_s = t_s
 
 
 def guard_frames(on_frame, dt: float):
@@ -402,7 +392,10 @@ def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = Tr
         from .cycles import plot_cycles, write_cycles_csv
         write_cycles_csv(folder.path("cycles.csv"), s["test_machine"]["cycles"])
     if plots and result.n_rows > 1:
-        from .plots import make_plots
+        if "W4_J" in result:                 # the TFP: four surfaces, regimes
+            from .tfp_plots import make_tfp_plots as make_plots
+        else:
+            from .plots import make_plots
         s["plots"] = make_plots(folder.subdir("plots"), result.plot_view(), scene)
         if s.get("test_machine", {}).get("cycles"):
             plot_cycles(folder.path("plots", "cycles.png"), s["test_machine"]["cycles"], scene.name)

@@ -1,0 +1,189 @@
+"""The coupled engine: the staggered thermo-mechanical step over a range of
+steps, for every device, written once (kernel module, fpd/kernels.py).
+
+Per step (model.md section 5), over the device's N interfaces (SFP/DFP/flat
+2, TFP 4): mu_i(T_i^n, p_i, v_i) -> the device's step -> the friction work
+of each interface and its footprint centre -> each plate's step ->
+T_i^{n+1}; a row of the history every ``every`` steps. The device is the
+module ``dev`` (the interface in mechanics/dev_two_phase.py): the source
+below names the planar two-phase DFP, and ``fpd.kernels.compiled(...,
+bind={"dev": ...})`` loads this same file once per device with ``dev`` bound
+to that device's module (each compiled and cached on its own, only when a
+scene uses it). Every piece of physics is the models' own kernel
+(friction_kernel, the device's, lumped_kernel, column_kernel), so the
+compiled run and the Python loop (coupling/run.py) compute the same numbers;
+coupling/fast_loop.py drives it between simulate()'s events.
+
+Where the Python loop would raise (a device flag, a non-finite temperature,
+friction coefficient or state), the step is not taken: the state is put back
+as it was before it and the Python loop replays it from there, raising
+exactly what it raises. A non-finite row is the one failure reported from
+here.
+"""
+from __future__ import annotations
+
+import math
+
+from fpd.mechanics import dev_two_phase as dev     # rebound per device (fpd.kernels.compiled(bind=))
+from fpd.mechanics.friction_kernel import law_mu
+from fpd.thermal import column_kernel as ck
+from fpd.thermal import lumped_kernel as lk
+
+__kernel__ = True
+# compiled: the plate dispatchers inline into run_chunk (no call passing the plates' arrays per step)
+__jit_options__ = {"inline": "always"}
+
+KIND_NONE, KIND_LUMPED, KIND_FE1D = 0, 1, 2
+# ctl (int64)
+C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT, C_NVAL, C_2D = range(11)
+N_CTL = 12
+# ctl[C_STATUS]
+RUNNING, DONE, REPLAY, ROW_FAILED, FULL = 0, 1, 2, 3, 4
+
+
+def plate_step(kind, Mb, Ab, FAC, V, I, P, power_W, centre_m):
+    if kind == KIND_FE1D:
+        return ck.plate_step(Mb, Ab, FAC, V, I, P, power_W, centre_m)
+    return lk.step(P, power_W)
+
+
+def plate_stored(kind, V, I, P):
+    if kind == KIND_FE1D:
+        return ck.stored(V, I, P)
+    if kind == KIND_LUMPED:
+        return lk.stored(P)
+    return 0.0
+
+
+def plate_lost(kind, P):
+    if kind == KIND_FE1D:
+        return P[ck.P_HLOST]
+    if kind == KIND_LUMPED:
+        return P[lk.P_LOST]
+    return 0.0
+
+
+def plate_centre(kind, P, cx, cy, two_d):
+    """The centre plate_step takes for a footprint centre (cx, cy): cx on a 1D
+    path (planar runs), else the fe1d column's own rule for a 2D centre
+    (column_kernel.centre_2d; lumped plates do not use it)."""
+    if two_d == 0:
+        return cx
+    if kind == KIND_FE1D:
+        return ck.centre_2d(P, cx, cy)
+    return 0.0
+
+
+def interface_heat(kind, Mb, Ab, FAC, V, I, P, eta, dW, dt, centre_m, T):
+    """The temperature of an interface's plate after the step: the share eta
+    of the friction work dW over the step (eta dW / dt, W) into the plate at
+    the footprint centre_m; T unchanged without a plate."""
+    q = eta * dW / dt
+    if kind == KIND_NONE:
+        return T
+    return plate_step(kind, Mb, Ab, FAC, V, I, P, q, centre_m)
+
+
+def keep_row(buf, row, k, n_rows, n, last_row):
+    """Step n's row into buf[k] -> (status, k, last_row): ROW_FAILED (row not
+    finite, nothing kept), FULL (buf has no room left after it) or RUNNING.
+    A row finds no room only after FULL was ignored: it is not kept then."""
+    ncol = row.shape[0]
+    s = 0.0
+    for i in range(ncol):
+        s += row[i]
+    if not math.isfinite(s):
+        return ROW_FAILED, k, last_row
+    if k < n_rows:
+        for i in range(ncol):
+            buf[k, i] = row[i]
+        k += 1
+        last_row = n
+        if k == n_rows:
+            return FULL, k, last_row
+    return RUNNING, k, last_row
+
+
+def end_chunk(ctl, status, n, n_end, k, last_row):
+    """The counters after a chunk that ended with status at step n: the
+    steps done (n_end when DONE, n when FULL, else n - 1: step n is the
+    Python loop's or failed), rows kept, the last row's step, the status."""
+    if status == DONE:
+        ctl[C_NDONE] = n_end
+    elif status == FULL:
+        ctl[C_NDONE] = n
+    else:
+        ctl[C_NDONE] = n - 1
+    ctl[C_K], ctl[C_LAST], ctl[C_STATUS] = k, last_row, status
+
+
+def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is, Ps, T, mu, mun, dW,
+              buf, row, ctl):
+    """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
+    (DONE; REPLAY: step ctl[C_NDONE] + 1 is for the Python loop, the state is
+    as before it; ROW_FAILED: that step's row, in ``row``, is not finite;
+    FULL: buf has no room left after step ctl[C_NDONE]: the caller empties it).
+
+    C, S: the device's constants and state (S0: room for a copy), L, X its
+    loading and scratch (tuples of arrays); per interface i: LW[i] its
+    friction law (friction_kernel.law_mu's row), areas[i] the contact area
+    (m^2), eta[i] the plate's heat share, kinds[i] the plate kind and its
+    arrays (Mbs[i] .. Ps[i]: the fe1d column, or the lumped row Ps[i]), T[i],
+    mu[i] the loop's temperature and friction coefficient (updated in place);
+    mun, dW: room for N floats. The row: the device's ctl[C_NVAL] values,
+    then mu_i, and with plates T_i, E_stored_J, E_air_J."""
+    n0, n_end = ctl[C_NDONE], ctl[C_NEND]
+    k, n_rows, every, last_row, N = ctl[C_K], ctl[C_NROWS], ctl[C_EVERY], ctl[C_LAST], ctl[C_N]
+    heat = ctl[C_HEAT] != 0
+    nv, two_d = ctl[C_NVAL], ctl[C_2D]
+    ni = T.shape[0]
+    status = DONE
+    n = n0
+    for n in range(n0 + 1, n_end + 1):
+        bad = False
+        for i in range(ni):
+            if not math.isfinite(T[i]):
+                bad = True
+                break
+            m = law_mu(LW[i], T[i], dev.normal(C, S, i) / areas[i], dev.slip(C, S, i))
+            if not math.isfinite(m):
+                bad = True
+                break
+            mun[i] = m
+        if bad:
+            status = REPLAY
+            break
+        for j in range(S.shape[0]):
+            S0[j] = S[j]
+        flag = dev.step(C, S, L, X, n, dt, mun, dW)
+        if flag != 0 or not dev.ok(C, S):
+            for j in range(S.shape[0]):
+                S[j] = S0[j]
+            status = REPLAY
+            break
+        for i in range(ni):
+            mu[i] = mun[i]
+        if heat:
+            for i in range(ni):
+                cx, cy = dev.centre(C, S, i)
+                T[i] = interface_heat(kinds[i], Mbs[i], Abs[i], FACs[i], Vs[i], Is[i], Ps[i], eta[i], dW[i], dt,
+                                      plate_centre(kinds[i], Ps[i], cx, cy, two_d), T[i])
+        if n % every == 0 or n == N:
+            dev.values(C, S, L, n, dt, row)
+            for i in range(ni):
+                row[nv + i] = mu[i]
+            if heat:
+                st = 0.0
+                lo = 0.0
+                for i in range(ni):
+                    row[nv + ni + i] = T[i]
+                    st += plate_stored(kinds[i], Vs[i], Is[i], Ps[i])
+                    lo += plate_lost(kinds[i], Ps[i])
+                row[nv + 2 * ni] = st
+                row[nv + 2 * ni + 1] = lo
+            kept, k, last_row = keep_row(buf, row, k, n_rows, n, last_row)
+            if kept != RUNNING:
+                status = kept
+                break
+    end_chunk(ctl, status, n, n_end, k, last_row)
+    return status

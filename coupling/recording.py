@@ -1,0 +1,112 @@
+"""Where the coupled loop puts the rows it records: the contract every
+history sink follows (``start``, ``prepare``, ``commit``, ``finish``), the
+in-memory sink (``MemoryHistory``, the default), the running reductions the
+summary is made of (``Stats``) and ``signals_held`` (a block is committed with
+SIGINT/SIGTERM held, so no row is lost or taken twice). The sinks that write
+files (``StreamHistory``, the CSV text) are outputs/history.py's.
+"""
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+
+import numpy as np
+
+CHUNK_ROWS = 1 << 14        # rows per block handed over (37 columns: 4.8 MB)
+
+
+@contextlib.contextmanager
+def signals_held():
+    """SIGINT and SIGTERM wait (pending, not lost) until the block is done."""
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    sigs = {signal.SIGINT, signal.SIGTERM}
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+class Stats:
+    """Running reductions over the recorded rows (canonical columns).
+
+    max and min per column combine exactly across blocks, so the summary of
+    a streamed run is the one of the same run held in memory."""
+
+    def __init__(self, columns):
+        self.columns = list(columns)
+        self.rows = 0
+        self.max = self.min = self.first = self.last = None
+        # the energy ledger over the whole history (largest |residual|, largest |input|)
+        terms = ("E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J")
+        self._ledger_cols = ([self.columns.index(c) for c in terms]
+                             + ([self.columns.index("E_reseat_J")] if "E_reseat_J" in self.columns else [])
+                             if all(c in self.columns for c in terms) else None)
+        self.ledger_worst = self.input_worst = 0.0
+
+    def add(self, block: np.ndarray) -> None:
+        if not len(block):
+            return
+        mx, mn = block.max(axis=0), block.min(axis=0)
+        if self.rows == 0:
+            self.max, self.min, self.first = mx, mn, block[0].copy()
+        else:
+            self.max, self.min = np.maximum(self.max, mx), np.minimum(self.min, mn)
+        self.last = block[-1].copy()
+        self.rows += len(block)
+        if self._ledger_cols is not None:
+            j = self._ledger_cols
+            res = block[:, j[0]] - block[:, j[1:]].sum(axis=1)
+            self.ledger_worst = max(self.ledger_worst, float(np.max(np.abs(res))))
+            self.input_worst = max(self.input_worst, float(np.max(np.abs(block[:, j[0]]))))
+
+    def _get(self, arr, name) -> float:
+        return float(arr[self.columns.index(name)])
+
+    def peak(self, name) -> float:
+        return self._get(self.max, name)
+
+    def low(self, name) -> float:
+        return self._get(self.min, name)
+
+    def peak_abs(self, name) -> float:
+        """max |x| (= max(max x, -min x), exactly)."""
+        j = self.columns.index(name)
+        return float(np.maximum(self.max[j], -self.min[j]))
+
+    def final(self, name) -> float:
+        return self._get(self.last, name)
+
+
+class MemoryHistory:
+    """Every row in memory, canonical order (the default sink)."""
+
+    streamed = False
+
+    def __init__(self, chunk_rows: int | None = None):
+        self.chunk_rows = chunk_rows
+        self.rows = 0
+
+    def start(self, loop_columns, columns, n_rows_max: int) -> int:
+        """Get ready for at most n_rows_max rows; return the buffer size (rows)."""
+        self.columns = list(columns)
+        self.idx = [list(loop_columns).index(c) for c in columns]
+        self.data = np.empty((n_rows_max, len(columns)))    # pages touched only as rows arrive
+        self.rows = 0
+        return max(1, min(n_rows_max, self.chunk_rows or CHUNK_ROWS))
+
+    def prepare(self, block: np.ndarray):
+        """The slow part of taking a block, changing nothing (may be interrupted)."""
+        return block
+
+    def commit(self, block) -> None:
+        """Take the prepared block (quick; called with signals held)."""
+        m = min(len(block), len(self.data) - self.rows)     # never beyond the rows announced
+        np.take(block[:m], self.idx, axis=1, out=self.data[self.rows:self.rows + m])
+        self.rows += m
+
+    def finish(self) -> None:
+        self.data = self.data[:self.rows]
