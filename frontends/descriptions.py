@@ -341,6 +341,12 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim2": ("", "TFP: 1 when S2 is at its rim (|s2_m| >= d2), else 0."),
     "rim3": ("", "TFP: 1 when S3 is at its rim (|s3_m| >= d3), else 0."),
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
+    "J_rim_Ns": ("N s", "TFP: impulse of the rim impacts of the step on the superstructure (0 in a step without "
+                         "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's force."),
+    "n_rim1": ("", "TFP: rim impacts on S1 so far (steps in which the slider arrived at the rim of S1)."),
+    "n_rim2": ("", "TFP: rim impacts on S2 so far."),
+    "n_rim3": ("", "TFP: rim impacts on S3 so far."),
+    "n_rim4": ("", "TFP: rim impacts on S4 so far."),
     "E_input_J": ("J", "Cumulative work of the ground (or machine) on the device: "
                        "E_input_J = E_kin_J + E_pot_J + W1_J + W2_J [+ E_reseat_J] (a TFP: "
                        "+ W3_J + W4_J + E_rim_J)."),
@@ -434,6 +440,11 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
     "rim_loss_J": ("J", "TFP: rim impact loss (final E_rim_J)."),
+    "rim_impulse_Ns": ("N s", "TFP: the largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
+    "rim_impacts.S1": ("", "TFP: number of rim impacts on S1 (final n_rim1)."),
+    "rim_impacts.S2": ("", "TFP: number of rim impacts on S2 (final n_rim2)."),
+    "rim_impacts.S3": ("", "TFP: number of rim impacts on S3 (final n_rim3)."),
+    "rim_impacts.S4": ("", "TFP: number of rim impacts on S4 (final n_rim4)."),
     "input_work_J": ("J", "Work of the ground or machine (final E_input_J)."),
     "energy_residual_rel": ("", "Mechanical ledger: the largest |input - (kinetic + potential + friction "
                                 "[+ re-seating])| over the recorded history / the largest |input| (a TFP: at the "

@@ -36,7 +36,7 @@ COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
            "W1_J", "W2_J", "W3_J", "W4_J", "phase",
            "E_input_J", "E_kin_J", "E_pot_J", "E_rim_J",
            "phi_rad", "alpha_rad", "regime", "slide1", "slide2", "slide3", "slide4",
-           "rim1", "rim2", "rim3", "rim4")
+           "rim1", "rim2", "rim3", "rim4", "J_rim_Ns", "n_rim1", "n_rim2", "n_rim3", "n_rim4")
 # the two-phase model's own columns (docs/model.md 6.6), after COLUMNS
 TWO_PHASE_COLUMNS = ("E_reseat_J", "beta1_rad", "beta2_rad", "gamma1_rad", "gamma2_rad",
                      "diagonal", "diagonal_plates", "phases")
@@ -156,6 +156,7 @@ class TFPGeometry:
         p[K.I_A], p[K.I_LI], p[K.I_G], p[K.I_MSUP] = self.A, self.Li, self.g, self.mass
         p[K.I_R1], p[K.I_R2], p[K.I_R3], p[K.I_R4] = self.R1, self.R2, self.R3, self.R4
         p[K.I_QMAX_PHI], p[K.I_QMAX_ALPHA] = self.qmax
+        p[K.I_D1], p[K.I_D2], p[K.I_D3], p[K.I_D4] = self.d1, self.d2, self.d3, self.d4
         p[K.I_MS_LO] = p[K.I_MS_UP] = self.slider_mass
         p[K.I_MPAD] = self.pad_mass
         p[K.I_A_SL], p[K.I_A_PAD], p[K.I_B_PAD], p[K.I_A_SU] = b[0][1], b[1][1], b[1][2], b[2][1]

@@ -51,13 +51,15 @@ I_A_SL, I_A_PAD, I_B_PAD, I_A_SU = 20, 21, 22, 23   # a_k, b_k of the lower slid
 I_TWO = 24                          # 1.0: the paper's two-phase model (docs/model.md 6.6), 0.0: seated
 I_AP, I_AS, I_HP, I_TL, I_TU = 25, 26, 27, 28, 29   # pad and slider half-diameters, heights
 I_EPB, I_EPT, I_ESB, I_SQ4, I_L4 = 30, 31, 32, 33, 34   # corner heights (below), sqrt(R4^2 - a_s^2), l4
-N_PAR = 35
+I_D1, I_D2, I_D3, I_D4 = 35, 36, 37, 38   # slide capacities of S1..S4 (arc, m)
+N_PAR = 39
 
 # -- step output vector ----------------------------------------------------------
 O_DPHI, O_DALPHA, O_F, O_EIN, O_WO, O_WI, O_RIM, O_ITER, O_FAIL = 0, 1, 2, 3, 4, 5, 6, 7, 8
 O_ARREST_O, O_ARREST_I, O_MACH_K, O_NU_PHI, O_NU_ALPHA, O_ARRIVE = 9, 10, 11, 12, 13, 14
 O_RESEAT = 15
-N_OUT = 16
+O_DX_RIM, O_HIT_O, O_HIT_I = 16, 17, 18   # the superstructure's velocity jump at rim impacts; impacts per coordinate
+N_OUT = 19
 
 FAIL_NONE, FAIL_CAPACITY, FAIL_FIXED_POINT, FAIL_ROCKING = 0, 1, 2, 3
 
@@ -99,6 +101,12 @@ def potential(par, phi, alpha):
 def moment_x(par, phi, alpha):
     """b(q): horizontal first moment sum m_k x_k relative to the ground (kg m)."""
     return par[I_P1] * math.sin(phi) + par[I_P2] * math.sin(phi + alpha)
+
+
+def u_dot(par, phi, alpha, v1, v2):
+    """The superstructure's velocity relative to the ground, u'."""
+    c = par[I_LI] * math.cos(phi + alpha)
+    return (par[I_A] * math.cos(phi) + c) * v1 + c * v2
 
 
 def u_rel(par, phi, alpha):
@@ -149,6 +157,13 @@ def _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, free_only):
     best = 1e300
     x[0] = 0.0
     x[1] = 0.0
+    det = h11 * h22 - h12 * h12
+    # f is compared as 1/2 (y - yu)^T H (y - yu) + c1 |y1| + c2 |y2| (yu = H^-1 r,
+    # the same f less a constant): -r^T y and 1/2 y^T H y nearly cancel, and
+    # candidates whose f differ by less than their round-off would tie, so the
+    # choice, and with it the step's fixed point, could flip between them
+    yu1 = (h22 * r1 - h12 * r2) / det
+    yu2 = (h11 * r2 - h12 * r1) / det
     for s1 in range(5):
         for s2 in range(5):
             if free_only == 1 and (s1 == 0 or s1 == 2 or s2 == 0 or s2 == 2):
@@ -170,7 +185,6 @@ def _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, free_only):
             g1 = 1.0 if s1 == 4 else -1.0
             g2 = 1.0 if s2 == 4 else -1.0
             if not f1 and not f2:
-                det = h11 * h22 - h12 * h12
                 b1 = r1 - c1 * g1
                 b2 = r2 - c2 * g2
                 y1 = (h22 * b1 - h12 * b2) / det
@@ -187,8 +201,9 @@ def _qp_cands(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, x, free_only):
                     continue
             if y1 < lo1 or y1 > hi1 or y2 < lo2 or y2 > hi2:
                 continue
-            f = 0.5 * (h11 * y1 * y1 + 2.0 * h12 * y1 * y2 + h22 * y2 * y2) - r1 * y1 - r2 * y2 \
-                + c1 * abs(y1) + c2 * abs(y2)
+            e1 = y1 - yu1
+            e2 = y2 - yu2
+            f = 0.5 * (h11 * e1 * e1 + 2.0 * h12 * e1 * e2 + h22 * e2 * e2) + c1 * abs(y1) + c2 * abs(y2)
             if f < best:
                 best = f
                 x[0] = y1
@@ -373,67 +388,134 @@ def stuck_then_rim(mss, msr, mrr, vs, vr):
     return vs, k0 - ka, ka - 0.5 * mss * vs * vs
 
 
+def rim_lock(m11, m12, m22, v1, v2, o1, o2, w):
+    """The inelastic rim impact at the end of a step: a coordinate k on its
+    rim (o_k = +1 or -1, the side of the rim; 0 off it) may not move into it.
+    The velocity after is the kinetic-metric projection of (v1, v2) onto that
+    cone (a rigid, inelastic, frictionless impact: an impulse only on the
+    coordinates on a rim, each pushing away from its rim, each of them then at
+    rest or leaving the rim): into w. Returns the kinetic energy removed, the
+    energy of the part stopped, 1/2 dv^T M dv."""
+    w[0] = v1
+    w[1] = v2
+    in1 = o1 * v1 > 0.0
+    in2 = o2 * v2 > 0.0
+    if not in1 and not in2:
+        return 0.0
+    p1 = m11 * v1 + m12 * v2
+    p2 = m12 * v1 + m22 * v2
+    # one rim: its coordinate stopped, the other keeps its momentum; the
+    # projection if the other is then not driven into its own rim
+    a1 = 0.0
+    a2 = p2 / m22
+    b1 = p1 / m11
+    b2 = 0.0
+    ok1 = in1 and not (o2 * a2 > 0.0) and o1 * (m12 * a2 - p1) <= 0.0
+    ok2 = in2 and not (o1 * b1 > 0.0) and o2 * (m12 * b1 - p2) <= 0.0
+    if ok1:
+        w[0] = a1
+        w[1] = a2
+    elif ok2:
+        w[0] = b1
+        w[1] = b2
+    else:
+        # the full lock: both on their rims, both at rest
+        w[0] = 0.0
+        w[1] = 0.0
+    d1 = v1 - w[0]
+    d2 = v2 - w[1]
+    return 0.5 * (m11 * d1 * d1 + 2.0 * m12 * d1 * d2 + m22 * d2 * d2)
+
+
 def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
-    """One step of the rigid TFP (see ``substep``), split at a rim impact.
+    """One step of the rigid TFP (see ``substep``), split at each rim impact.
 
     A coordinate that reaches its rim inside the step would otherwise be
     stopped by a position clamp whose reaction (and so the momentum it hands
     to the other coordinate, and the loss) depends on where in the step the
     rim was met. Instead the step is split: the first part ends at the rim
-    (fraction tau of the step, from the unclamped increment), where the
-    impact is inelastic at velocity level (the kinetic energy of the stopped
-    coordinate, exactly, is the rim loss); the rest starts on the rim.
+    (fraction tau of what is left of the step, from the unclamped increment),
+    where the impact is inelastic at velocity level (the kinetic energy of the
+    stopped coordinate, exactly, is the rim loss); the rest starts on the rim,
+    and is split again if the other coordinate meets its own rim in it.
+    out[O_DX_RIM]: the superstructure's velocity change at the impacts, the
+    velocity change of each part up to a rim less its share of the free
+    flight's (the unbounded step's) smooth change.
     sc: scratch of length >= 4 + 2 N_OUT."""
     for i in range(4):
         sc[i] = st[i]
     substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
     if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0:
         return
-    # the unclamped increment decides where the rim was met
-    for i in range(4):
-        st[i] = sc[i]
+    acc = 4
+    sv = 4 + N_OUT
+    for i in range(N_OUT):
+        sc[acc + i] = 0.0
     u0 = 0.0
-    ud0 = 0.0
     if machine == 1:
         u0 = u_rel(par, sc[0], sc[1])
-        A, Li = par[I_A], par[I_LI]
-        ud0 = (A * math.cos(sc[0]) + Li * math.cos(sc[0] + sc[1])) * sc[2] + Li * math.cos(sc[0] + sc[1]) * sc[3]
-    substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 1)
-    tau = 1.0
+    ud0 = u_dot(par, sc[0], sc[1], sc[2], sc[3])
+    t0 = 0.0                    # the fraction of the step done
+    F = 0.0
     qm1 = par[I_QMAX_PHI]
     qm2 = par[I_QMAX_ALPHA]
-    d1 = out[O_DPHI]
-    d2 = out[O_DALPHA]
-    if d1 != 0.0 and abs(sc[0] + d1) > qm1:
-        dist = (qm1 if d1 > 0.0 else -qm1) - sc[0]
-        tau = min(tau, dist / d1)
-    if d2 != 0.0 and abs(sc[1] + d2) > qm2:
-        dist = (qm2 if d2 > 0.0 else -qm2) - sc[1]
-        tau = min(tau, dist / d2)
-    if tau < 1e-9:
-        tau = 1e-9
-    if tau > 1.0 - 1e-9:
-        tau = 1.0 - 1e-9
-    for i in range(4):
-        st[i] = sc[i]
-    acc = 4
-    uh = u0 + tau * (u1 - u0)
-    udh = ud0 + tau * (ud1 - ud0)
-    substep(par, st, tau * dt, ag, c_o, c_i, machine, uh, udh, out, M, w, tmp, 0)
-    for i in range(N_OUT):
-        sc[acc + i] = out[i]
-    if out[O_FAIL] != FAIL_NONE:
-        return
-    substep(par, st, (1.0 - tau) * dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+    for k in range(3):
+        h = (1.0 - t0) * dt
+        # the unclamped increment of what is left decides where the rim is met
+        for i in range(4):
+            st[i] = sc[i]
+        udp = u_dot(par, sc[0], sc[1], sc[2], sc[3])
+        substep(par, st, h, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 1)
+        udf = u_dot(par, st[0], st[1], st[2], st[3])
+        tau = 1.0
+        d1 = out[O_DPHI]
+        d2 = out[O_DALPHA]
+        # (a coordinate already resting on its rim, to the round-off substep
+        # treats as on it, does not meet it inside the step: its rim holds it
+        # from the start, and the step is split where the other meets its own)
+        if d1 != 0.0 and abs(sc[0] + d1) > qm1:
+            dist = (qm1 if d1 > 0.0 else -qm1) - sc[0]
+            if abs(dist) > 1e-13 * qm1:
+                tau = min(tau, dist / d1)
+        if d2 != 0.0 and abs(sc[1] + d2) > qm2:
+            dist = (qm2 if d2 > 0.0 else -qm2) - sc[1]
+            if abs(dist) > 1e-13 * qm2:
+                tau = min(tau, dist / d2)
+        if tau < 1e-9:
+            tau = 1e-9
+        if tau > 1.0 - 1e-9:
+            tau = 1.0 - 1e-9
+        for i in range(4):
+            st[i] = sc[i]
+        th = t0 + tau * (1.0 - t0)
+        substep(par, st, tau * h, ag, c_o, c_i, machine, u0 + th * (u1 - u0), ud0 + th * (ud1 - ud0),
+                out, M, w, tmp, 0)
+        if out[O_FAIL] != FAIL_NONE:
+            return
+        out[O_DX_RIM] = u_dot(par, st[0], st[1], st[2], st[3]) - udp - tau * (udf - udp)
+        for i in range(N_OUT):
+            if i != O_F and i != O_FAIL and i != O_NU_PHI and i != O_NU_ALPHA and i != O_ARRIVE:
+                sc[acc + i] += out[i]
+        F += tau * (1.0 - t0) * out[O_F]
+        t0 = th
+        for i in range(4):
+            sc[i] = st[i]
+        for i in range(4):
+            sc[sv + i] = st[i]
+        # the rest, from the rim
+        substep(par, st, (1.0 - t0) * dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+        if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0 or k == 2:
+            break
+        # the other coordinate meets its rim in the rest: split it too
+        for i in range(4):
+            st[i] = sc[sv + i]
     for i in range(N_OUT):
         if i != O_F and i != O_FAIL and i != O_NU_PHI and i != O_NU_ALPHA and i != O_ARRIVE:
             out[i] += sc[acc + i]
     # the machine's force over the step: its impulse / dt (a part of a few
     # ulps of dt would otherwise report impulse / (that part), feeding 1e9 N
     # into the next step's normal forces)
-    out[O_F] = tau * sc[acc + O_F] + (1.0 - tau) * out[O_F]
-    if sc[acc + O_FAIL] > out[O_FAIL]:
-        out[O_FAIL] = sc[acc + O_FAIL]
+    out[O_F] = F + (1.0 - t0) * out[O_F]
     out[O_ARRIVE] = 1.0
 
 
@@ -600,6 +682,11 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     if at2:
         nu2 = Phi2 - c_i * s2 + F * dx2
         rim += nu2 * x2
+    # the superstructure's velocity u' = cx1 phi' + cx2 alpha' at q1: its jumps
+    # at the rims are impulses (out[O_DX_RIM]), kept out of the step's force
+    cx2 = Li * math.cos(phi1 + al1)
+    cx1 = A * math.cos(phi1) + cx2
+    dxr = 0.0
     ein = -ag * (moment_x(par, phi1, al1) - moment_x(par, q10, q20)) + F * e
     # velocity jumps at t_n+1 (impulses at fixed position, each one's kinetic
     # energy change booked where it belongs): a coordinate that stuck (dq = 0)
@@ -617,13 +704,17 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     arr_i = 0.0
     if z1 and z2 and rim2 and not rim1:
         # phi stuck by friction, alpha stopped by its rim (stuck_then_rim)
+        vb = (M[1] * v11 + M[2] * v21) / M[2]
         v11, l_arr, l_rim = stuck_then_rim(M[0], M[1], M[2], v11, v21)
+        dxr += cx1 * v11 - cx2 * vb
         v21 = 0.0
         arr_o += l_arr
         rim += l_rim
     elif z1 and z2 and rim1 and not rim2:
         # the same with the roles swapped: alpha stuck by friction, phi on its rim
+        va = (M[0] * v11 + M[1] * v21) / M[0]
         v21, l_arr, l_rim = stuck_then_rim(M[2], M[1], M[0], v21, v11)
+        dxr += cx2 * v21 - cx1 * va
         v11 = 0.0
         arr_i += l_arr
         rim += l_rim
@@ -637,16 +728,21 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         l2 = Ka
         if rim1:
             rim += l1
+            dxr += cx2 * vb - (cx1 * v11 + cx2 * v21)
         else:
             arr_o += l1
         if rim2:
             rim += l2
+            dxr -= cx2 * vb
         else:
             arr_i += l2
         v11 = 0.0
         v21 = 0.0
     elif z1:
-        v21 = (M[1] * v11 + M[2] * v21) / M[2]
+        vb = (M[1] * v11 + M[2] * v21) / M[2]
+        if rim1:
+            dxr += cx2 * vb - (cx1 * v11 + cx2 * v21)
+        v21 = vb
         v11 = 0.0
         l1 = K0 - kinetic(par, ak, v11, v21)
         if rim1:
@@ -654,7 +750,10 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         else:
             arr_o += l1
     elif z2:
-        v11 = (M[0] * v11 + M[1] * v21) / M[0]
+        va = (M[0] * v11 + M[1] * v21) / M[0]
+        if rim2:
+            dxr += cx1 * va - (cx1 * v11 + cx2 * v21)
+        v11 = va
         v21 = 0.0
         l2 = K0 - kinetic(par, ak, v11, v21)
         if rim2:
@@ -669,6 +768,14 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
         # the next step's to hold or not, against the friction cap.
         out[O_RESEAT] = reseat(par, q10, q20, phi1, al1, v11, v21, M, w)
         v11, v21 = w[0], w[1]
+    # a coordinate that ends on its rim cannot move into it: what the impulses
+    # above (the stuck-then-rim hand-over, the re-seating) left pushing into a
+    # rim is stopped by it, inelastically (the full lock: both at rest)
+    o1 = 1.0 if x1 == hi1 else (-1.0 if x1 == lo1 else 0.0)
+    o2 = 1.0 if x2 == hi2 else (-1.0 if x2 == lo2 else 0.0)
+    rim += rim_lock(M[0], M[1], M[2], v11, v21, o1, o2, w)
+    dxr += cx1 * (w[0] - v11) + cx2 * (w[1] - v21)
+    v11, v21 = w[0], w[1]
     mk = 0.0
     if machine == 1:
         # the machine imposes u'(t_n+1) through the coordinates still free
@@ -704,7 +811,12 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     out[O_MACH_K] = mk
     out[O_NU_PHI] = nu1
     out[O_NU_ALPHA] = nu2
+    out[O_DX_RIM] = dxr
     # a coordinate that moved onto its rim in this step (not one that stayed on it)
+    if at1 and x1 != 0.0:
+        out[O_HIT_O] = 1.0
+    if at2 and x2 != 0.0:
+        out[O_HIT_I] = 1.0
     if (at1 and x1 != 0.0) or (at2 and x2 != 0.0):
         out[O_ARRIVE] = 1.0
 
@@ -712,9 +824,10 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
 # -- the whole step of the stepper (mechanics/tfp.py's TFPStepper and the compiled loop) --------
 S_F, S_W, S_EIN, S_ERIM, S_PHASE, S_REG, S_SLIDE, S_SV, S_DW, S_N = 4, 5, 9, 10, 11, 12, 13, 17, 21, 25
 S_ERS, S_B1, S_B2, S_G1, S_G2, S_DP, S_DS, S_NPH = 29, 30, 31, 32, 33, 34, 35, 36   # two-phase
-N_S = 37
+S_J, S_NHIT = 37, 38   # the step's rim impulse on the superstructure (N s); rim impacts of S1..S4 so far
+N_S = 42
 PHASE_STICK, PHASE_INNER, PHASE_OUTER, PHASE_BOTH = 0, 3, 4, 5
-N_ROW = 35          # len(mechanics.tfp.COLUMNS)
+N_ROW = 40          # len(mechanics.tfp.COLUMNS)
 N_ROW_TWO = 8       # len(mechanics.tfp.TWO_PHASE_COLUMNS)
 
 
@@ -868,6 +981,24 @@ def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp
         S[S_W + i] += S[S_DW + i]
     S[S_EIN] += out[O_EIN]
     S[S_ERIM] += out[O_RIM]
+    # a rim impact is an impulse: the superstructure's velocity jump there is
+    # booked as one (N s) and kept out of the force, which stays the sliding
+    # response's (an impulse / dt would grow as 1 / dt)
+    S[S_J] = -par[I_MSUP] * out[O_DX_RIM]
+    if out[O_HIT_O] != 0.0:
+        tol = 1.0 - 1e-12
+        qm = par[I_QMAX_PHI]
+        if R1 * qm >= par[I_D1] * tol:
+            S[S_NHIT] += out[O_HIT_O]
+        if R4 * qm >= par[I_D4] * tol:
+            S[S_NHIT + 3] += out[O_HIT_O]
+    if out[O_HIT_I] != 0.0:
+        tol = 1.0 - 1e-12
+        qm = par[I_QMAX_ALPHA]
+        if R2 * qm >= par[I_D2] * tol:
+            S[S_NHIT + 1] += out[O_HIT_I]
+        if R3 * qm >= par[I_D3] * tol:
+            S[S_NHIT + 2] += out[O_HIT_I]
     if machine == 1:
         S[S_F] = out[O_F]
     else:
@@ -875,7 +1006,7 @@ def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp
         A, Li = par[I_A], par[I_LI]
         x0 = (A * math.cos(ph0) + Li * math.cos(ph0 + al0)) * v00 + Li * math.cos(ph0 + al0) * v01
         x1 = (A * math.cos(S[0]) + Li * math.cos(S[0] + S[1])) * S[2] + Li * math.cos(S[0] + S[1]) * S[3]
-        S[S_F] = -par[I_MSUP] * (ag + (x1 - x0) / dt)
+        S[S_F] = -par[I_MSUP] * (ag + (x1 - out[O_DX_RIM] - x0) / dt)
     so = 1.0 if dphi != 0.0 else 0.0
     si = 1.0 if dal != 0.0 else 0.0
     S[S_SLIDE] = so
@@ -937,12 +1068,15 @@ def row_values(par, S, t, xg, d1, d2, d3, d4, row):
     row[32] = 1.0 if abs(R2 * al) >= d2 * tol else 0.0
     row[33] = 1.0 if abs(R3 * al) >= d3 * tol else 0.0
     row[34] = 1.0 if abs(R4 * phi) >= d4 * tol else 0.0
+    row[35] = S[S_J]
+    for i in range(4):
+        row[36 + i] = S[S_NHIT + i]
     if par[I_TWO] != 0.0:
-        row[35] = S[S_ERS]
-        row[36] = S[S_B1]
-        row[37] = S[S_B2]
-        row[38] = S[S_G1]
-        row[39] = S[S_G2]
-        row[40] = S[S_DP]
-        row[41] = S[S_DS]
-        row[42] = S[S_NPH]
+        row[40] = S[S_ERS]
+        row[41] = S[S_B1]
+        row[42] = S[S_B2]
+        row[43] = S[S_G1]
+        row[44] = S[S_G2]
+        row[45] = S[S_DP]
+        row[46] = S[S_DS]
+        row[47] = S[S_NPH]

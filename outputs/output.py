@@ -266,6 +266,9 @@ def tfp_summary(scene: Scene, result, sim) -> dict:
     out = st.final("E_kin_J") + st.final("E_pot_J") + st.final("E_rim_J") + sum(
         st.final(f"W{i}_J") for i in range(1, 5))
     s["rim_loss_J"] = _f(st.final("E_rim_J"))
+    if "J_rim_Ns" in result:
+        s["rim_impulse_Ns"] = _f(st.peak_abs("J_rim_Ns"))
+        s["rim_impacts"] = {f"S{i}": int(st.final(f"n_rim{i}")) for i in range(1, 5)}
     if "E_reseat_J" in result:
         out += st.final("E_reseat_J")
         s["reseat_loss_J"] = _f(st.final("E_reseat_J"))
