@@ -174,19 +174,19 @@ def build(scene: Scene) -> Simulation:
         return Simulation(scene, dt, n_steps, geom, None, (None, None), plates, pp,
                           heat_power=(power * on[0], power * on[1]), substeps=substeps, info=info)
     from fpd.schema.scene import is_bidirectional
-    if is_bidirectional(scene.data) or scene["mechanics"]["normal_force"] == "midpoint":
+    if is_bidirectional(scene.data):
         return _build_bidirectional(scene, dt, geom, pp, substeps, info)
     loading = loading_of(scene, dt)
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
         from fpd.mechanics.seated import SeatedTestMachine
         mech = SeatedTestMachine(geom, loading, ld["vertical"])
-    elif model == "seated":
-        from fpd.mechanics.seated import SeatedStepper
-        mech = SeatedStepper(geom, loading)
     else:
-        from fpd.mechanics.two_phase import TwoPhaseStepper
-        mech = TwoPhaseStepper(geom, loading)
+        # one DFP/SFP stepper: a planar ground motion is the 3D stepper's with the
+        # y component absent (signed planar columns), both models, both schemes
+        from fpd.mechanics.bidirectional import BidirectionalStepper
+        mech = BidirectionalStepper(geom, loading, None, normal_force=scene["mechanics"]["normal_force"],
+                                    model=model, planar=True)
     if hasattr(loading, "record"):
         info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
                           "pga_g": loading.record.pga_g, "scale": ld["scale"],

@@ -23,10 +23,11 @@ import numpy as np
 
 from . import bidirectional_kernel as _pure
 from .geometry import DeviceGeometry
-from .ground_motion import float_array
+from .ground_motion import as_float64, float_array
 from .phases import DIAGONAL_AC, MechanicsFailure
 from .protocol import TwoInterfaces
-from .two_phase import pivot_chain
+from .seated import SEATED_COLUMNS
+from .two_phase import COLUMNS as PLANAR_COLUMNS, pivot_chain
 
 K = _pure
 COLUMNS = (
@@ -94,9 +95,26 @@ class _Base(TwoInterfaces):
     two_d = True
 
     def footprints(self) -> tuple:
-        """Footprint centres (x, y) on the lower and the upper plate (m)."""
+        """Footprint centres (x, y) on the lower and the upper plate (m); a
+        planar run's on the x axis (+s1 and -s2, signed)."""
         c = _pure.centres(self.C, self.S)
+        if not self.two_d:
+            return (float(c[0]), float(c[2]))
         return ((float(c[0]), float(c[1])), (float(c[2]), float(c[3])))
+
+    # the planar run's pad, as the planar stepper names it (outputs/vtk_output.pad_pose)
+    @property
+    def mode(self) -> int:
+        return int(self.S[K.S_MODE])
+
+    @property
+    def diagonal(self) -> int:
+        return 1 if K.planar_sign(self.S) < 0.0 else 0
+
+    @property
+    def beta(self) -> float:
+        """The rocking angle about the pivot corner (rad, signed as x; 0 when seated)."""
+        return K.planar_sign(self.S) * float(self.S[K.S_BETA]) if self.S[K.S_ROCK] != 0.0 else 0.0
 
     def _setup(self, geom, dt, n_steps, midpoint, jit, u0=(0.0, 0.0), v0=(0.0, 0.0), seated=False):
         self.geom = geom
@@ -195,11 +213,12 @@ class _Base(TwoInterfaces):
         return float(S[K.S_EIN] - (Ek + Ep + S[K.S_W1] + S[K.S_W2] + S[K.S_ERES]))
 
     def save(self):
-        return (self.n, tuple(float(x) for x in self.S))
+        """(n, then every slot of the state as a float)."""
+        return (self.n, *(float(x) for x in self.S))
 
     def restore(self, snap) -> None:
         self.n = snap[0]
-        for i, x in enumerate(snap[1]):
+        for i, x in enumerate(snap[1:]):
             self.S[i] = x
 
     def values(self) -> tuple:
@@ -207,6 +226,11 @@ class _Base(TwoInterfaces):
         xg, yg = self.ground_position()
         _pure.values(self.C, [float(x) for x in self.S] if self.compiled else self.S,
                      self.n * self.dt, xg, yg, out)
+        if self.C[K.C_PLANAR] != K.PLANAR_NONE:          # the planar columns: phase (and diagonal) as ints
+            out = out[:len(self.columns)]
+            codes = (13,) if self.C[K.C_PLANAR] == K.PLANAR_SEATED else (14, 22)
+            for j in codes:          # a non-finite code stays as it is: the loop reports it
+                out[j] = int(out[j]) if math.isfinite(out[j]) else out[j]
         return tuple(out)
 
     def use_compiled(self) -> None:
@@ -228,15 +252,23 @@ class BidirectionalStepper(_Base):
     compiled kernel (None: when numba is loaded)."""
 
     def __init__(self, geom: DeviceGeometry, gx, gy=None, normal_force: str = "midpoint",
-                 jit: bool | None = None, model: str = "two-phase"):
+                 jit: bool | None = None, model: str = "two-phase", planar: bool = False):
         if normal_force not in NORMAL_FORCE:
             raise ValueError(f"normal_force = {normal_force!r}: must be one of {NORMAL_FORCE}")
         if gy is not None and (gy.n_steps != gx.n_steps or gy.dt != gx.dt):
             raise ValueError("the two ground-motion components must share the time grid")
+        if planar and gy is not None:
+            raise ValueError("a planar run has no y component")
         self.ground, self.ground_y = gx, gy
         self._setup(geom, gx.dt, gx.n_steps, normal_force == "midpoint", jit, seated=model == "seated")
         self.normal_force = normal_force
         self.model = "seated" if geom.kind == "SFP" else model
+        if planar:
+            # the motion in the x-z plane (y absent): the planar steppers' columns, signed
+            seated = self.model == "seated"
+            self.C[K.C_PLANAR] = K.PLANAR_SEATED if seated else K.PLANAR_TWO_PHASE
+            self.columns = SEATED_COLUMNS if seated else PLANAR_COLUMNS
+            self.two_d = False
         self._ax = float_array(gx.a_step)
         self._ay = float_array(gy.a_step if gy is not None else np.zeros(gx.n_steps))
         self._xg = gx.d
@@ -255,10 +287,9 @@ class BidirectionalStepper(_Base):
         self.use_compiled()
         if not self.compiled:
             raise ImportError("numba is not available")
-        f = (lambda x: np.ascontiguousarray(x, dtype=float))
-        xg = f(self._xg)
-        yg = f(self._yg) if self._yg is not None else np.zeros(len(xg))
-        return self.C, self.S, (f(self._ax), f(self._ay), xg, yg), (np.zeros(1),)
+        xg = as_float64(self._xg)
+        yg = as_float64(self._yg) if self._yg is not None else xg     # (read only with a y component)
+        return self.C, self.S, (as_float64(self._ax), as_float64(self._ay), xg, yg), (np.zeros(1),)
 
     def engine_pull(self, S) -> None:
         """Nothing to copy: the engine steps the stepper's own state."""

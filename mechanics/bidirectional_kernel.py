@@ -56,7 +56,11 @@ C_SEATED = 18           # 1: the seated model (no phase 2: the axis moves along 
 # inertia about the pivot, arms of the pad centroid and of the top corner, contact normals
 C_IP, C_RGX, C_RGZ, C_RQX, C_RQZ = 19, 20, 21, 22, 23
 C_N1X, C_N1Z, C_N2X, C_N2Z = 24, 25, 26, 27
-N_C = 28
+# the columns written by values(): PLANAR_NONE the bidirectional ones (COLUMNS), a motion
+# in the x-z plane (y absent): PLANAR_TWO_PHASE / PLANAR_SEATED the planar steppers' ones
+C_PLANAR = 28
+N_C = 29
+PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
 S_NX, S_NY, S_NZ, S_WX, S_WY, S_WZ = 0, 1, 2, 3, 4, 5
@@ -67,7 +71,8 @@ S_SV1, S_SV2, S_DPHI = 24, 25, 26
 # rocking: flag, angle and rate about the pivot, the plane's tangent e; within a step:
 # no rocking after a landing, the landing flag and the phase-1 angle at the landing
 S_ROCK, S_BETA, S_BETAD, S_EX, S_EY, S_EZ, S_NOROCK, S_LANDED, S_BLAND = 27, 28, 29, 30, 31, 32, 33, 34, 35
-N_S = 36
+S_DIRX = 36            # x component of the direction of the last slide (the planar columns' sign)
+N_S = 37
 
 STICK, SLIP, TILT = 0, 1, 2
 FLAG_OK, FLAG_ROCKING, FLAG_OVERTURN = 0, 1, 2
@@ -227,6 +232,8 @@ def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
     S[S_BETA2] = dphi - S[S_BETA1]
     S[S_TILT] = -S[S_BETA2]
     S[S_DPHI] += dphi
+    if ex != 0.0:
+        S[S_DIRX] = ex
     S[S_W1] += f1 * dphi
     S[S_W2] += f2 * dphi
     S[S_DS1] += C[C_R1] * dphi
@@ -761,8 +768,58 @@ def centres(C, S):
     return s1 * cx, s1 * cy, -(s2 * cx), -(s2 * cy)
 
 
+def planar_sign(S):
+    """+1 when the last slide went towards +x (or none yet), else -1: the sign
+    of a planar run's one-sided diagnostics (the loaded diagonal, the arcs and
+    friction forces of the step, the rocking angle)."""
+    if S[S_DIRX] < 0.0:
+        return -1.0
+    return 1.0
+
+
+def values_planar(C, S, t, xg, out):
+    """The planar steppers' columns (mechanics.two_phase.COLUMNS; with
+    C[C_PLANAR] == PLANAR_SEATED mechanics.seated.SEATED_COLUMNS) of a
+    motion in the x-z plane: the displacement, velocity, force, angle and arcs
+    signed as the ground's x axis."""
+    L = C[C_L]
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    Ek, Ep = energies(C, S)
+    th = math.atan2(nx, -nz)
+    dx, dy, dz, rvx, rvy = rocking_offsets(C, S)
+    u, v = L * nx + dx, L * S[S_WX] + rvx
+    z = L * uplift_factor(nx, ny, nz) + dz
+    sg = planar_sign(S)
+    R1, R2 = C[C_R1], C[C_R2]
+    if C[C_PLANAR] == PLANAR_SEATED:
+        out[0], out[1], out[2], out[3], out[4], out[5], out[6] = t, xg, u, v, S[S_FX], z, th
+        out[7], out[8], out[9], out[10] = R1 * th, R2 * th, S[S_N1], S[S_N2]
+        out[11], out[12], out[13], out[14], out[15], out[16] = S[S_W1], S[S_W2], S[S_MODE], S[S_EIN], Ek, Ep
+        return
+    if S[S_N2] <= 0.0:
+        tip = 0.0
+    else:
+        F_t = S[S_FF2] if S[S_MODE] == TILT else S[S_FF1] + S[S_FF2]
+        tip = abs(F_t) * (C[C_ET] - C[C_EB]) / (S[S_N2] * 2.0 * C[C_A])
+    diag = 0.0
+    if sg < 0.0:
+        diag = 1.0
+    out[0], out[1], out[2], out[3], out[4], out[5] = t, xg, u, v, S[S_FX], z
+    out[6], out[7], out[8], out[9] = th, sg * S[S_BETA1], R1 * th, R2 * th
+    out[10], out[11], out[12], out[13], out[14] = S[S_N1], S[S_N2], S[S_W1], S[S_W2], S[S_MODE]
+    out[15], out[16], out[17], out[18] = S[S_EIN], Ek, Ep, S[S_ERES]
+    out[19], out[20], out[21], out[22] = sg * S[S_BETA1], sg * S[S_BETA2], sg * S[S_TILT], diag
+    out[23], out[24], out[25], out[26] = sg * S[S_DS1], sg * S[S_DS2], sg * S[S_FF1], sg * S[S_FF2]
+    out[27] = S[S_WX] * -nz + S[S_WZ] * nx          # theta' (n = (sin theta, 0, -cos theta))
+    out[28], out[29], out[30] = S[S_SLIP1], S[S_SLIP2], tip
+
+
 def values(C, S, t, xg, yg, out):
-    """The row of mechanics.bidirectional.COLUMNS into out[0:N_VALUES]."""
+    """The row of mechanics.bidirectional.COLUMNS into out[0:N_VALUES]
+    (a planar run's: values_planar)."""
+    if C[C_PLANAR] != PLANAR_NONE:
+        values_planar(C, S, t, xg, out)
+        return
     L = C[C_L]
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     Ek, Ep = energies(C, S)

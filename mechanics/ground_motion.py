@@ -479,3 +479,14 @@ def float_array(x) -> "array":
     a = array("d")
     a.frombytes(np.ascontiguousarray(x, dtype=np.float64).tobytes())
     return a
+
+
+def as_float64(x) -> np.ndarray:
+    """x as a float64 numpy array, without a copy where x already holds
+    float64 values (an array('d') of float_array, a float64 ndarray): what
+    the compiled engine reads, so a long run's loading is not held twice."""
+    from array import array
+
+    if isinstance(x, array) and x.typecode == "d":
+        return np.frombuffer(x, dtype=np.float64)
+    return np.ascontiguousarray(x, dtype=np.float64)

@@ -344,16 +344,17 @@ class TFPStepper:
         step, zeros for a ground motion; xg per row; d1..d4 and the machine
         flag), the stepper's scratch."""
         import numpy as np
-        f = (lambda x: np.ascontiguousarray(x, dtype=float))
-        N = self.n_steps
+        from .ground_motion import as_float64
         if self.machine:
-            U, UD = f(self._u), f(self._ud)
+            U, UD = as_float64(self._u), as_float64(self._ud)
             XG = -U
         else:
-            U, UD, XG = np.zeros(N + 1), np.zeros(N + 1), f(self._xg)
+            XG = as_float64(self._xg)
+            U = UD = XG                 # (read only by the machine)
         g = self.geom
         DD = np.array([g.d1, g.d2, g.d3, g.d4, 1.0 if self.machine else 0.0])
-        return self.par, self.S, (f(self._a), U, UD, XG, DD), (self.out, self._M, self._w, self._tmp, self._sc)
+        return (self.par, self.S, (as_float64(self._a), U, UD, XG, DD),
+                (self.out, self._M, self._w, self._tmp, self._sc))
 
     def engine_pull(self, S) -> None:
         """Nothing to copy: the engine steps the stepper's own state."""

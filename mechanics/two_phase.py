@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 
 from .geometry import DeviceGeometry
-from .ground_motion import GroundMotion, float_array
+from .ground_motion import GroundMotion, as_float64, float_array
 from . import two_phase_kernel as K
 from .protocol import TwoInterfaces
 from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, PadOverturned  # noqa: F401
@@ -282,7 +282,8 @@ class TwoPhaseStepper(TwoInterfaces):
         constants and state, the loading (a_step, t, d), no scratch."""
         import numpy as np
         f = (lambda x: np.asarray(x, dtype=float))
-        return f(self.C), f(self.S), (f(self._a_step), f(self._t), f(self._d)), (np.zeros(1),)
+        return (f(self.C), f(self.S), (as_float64(self._a_step), as_float64(self._t), as_float64(self._d)),
+                (np.zeros(1),))
 
     def engine_pull(self, S) -> None:
         """The state into the engine's copy (before a chunk)."""

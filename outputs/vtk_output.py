@@ -273,7 +273,7 @@ def series_class(scene, sim):
     if scene["device"]["kind"] == "TFP":
         from .tfp_vtk import TFPVTKSeries
         return TFPVTKSeries
-    if hasattr(sim.mechanics, "centre1"):
+    if getattr(sim.mechanics, "two_d", False):
         from .vtk_bidirectional import VTKSeries3D
         return VTKSeries3D
     return VTKSeries

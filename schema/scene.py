@@ -182,9 +182,8 @@ TABLES = {
     },
     "superstructure": {"mass": ("float", REQUIRED, _pos)},
     "mechanics": {"model": (("two-phase", "seated"), "two-phase", None),
-                  # normal forces frozen at t_n with a projection every step (the paper's
-                  # section 3, the planar stepper) or at the step midpoint (second order);
-                  # default: "midpoint" for bidirectional runs, "start" otherwise
+                  # normal forces at the step midpoint (second order, the default) or frozen
+                  # at t_n with a projection every step (the paper's section 3, first order)
                   "normal_force": (("midpoint", "start"), None, None)},
     "coupling": {"scheme": (("staggered", "iterated"), "staggered", None),
                  "tol_K": ("float", 1e-3, _pos), "max_iter": ("int", 20, _atleast(1)),
@@ -631,7 +630,7 @@ def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
     mech = data["mechanics"]
     two_d = is_bidirectional(data)
     if "normal_force" not in mech:
-        mech["normal_force"] = "midpoint" if two_d else "start"
+        mech["normal_force"] = "midpoint"
     ld = data["loading"]
     if ld["kind"] == "displacement":
         # the planar machine holds the vertical load by default; the orbit machine

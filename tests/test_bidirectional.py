@@ -470,7 +470,7 @@ def test_scene_defaults_and_kinds(tmp_path):
     s = _scene([])
     assert s["mechanics"]["normal_force"] == "midpoint" and scene.is_bidirectional(s.data)
     d = scene.load("default")
-    assert d["mechanics"]["normal_force"] == "start" and not scene.is_bidirectional(d.data)
+    assert d["mechanics"]["normal_force"] == "midpoint" and not scene.is_bidirectional(d.data)   # every DFP/SFP scene
     assert scene.is_bidirectional(scene.load("default", ["loading.angle_deg=30"]).data)
     lab = scene.load("lab-sine", ["loading.waveform=circle"])
     assert scene.is_bidirectional(lab.data)
