@@ -6,8 +6,9 @@ default, read by ParaView, pyvista and meshio); the cell arrays of a
 topology the series has written before are compressed once and their bytes
 reused, so a frame costs its points and fields. ``single`` series store
 floats as float32 (7 significant digits: a large plate field, where the
-size matters). ``size_bound`` gives the most bytes a frame like a given one
-takes, from which a run estimates its series before writing any.
+size matters). ``frame_size`` estimates the bytes of a series' frame from
+one frame (not below any frame's), from which a run bounds its series
+before writing any of it.
 
 The ``.pvd`` index is extended in place: the new ``<DataSet>`` line is
 written over the closing tags, which are written again after it (a few
@@ -42,7 +43,7 @@ _HEAD = '<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1" byte_or
 _TAIL = b"  </Collection>\n</VTKFile>\n"
 BLOCK = 1 << 20         # uncompressed bytes per zlib block (VTK's compressed-array layout)
 LEVEL = 1               # zlib level: 6 shrinks a frame's arrays ~10 % more at 2-6x the time
-INDEX_ENTRY = 256       # bytes of the .pvd index per file listed, at most (size_bound)
+INDEX_ENTRY = 256       # bytes of the .pvd index per file listed, at most (frame_size)
 
 
 def _array(a, single: bool = False) -> np.ndarray:
@@ -189,14 +190,29 @@ def write_vtu(path, points, cells, point_data=None, cell_data=None, single: bool
     return path
 
 
-def size_bound(points, cells, point_data=None, cell_data=None, single: bool = False) -> int:
-    """The most bytes ``write_vtu`` takes for a frame like this one, plus its
-    line in the index: the cell arrays at their compressed size (the same in
-    every frame of a series), the points and the data at zlib's worst case
-    (they change from frame to frame), the XML with every offset at its
-    longest. A series' size is at most its frames times this."""
+CHANGING = ("T_C", "mu")      # arrays whose values change from frame to frame (frame_size)
+MARGIN = 1.10                 # on the compressed size of the arrays that move or stay (frame_size)
+
+
+def frame_size(points, cells, point_data=None, cell_data=None, single: bool = False,
+               changing=CHANGING) -> int:
+    """Bytes that a series' frame like this one takes, its index line
+    included, estimated from this one frame so as not to fall below any
+    frame of the series: the arrays named in ``changing`` (temperatures,
+    friction: their values change, a cold first frame compresses far better
+    than a hot one) at zlib's worst case, about their uncompressed size; the
+    others (the points, which a frame moves rigidly, depths, the cell arrays,
+    the same in every frame) at this frame's compressed size plus 10 %; the
+    XML with every offset at its longest."""
     n_points, n_cells, items = _layout(points, cells, point_data, cell_data, single)
-    sizes = [len(z) if z is not None else _bound(arr.nbytes) for _, _, arr, z in items]
+    sizes = []
+    for _, name, arr, z in items:
+        if z is not None:
+            sizes.append(len(z))
+        elif name in changing:
+            sizes.append(_bound(arr.nbytes))
+        else:
+            sizes.append(int(MARGIN * len(_compressed(arr.tobytes()))) + 64)
     return len(_xml(n_points, n_cells, items, sizes)) + 24 * len(items) + sum(sizes) + len(_END) + INDEX_ENTRY
 
 
