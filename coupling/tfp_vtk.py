@@ -155,7 +155,7 @@ class TFPVTKSeries:
         # frame 0 built in memory and the whole series bounded before any file exists
         t, entries, fields = self._entries(0, vals)
         single = {f"{part}_plate": view.single for part, _, view in self.plates}
-        check_budget(sim, entries, single, any(v.mode != "slice" and v.single for _, _, v in self.plates))
+        self.estimate_bytes = check_budget(sim, entries, single, any(v.mode != "slice" and v.single for _, _, v in self.plates))
         self.writers = {"device": PVDWriter(self.folder, "device")}
         for part, _, view in self.plates:
             self.writers[f"{part}_plate"] = PVDWriter(self.folder, f"{part}_plate", single=view.single)

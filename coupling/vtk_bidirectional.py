@@ -138,9 +138,13 @@ class VTKSeries3D:
         vals = dict(zip(mech.columns, mech.values()))
         T = [p.surface_temperature() if p is not None else pp.T0_C for p, pp in zip(sim.plates, sim.plate_params)]
         vals["T1_C"], vals["T2_C"] = T
+        # row 0's mu1, mu2 as the run records them: at the initial temperatures, zero speed
+        area = self.geom.contact_area
+        vals.setdefault("mu1", sim.laws[0](T[0], mech.N1 / area, 0.0))
+        vals.setdefault("mu2", sim.laws[1](T[1], mech.N2 / area, 0.0))
         # frame 0 built in memory and the whole series bounded before any file exists
         t, entries = self._entries(0, vals)
-        check_budget(sim, entries, {}, False)
+        self.estimate_bytes = check_budget(sim, entries, {}, False)
         self.writers = {"device3d": PVDWriter(self.folder, "device3d")}
         self.device = self.writers["device3d"]
         put(self.writers, t, entries)

@@ -166,7 +166,7 @@ class VTKSeries:
         vals = self._initial_values()
         t, entries, fields = self._entries(0, vals)
         single = {f"{side}_plate": view.single for side, _, view in self.plates}
-        check_budget(sim, entries, single, any(v.mode != "slice" and v.single for _, _, v in self.plates))
+        self.estimate_bytes = check_budget(sim, entries, single, any(v.mode != "slice" and v.single for _, _, v in self.plates))
         self.writers = {"device": PVDWriter(self.folder, "device")}
         for side, _, view in self.plates:
             self.writers[f"{side}_plate"] = PVDWriter(self.folder, f"{side}_plate", single=view.single)
