@@ -222,6 +222,10 @@ def field_pieces(g, width: float, coords=None):
     off = np.asarray(g.cell_offsets)
     conn = np.asarray(g.cell_connectivity)
     types = np.asarray(g.celltypes)
+    if len(types) and types[0] in (5, 9) and np.all(types == types[0]):
+        # one kind of section cell (an fe3d slice, an axisym section): all at once, (m, k, 2)
+        ids = conn.reshape(len(types), -1)
+        return xz[ids], (Tc if Tc is not None else T[ids].mean(axis=1))
     polys, vals = [], []
     ytol = 1e-9 + 1e-6 * float(np.ptp(pts[:, 1])) if len(pts) else 0.0
     on_plane = np.abs(pts[:, 1] - pts[np.argmin(np.abs(pts[:, 1])), 1]) <= ytol if len(pts) else None
@@ -298,10 +302,16 @@ def layer_view(grids, side: str, width: float):
         d = np.asarray(g.point_data["depth_m"], dtype=float)
         x = np.asarray(g.points)[:, 0]
         polys, vals = field_pieces(g, width, coords=np.column_stack((x, sign * 1e3 * d)))
+        if isinstance(polys, np.ndarray):          # (m, k, 2): the cells within the depth shown
+            keep = np.abs(polys[:, :, 1]).min(axis=1) <= 1e3 * D
+            pieces.append((polys[keep], vals[keep]))
+            xs.append(polys[keep][:, :, 0].ravel())
+            continue
         keep = [i for i, q in enumerate(polys) if np.abs(q[:, 1]).min() <= 1e3 * D]
         pieces.append(([polys[i] for i in keep], vals[keep] if len(vals) else vals))
         xs += [q[:, 0] for q in (polys[i] for i in keep)]
-    xall = np.concatenate(xs) if xs else np.zeros(1)
+    xall = np.concatenate(xs) if xs else np.zeros(0)
+    xall = xall if xall.size else np.zeros(1)
     x0, x1 = float(xall.min()), float(xall.max())
     pad = 0.03 * max(x1 - x0, 1e-3)
     return {"pieces": pieces, "depth_mm": 1e3 * D, "xlim": (x0 - pad, x1 + pad), "sign": sign}
