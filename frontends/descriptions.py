@@ -253,6 +253,14 @@ KEYS: dict[str, tuple[str, str]] = {
 
     # [output]
     "output.vtk_every": ("", "Steps between VTK frames (vtk/); 0 writes none."),
+    "output.vtk_max_GB": ("GB", "Largest VTK series a run writes (1 GB = 1e9 bytes). The run bounds the series' size "
+                                "before writing any of it (frames times the most bytes a frame takes) and refuses "
+                                "beyond this, in one line with the estimate and how to lower it (a larger "
+                                "output.vtk_every, output.vtk_fe3d = \"slice\", or a larger limit)."),
+    "output.vtk_fe3d": ("", 'The grid an fe3d plate\'s VTK frames are written on: "slice", the section y = 0 through '
+                            "the plate (the device's x-z plane, every node in x and depth; ~1/70 of the nodes); "
+                            '"coarse", the whole plate with every second node across the face and every node '
+                            'through the depth (~1/4); "full", every node. fe3d frames are float32.'),
     "output.plots": ("", "Write plots/ (PNG)."),
     "output.csv_every": ("", "Steps between rows of the history (timeseries.csv or timeseries.parquet; the last "
                              "step is always written)."),

@@ -253,11 +253,16 @@ _OUTPUTS = """\
 - `vtk/` when `output.vtk_every > 0`: `device.pvd` (the plates, the pad and the
   superstructure as moving polygons in the x-z plane, with `T_C`, `mu`, `body`
   as cell data) and `lower_plate.pvd` / `upper_plate.pvd` (FE temperature
-  fields), series of `.vtu` frames with their times (ParaView, pyvista); a
-  TFP: its five bodies and the superstructure (`body` 0..5) and
-  `<part>_plate.pvd` per FE part (`lower`, `slider_lower`, `slider_upper`,
-  `upper`); `fpd render DIR` turns them into PNG frames and a GIF (not the
-  flat bearing, which writes no VTK).
+  fields, with `depth_m` below the sliding face; an fe3d plate on the grid
+  of `output.vtk_fe3d`, in float32), series of zlib-compressed `.vtu`
+  frames with their times (ParaView, pyvista, meshio); a TFP: its five
+  bodies and the superstructure (`body` 0..5) and `<part>_plate.pvd` per FE
+  part (`lower`, `slider_lower`, `slider_upper`, `upper`); a bidirectional
+  run: `device3d.pvd`, the device in 3D. The run estimates the series' size
+  before writing and refuses one over `output.vtk_max_GB`. `fpd render DIR`
+  turns them into PNG frames and a GIF, each plate field's heated layer in a
+  section of its own beside the device (not the flat bearing, which writes
+  no VTK).
 """
 
 

@@ -10,7 +10,10 @@ of the surface that heats that part), the values of timeseries.csv at the
 frame's step. Plate temperature fields: ``<part>_plate.pvd`` for the parts
 whose model has one (fe1d, axisym, fe3d), placed in the device's coordinates
 so that they overlay device.pvd (``place_part_field``: each part's field
-wrapped onto its own sliding surface, at that body's pose).
+wrapped onto its own sliding surface, at that body's pose), with point data
+``depth_m`` (below the sliding face); fe3d parts on the grid of
+``output.vtk_fe3d``. The series is bounded before it is written
+(coupling/vtk_budget.py).
 """
 from __future__ import annotations
 
@@ -22,6 +25,7 @@ import numpy as np
 from .hottest import TFP_SIDES, HottestFields
 from .placement import local_points, mirror_section
 from fpd.schema.scene import TFP_PARTS
+from .vtk_budget import FieldView, check_budget, depth_of, put
 
 BODIES = ("lower_plate", "lower_slider", "pad", "upper_slider", "upper_plate", "superstructure")
 N_ARC = 32
@@ -134,13 +138,13 @@ class TFPVTKSeries:
 
         self.folder = Path(folder)
         self.sim = sim
-        self.device = PVDWriter(self.folder, "device")
         self.hottest = HottestFields(TFP_SIDES)     # the four parts' fields at their hottest (plots/)
-        self.plates = []
-        for part, plate in zip(TFP_PARTS, sim.plates):
+        mode = sim.scene["output"]["vtk_fe3d"]
+        self.plates = []              # (part, plate, its output grid)
+        for part, plate, pp in zip(TFP_PARTS, sim.plates, sim.plate_params):
             if plate is None or not callable(getattr(plate, "field", None)) or plate.field() is None:
                 continue
-            self.plates.append((part, plate, PVDWriter(self.folder, f"{part}_plate")))
+            self.plates.append((part, plate, FieldView(plate, pp.model, mode)))
         mech = sim.mechanics
         vals = dict(zip(mech.columns, mech.values()))
         for i, (p, pp) in enumerate(zip(sim.plates, sim.plate_params), start=1):
@@ -148,16 +152,36 @@ class TFPVTKSeries:
         # row 0's mu1..mu4 as simulate_tfp records them: at the initial temperatures, zero speed
         for i, law in enumerate(sim.laws, start=1):
             vals.setdefault(f"mu{i}", law(vals[f"T{i}_C"], mech.N[i - 1] / sim.geometry.areas[i - 1], 0.0))
-        self._write(0, vals)
+        # frame 0 built in memory and the whole series bounded before any file exists
+        t, entries, fields = self._entries(0, vals)
+        single = {f"{part}_plate": view.single for part, _, view in self.plates}
+        self.estimate_bytes = check_budget(sim, entries, single, any(v.mode != "slice" and v.single for _, _, v in self.plates))
+        self.writers = {"device": PVDWriter(self.folder, "device")}
+        for part, _, view in self.plates:
+            self.writers[f"{part}_plate"] = PVDWriter(self.folder, f"{part}_plate", single=view.single)
+        self.device = self.writers["device"]
+        self._put(t, entries, fields, vals)
 
     def frame(self, n: int, sim=None) -> None:
         vals = getattr(self.sim, "frame_values", None)
         if vals is None:
             mech = self.sim.mechanics
             vals = dict(zip(mech.columns, mech.values()))
-        self._write(n, dict(vals))
+        vals = dict(vals)
+        self._put(*self._entries(n, vals), vals)
 
-    def _write(self, n: int, vals: dict) -> None:
+    def _put(self, t, entries, fields, vals) -> None:
+        put(self.writers, t, entries)
+        # the hottest fields (plots/): fe3d parts offer their state (outputs/hottest.py), the others
+        # the frame's field in the part's own coordinates, as the DFP's series offers it
+        self.hottest.update([p if hasattr(p, "field_state") else None for p in self.sim.plates], t)
+        for part, fld in fields:
+            i = TFP_PARTS.index(part)
+            self.hottest.consider(part, t, *fld, surface=vals.get(f"T{i + 1}_C"), params=self.sim.plate_params[i])
+
+    def _entries(self, n: int, vals: dict):
+        """(time, the frame's files as coupling/vtk_budget entries, [(part,
+        its own field)] for the hottest-field pictures)."""
         sim = self.sim
         g = sim.geometry
         t = float(vals.get("t_s", n * sim.dt))
@@ -172,29 +196,31 @@ class TFPVTKSeries:
             start += len(poly)
         allp = np.vstack(pts)
         points = np.column_stack((allp[:, 0], np.zeros(start), allp[:, 1]))
-        self.device.add(t, points, cells, cell_data={
+        entries = [("device", [(None, points, cells, None, {
             "body": [np.array([i], dtype=np.int32) for i in range(len(BODIES))],
             "T_C": [np.array([float(x)]) for x in T],
             "mu": [np.array([float(x)]) for x in mu],
-        })
-        for part, plate, writer in self.plates:
-            fld = plate.field()
+        })])]
+        fields = []
+        for part, plate, view in self.plates:
+            fld = view.field(plate)
             if fld is None:
                 continue
             # placed in the device's coordinates, so it overlays device.pvd
             i = TFP_PARTS.index(part)
             p, c, Tf = place_part_field(i, fld, g, sim.plate_params[i], vals)
+            depth = depth_of(fld[0], len(p))        # below the sliding face: the heated layer
             if len(Tf) == len(p):
-                writer.add(t, p, c, point_data={"T_C": Tf})
+                entries.append((f"{part}_plate", [(None, p, c, {"T_C": Tf, "depth_m": depth}, None)]))
             else:
-                writer.add(t, p, c, cell_data={"T_C": [Tf]})
-            # the frame's field in the plate's own coordinates, as the DFP's series offers it
-            self.hottest.consider(part, t, *fld, surface=vals.get(f"T{i + 1}_C"), params=sim.plate_params[i])
+                entries.append((f"{part}_plate", [(None, p, c, {"depth_m": depth}, {"T_C": [Tf]})]))
+            if not hasattr(plate, "field_state"):
+                fields.append((part, fld))
+        return t, entries, fields
 
     def close(self) -> None:
-        self.device.close()
-        for _, _, writer in self.plates:
-            writer.close()
+        for w in self.writers.values():
+            w.close()
 
     def hottest_pictures(self, plots_dir) -> list:
         """One PNG per heated part with a field (outputs/hottest.py)."""

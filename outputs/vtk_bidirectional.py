@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from .hottest import HottestFields
+from .vtk_budget import check_budget, put
 
 BODIES = ("lower_plate", "pad", "upper_plate", "superstructure")
 N_RING, N_SECTOR = 8, 48
@@ -132,23 +133,32 @@ class VTKSeries3D:
         self.folder = Path(folder)
         self.sim = sim
         self.geom = sim.geometry
-        self.device = PVDWriter(self.folder, "device3d")
         self.hottest = HottestFields()
         mech = sim.mechanics
         vals = dict(zip(mech.columns, mech.values()))
         T = [p.surface_temperature() if p is not None else pp.T0_C for p, pp in zip(sim.plates, sim.plate_params)]
         vals["T1_C"], vals["T2_C"] = T
-        self._write(0, vals)
+        # row 0's mu1, mu2 as the run records them: at the initial temperatures, zero speed
+        area = self.geom.contact_area
+        vals.setdefault("mu1", sim.laws[0](T[0], mech.N1 / area, 0.0))
+        vals.setdefault("mu2", sim.laws[1](T[1], mech.N2 / area, 0.0))
+        # frame 0 built in memory and the whole series bounded before any file exists
+        t, entries = self._entries(0, vals)
+        self.estimate_bytes = check_budget(sim, entries, {}, False)
+        self.writers = {"device3d": PVDWriter(self.folder, "device3d")}
+        self.device = self.writers["device3d"]
+        put(self.writers, t, entries)
 
     def frame(self, n: int, sim=None) -> None:
         vals = getattr(self.sim, "frame_values", None)
         if vals is None:
             mech = self.sim.mechanics
             vals = dict(zip(mech.columns, mech.values()))
-        self._write(n, dict(vals))
+        put(self.writers, *self._entries(n, dict(vals)))
 
-    def _write(self, n, vals):
-        mech, geom = self.sim.mechanics, self.geom
+    def _entries(self, n, vals):
+        """(time, the frame's file as coupling/vtk_budget entries)."""
+        geom = self.geom
         L = geom.L
         ux, uy = float(vals["ux_m"]), float(vals["uy_m"])
         nx, ny = ux / L, uy / L
@@ -158,11 +168,11 @@ class VTKSeries3D:
         nan = float("nan")
         T = {0: vals.get("T1_C", nan), 2: vals.get("T2_C", nan)}
         mu = {0: vals.get("mu1", nan), 2: vals.get("mu2", nan)}
-        self.device.add(float(vals.get("t_s", n * self.sim.dt)), pts, blocks, cell_data={
+        return float(vals.get("t_s", n * self.sim.dt)), [("device3d", [(None, pts, blocks, None, {
             "body": [np.full(len(c), b, dtype=np.int32) for (_, c), b in zip(blocks, bodies)],
             "T_C": [np.full(len(c), float(T.get(b, nan))) for (_, c), b in zip(blocks, bodies)],
             "mu": [np.full(len(c), float(mu.get(b, nan))) for (_, c), b in zip(blocks, bodies)],
-        })
+        })])]
 
     def close(self) -> None:
         self.device.close()

@@ -16,13 +16,17 @@
   field (``PlateModel.field()``: points, meshio-style cells, nodal T_C)
   placed in the device's coordinates (outputs/placement.py: wrapped onto
   the plate's concave surface, the column or section under the footprint,
-  moving with the ground or the superstructure), so it overlays device.pvd;
-  no series for plates without a field (lumped, none).
+  moving with the ground or the superstructure), so it overlays device.pvd,
+  with point data ``depth_m`` (below the sliding face: the heated layer);
+  an fe3d plate on the grid of ``output.vtk_fe3d`` (coupling/vtk_budget.py),
+  in float32; no series for plates without a field (lumped, none).
 
 Every frame is written when ``simulate`` calls ``VTKSeries.frame`` (every
-``output.vtk_every`` steps); frame 0 is the initial state. The files are
-written by meshes/vtk.py (no meshio); matplotlib is imported only by
-``hottest_pictures``.
+``output.vtk_every`` steps); frame 0 is the initial state. Frame 0 is built
+first in memory and the whole series bounded from it: over
+``output.vtk_max_GB`` the run is refused before any file exists. The files
+are written by meshes/vtk.py (zlib-compressed VTU, no meshio); matplotlib is
+imported only by ``hottest_pictures``.
 """
 from __future__ import annotations
 
@@ -33,6 +37,7 @@ import numpy as np
 
 from .hottest import HottestFields
 from .placement import place_field
+from .vtk_budget import FieldView, check_budget, depth_of, put
 
 BODIES = ("lower_plate", "pad", "upper_plate", "superstructure")
 N_ARC = 32          # points per arc of the device polygons
@@ -147,17 +152,26 @@ class VTKSeries:
         self.folder = Path(folder)
         self.sim = sim
         self.geom = sim.geometry
-        self.device = PVDWriter(self.folder, "device")
-        self.plates = []              # (side, plate, writer)
         self.hottest = HottestFields()   # side -> (Tmax, time, points, cells, T)
         self._shapes = None
-        for side, plate in zip(("lower", "upper"), sim.plates):
+        mode = sim.scene["output"]["vtk_fe3d"]
+        self.plates = []              # (side, plate, its output grid)
+        for side, plate, pp in zip(("lower", "upper"), sim.plates, sim.plate_params):
             if plate is None or not callable(getattr(plate, "field", None)):
                 continue
             if plate.field() is None:
                 continue
-            self.plates.append((side, plate, PVDWriter(self.folder, f"{side}_plate")))
-        self._write(0, self._initial_values())
+            self.plates.append((side, plate, FieldView(plate, pp.model, mode)))
+        # frame 0 built in memory and the whole series bounded before any file exists
+        vals = self._initial_values()
+        t, entries, fields = self._entries(0, vals)
+        single = {f"{side}_plate": view.single for side, _, view in self.plates}
+        self.estimate_bytes = check_budget(sim, entries, single, any(v.mode != "slice" and v.single for _, _, v in self.plates))
+        self.writers = {"device": PVDWriter(self.folder, "device")}
+        for side, _, view in self.plates:
+            self.writers[f"{side}_plate"] = PVDWriter(self.folder, f"{side}_plate", single=view.single)
+        self.device = self.writers["device"]
+        self._put(t, entries, fields, vals)
 
     # values of the CSV row ----------------------------------------------------
     def _initial_values(self) -> dict:
@@ -193,6 +207,21 @@ class VTKSeries:
         self._write(n, self._current_values(n))
 
     def _write(self, n: int, vals: dict) -> None:
+        self._put(*self._entries(n, vals), vals)
+
+    def _put(self, t, entries, fields, vals) -> None:
+        put(self.writers, t, entries)
+        # the hottest field of each plate (plots/): a plate whose field is dear to
+        # build (fe3d) offers its temperature and state only (outputs/hottest.py),
+        # the others their field as written (``fields``)
+        self.hottest.update([p if hasattr(p, "field_state") else None for p in self.sim.plates], t)
+        for side, fld in fields:
+            i = 0 if side == "lower" else 1
+            self.hottest.consider(side, t, *fld, surface=vals.get(f"T{i + 1}_C"), params=self.sim.plate_params[i])
+
+    def _entries(self, n: int, vals: dict):
+        """(time, the frame's files as coupling/vtk_budget entries, [(side,
+        the plate's own field)] for the hottest-field pictures)."""
         sim, geom = self.sim, self.geom
         mech = sim.mechanics
         t = float(vals.get("t_s", n * sim.dt))
@@ -223,9 +252,9 @@ class VTKSeries:
             points = np.column_stack((xz[:, 0], np.zeros(start), xz[:, 1]))
             cdata = dict(cdata, body=[np.array([b], dtype=np.int32) for b, _ in bodies])
             out.append((name, points, cells, None, cdata))
-        self.device.add_parts(t, out)
-        for side, plate, writer in self.plates:
-            fld = plate.field()
+        entries, fields = [("device", out)], []
+        for side, plate, view in self.plates:
+            fld = view.field(plate)
             if fld is None:
                 continue
             p, c, Tf = fld
@@ -233,12 +262,14 @@ class VTKSeries:
             p = np.asarray(p, dtype=float)
             # placed in the device's coordinates, so it overlays device.pvd (outputs/placement.py)
             pw, cw, Tw = place_field(side, (p, c, Tf), geom, sim.plate_params[0 if side == "lower" else 1], vals)
+            depth = depth_of(p, len(pw))            # below the sliding face: the heated layer in ParaView, fpd render
             if len(Tw) == len(pw):
-                writer.add(t, pw, cw, point_data={"T_C": Tw})
+                entries.append((f"{side}_plate", [(None, pw, cw, {"T_C": Tw, "depth_m": depth}, None)]))
             else:
-                writer.add(t, pw, cw, cell_data={"T_C": [Tw]})
-            i = 0 if side == "lower" else 1
-            self.hottest.consider(side, t, p, c, Tf, surface=vals.get(f"T{i + 1}_C"), params=sim.plate_params[i])
+                entries.append((f"{side}_plate", [(None, pw, cw, {"depth_m": depth}, {"T_C": [Tw]})]))
+            if not hasattr(plate, "field_state"):
+                fields.append((side, (np.asarray(p, dtype=float), c, np.asarray(Tf, dtype=float))))
+        return t, entries, fields
 
     def _polygons(self, xg, u, z, O, angle):
         """device_polygons, by translating shapes computed once: the lower
@@ -254,9 +285,8 @@ class VTKSeries:
         return [lower + np.array([xg, 0.0]), _to_world(O, angle, pad), upper + apex, block + apex]
 
     def close(self) -> None:
-        self.device.close()
-        for _, _, writer in self.plates:
-            writer.close()
+        for w in self.writers.values():
+            w.close()
 
     # pictures -----------------------------------------------------------------
     def hottest_pictures(self, plots_dir) -> list[Path]:

@@ -190,6 +190,8 @@ TABLES = {
                  "substeps": ("int", 1, _atleast(1))},
     "solver": {"dt": ("float", 1e-3, _pos), "duration": ("float", None, _pos)},
     "output": {"vtk_every": ("int", 0, _nonneg), "plots": ("bool", True, None),
+               # the VTK series' size limit (estimated before writing) and an fe3d plate's output grid
+               "vtk_max_GB": ("float", 2.0, _pos), "vtk_fe3d": (("slice", "coarse", "full"), "slice", None),
                "csv_every": ("int", 1, _atleast(1)),
                # the history file: timeseries.csv, or timeseries.parquet (pyarrow) for long runs
                "history": (("csv", "parquet"), "csv", None)},

@@ -192,7 +192,8 @@ def test_vtk_fe3d_parts_read_back_and_overlay(tmp_path, models):
     out = tmp_path / "r"
     args = ["run", "tfp-lab", "--out", str(out), "--quiet", "--set", "loading.amplitude_m=0.10",
             "--set", "loading.frequency_Hz=0.5", "--set", "loading.cycles=0.5", "--set", "solver.dt=5e-3",
-            "--set", "output.vtk_every=50", "--set", "output.plots=false"]
+            "--set", "output.vtk_every=50", "--set", "output.plots=false",
+            "--set", 'output.vtk_fe3d="full"']         # the whole 3-D field (the default writes its slice y = 0)
     for part, model in zip(("lower", "slider_lower", "slider_upper", "upper"), models):
         args += ["--set", f"thermal.{part}.model={model}"]
     for k in SMALL:

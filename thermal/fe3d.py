@@ -237,9 +237,13 @@ class FE3DPlate:
         T = np.einsum("bj,ajk->abk", self.Wyi, T)
         return (T @ self.Vi.T).ravel()
 
-    def to_nodal(self, y: np.ndarray) -> np.ndarray:
-        """(Wx (x) Wy (x) V) y as a nodal (nx, ny, nzf) field."""
+    def to_nodal(self, y: np.ndarray, rows=None) -> np.ndarray:
+        """(Wx (x) Wy (x) V) y as a nodal (nx, ny, nzf) field; ``rows``: only
+        those y rows (nx, len(rows), nzf), a slice at a fraction of the cost."""
         Y = y.reshape(self.nx, self.ny, self.nzf)
+        if rows is not None:
+            T = np.einsum("bj,ajk->abk", self.Wy[rows], Y)
+            return np.tensordot(self.Wx, T, axes=(1, 0)) @ self.V.T
         T = np.tensordot(self.Wx, Y, axes=(1, 0))
         T = np.einsum("bj,ajk->abk", self.Wy, T)
         return T @ self.V.T
@@ -343,13 +347,14 @@ class FE3DPlate:
         point of the plate: heat enters there)."""
         return float(self.surface_field().max())
 
-    def temperature(self, state=None) -> np.ndarray:
+    def temperature(self, state=None, rows=None) -> np.ndarray:
         """Nodal temperatures (degC), (nx, ny, nz) (the fixed back layer
-        included), of the current state or of one kept by field_state()."""
+        included), of the current state or of one kept by field_state();
+        ``rows``: only those y rows, (nx, len(rows), nz)."""
         p = self.params
-        U = self.to_nodal((self.v if state is None else state) + self.ys) + p.T_air_C
+        U = self.to_nodal((self.v if state is None else state) + self.ys, rows) + p.T_air_C
         if self.fixed:
-            U = np.concatenate((U, np.full((self.nx, self.ny, 1), p.T_back_C)), axis=2)
+            U = np.concatenate((U, np.full((U.shape[0], U.shape[1], 1), p.T_back_C)), axis=2)
         return U
 
     def stored_heat(self) -> float:
