@@ -257,9 +257,7 @@ def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **
         if vtk:
             vtk.close()
         sc["solver"].setdefault("duration", sim.n_steps * sim.dt)
-        s = write_all(folder, sc, result, sim, plots=sc["output"]["plots"])
-        if hottest is not None:
-            hottest.pictures(folder.subdir("plots"))
+        s = write_all(folder, sc, result, sim, plots=sc["output"]["plots"], hottest=hottest)
         folder.commit()
     except BaseException:
         folder.discard()

@@ -388,9 +388,11 @@ def stream_history(folder: ResultsFolder, scene: Scene, **kw):
     return StreamHistory(folder.path(HISTORY_FILES[fmt]), spill_path=spill, **kw)
 
 
-def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = True) -> dict:
+def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = True, hottest=None) -> dict:
     """Everything but what the run streamed: timeseries.csv (unless streamed
-    already), scene.toml, summary.json, plots/."""
+    already), scene.toml, summary.json, plots/ (with each plate's hottest
+    field when ``hottest``, a HottestFields, is given); summary.json's
+    ``plots`` names every PNG written in plots/."""
     if not result.streamed:
         fmt = history_format(scene)
         (write_parquet if fmt == "parquet" else write_csv)(folder.path(HISTORY_FILES[fmt]), result)
@@ -407,6 +409,9 @@ def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = Tr
         if s.get("test_machine", {}).get("cycles"):
             plot_cycles(folder.path("plots", "cycles.png"), s["test_machine"]["cycles"], scene.name)
             s["plots"].append("cycles.png")
+    if plots and hottest is not None:
+        s.setdefault("plots", [])
+        s["plots"] += [Path(p).name for p in hottest.pictures(folder.subdir("plots"))]
     folder.path("summary.json").write_text(json.dumps(s, indent=2) + "\n")
     return s
 
