@@ -47,6 +47,16 @@ def thin(n: int, *columns, bins: int = BINS):
     return np.unique(np.concatenate(keep))
 
 
+XY_BINS = 25_000             # x-y curves (loops, orbits): a time bin must not cut a fast swing short
+
+
+def thin_xy(n: int, x, y):
+    """Row indices that draw the x-y curve (x, y) as every row would: per
+    time bin its extremes (``thin``) with bins fine enough (XY_BINS) that a
+    fast swing of the curve keeps its shape."""
+    return thin(n, x, y, bins=XY_BINS)
+
+
 def new_figure(nrows: int = 1, ncols: int = 1, figsize=(7.0, 3.2), left=0.8, right=0.15, bottom=0.5,
                top=0.35, hgap=0.35, wgap=0.7, sharex=False):
     """A Figure and its axes (a flat list) with fixed margins in inches."""
@@ -93,8 +103,9 @@ def cycle_of(t, scene):
     """The programme's cycle (1, 2, ...) of each time of a test-machine run."""
     import numpy as np
     ld = scene["loading"]
-    k = np.floor(np.asarray(t) * ld["frequency_Hz"] * (1.0 + 1e-12)).astype(int) + 1
-    return np.minimum(k, int(np.ceil(ld["cycles"] - 1e-9)))
+    # a row at the end of a cycle closes it (the next cycle's line starts from it)
+    k = np.ceil(np.asarray(t) * ld["frequency_Hz"] * (1.0 - 1e-12)).astype(int)
+    return np.clip(k, 1, int(np.ceil(ld["cycles"] - 1e-9)))
 
 
 def hysteresis(result, scene):
@@ -109,11 +120,11 @@ def hysteresis(result, scene):
         for c in np.unique(k):
             rows = np.flatnonzero(k == c)
             rows = np.append(rows, rows[-1] + 1) if rows[-1] + 1 < len(u) else rows   # joined to the next
-            s = rows[thin(len(rows), u[rows], F[rows])]
+            s = rows[thin_xy(len(rows), u[rows], F[rows])]
             ax.plot(u[s], F[s], lw=0.8, color=colours[(c - 1) % len(colours)], label=f"cycle {c}")
         ax.legend(loc="upper left", fontsize=8, ncols=2 if len(np.unique(k)) > 5 else 1)
     else:
-        s = thin(len(u), u, F)
+        s = thin_xy(len(u), u, F)
         ax.plot(u[s], F[s], lw=0.8)
     ax.set_xlabel("relative displacement u (mm)")
     ax.set_ylabel("horizontal force F (kN)")
@@ -226,17 +237,16 @@ def figures(result, scene) -> dict:
     if "W4_J" in result:                     # the TFP: four surfaces, regimes
         from . import tfp_plots
         return tfp_plots.figures(result, scene)
+    from . import plots_bidirectional as bd
     out = {}
     two_d = "uy_m" in result
     if "u_m" in result:
         if two_d:                             # bidirectional runs (model.md 8): the x and y loops
-            from . import plots_bidirectional as bd
             out["hysteresis"] = lambda: bd.loops(result, scene)
         else:
             out["hysteresis"] = lambda: hysteresis(result, scene)
         out["response"] = lambda: response(result, scene)
     if two_d:
-        from . import plots_bidirectional as bd
         out.update(bd.figures(result, scene))
     if "T1_C" in result:
         out["temperature"] = lambda: temperature(result, scene)

@@ -34,16 +34,16 @@ def _four(ax, t, curves, labels):
 
 
 def hysteresis(result, scene):
-    from .plots import new_figure, thin
+    from .plots import new_figure, thin_xy
     u, F = 1e3 * result["u_m"], 1e-3 * result["F_N"]
     reg = np.nan_to_num(result["regime"]).astype(int)
     fig, (ax,) = new_figure()
-    s = thin(len(u), u, F)
+    s = thin_xy(len(u), u, F)
     ax.plot(u[s], F[s], lw=0.4, color="0.8", zorder=1)
     for code, (label, colour) in REGIME_STYLE.items():
         sel = np.flatnonzero(reg == code)
         if len(sel):
-            sel = sel[thin(len(sel), u[sel], F[sel])]
+            sel = sel[thin_xy(len(sel), u[sel], F[sel])]
             ax.plot(u[sel], F[sel], ".", ms=1.5, color=colour, label=f"regime {label}", zorder=2)
     ax.set_xlabel("relative displacement u (mm)")
     ax.set_ylabel("horizontal force F (kN)")
