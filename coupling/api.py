@@ -70,7 +70,9 @@ def _raw_and_path(scene) -> tuple[dict, str]:
         raw = getattr(scene, "_fpd_raw", None)
         return copy.deepcopy(raw) if raw is not None else _resolved_raw(scene), scene.path
     if isinstance(scene, Mapping):
-        return copy.deepcopy(dict(scene)), "<dict>"
+        raw = copy.deepcopy(dict(scene))
+        raw.setdefault("name", "scene")         # a dict without a name: results/scene, not '<dict>'
+        return raw, "<dict>"
     if scene is None or isinstance(scene, (str, os.PathLike)):
         path = scn.resolve_path(None if scene is None else os.fspath(scene))
         raw = scn.read_toml(path)
@@ -103,6 +105,9 @@ def load_scene(scene: SceneLike = None, **overrides: Any) -> Scene:
     """
     raw, path = _raw_and_path(scene)
     try:
+        sup = overrides.get("superstructure")
+        scn.replace_load(raw, [k.split(".", 1)[1] for k in overrides if k.startswith("superstructure.")]
+                         + (list(sup) if isinstance(sup, Mapping) else []))
         _merge(raw, overrides)
     except SceneError as exc:
         raise SceneError(f"{path}: {exc}") from None

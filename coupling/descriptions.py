@@ -74,7 +74,12 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.pad_diameter": ("m", "Pad diameter D = 2a; the contact footprint is a disk of radius a on each plate."),
     "device.pad_mass": ("kg", "Pad mass (the flat bearing: the cylinder's mass m); default: a solid steel "
                               "cylinder of the pad's size (7850 kg/m3). A TFP's pad may be massless (0)."),
-    "superstructure.mass": ("kg", "Mass carried by the bearing (its weight is the vertical load)."),
+    "superstructure.mass": ("kg", "Mass carried by the bearing (its weight is the vertical load). Give "
+                                  "exactly one of mass and weight_kN."),
+    "superstructure.weight_kN": ("kN", "The vertical load as a weight, instead of mass: the scene carries "
+                                       "mass = 1000 weight_kN / g, g = 9.80665 m/s2 (scene.toml writes that mass). "
+                                       "Give exactly one of mass and weight_kN; an override of one (--set, "
+                                       "fpd.run keywords) replaces the other."),
 
     # [friction] (both interfaces; [friction.lower] / [friction.upper] override per interface)
     "friction.law": ("", 'The friction law mu(T, p, v) of the interface; each law has its own keys below. '
@@ -540,5 +545,10 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "test_machine.cycles[].mu_eff_change_rel": ("", "mu_eff against the first cycle's: mu_k / mu_1 - 1."),
     "test_machine.cycles[].Q_d_change_rel": ("", "Q_d_N against the first cycle's: Q_k / Q_1 - 1."),
     "test_machine.cycles[].xi_eff_change_rel": ("", "xi_eff against the first cycle's: xi_k / xi_1 - 1."),
+    "test_machine.cycles[].T*_peak_C": ("degC", "Per sliding interface i (T1_peak_C, T2_peak_C; a TFP: T1 .. T4): the "
+                                                "largest T<i>_C recorded in the cycle (what that plate model calls "
+                                                "its surface temperature, docs/reference.md's T1_C)."),
+    "test_machine.cycles[].T*_mean_C": ("degC", "Per sliding interface i: the mean of T<i>_C over the cycle's "
+                                                "recorded rows."),
     "plots": ("", "PNG files written in plots/ (fpd run only)."),
 }
