@@ -91,7 +91,7 @@ def heat_path(result, scene):
     a = 0.5 * scene["device"]["pad_diameter"]
     area = math.pi * a * a
     t = result["t_s"]
-    fig, axes = new_figure(1, 2, figsize=(10.5, 5.0), left=0.8, right=0.1, wgap=1.0, top=0.7, bottom=0.55)
+    fig, axes = new_figure(1, 2, figsize=(10.5, 5.0), left=0.8, right=0.45, wgap=1.25, top=0.7, bottom=0.55)
     for ax, (i, side) in zip(axes, ((1, "lower"), (2, "upper"))):
         cx, cy = 1e3 * result[f"c{i}x_m"], 1e3 * result[f"c{i}y_m"]
         W = result[f"W{i}_J"]
