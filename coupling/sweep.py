@@ -58,7 +58,9 @@ MEMBER_DEFAULTS = {"output.plots": False, "output.vtk_every": 0}
 # headline numbers of sweep.md: (column, label, unit scale, unit)
 HEADLINES = (("peak_u_m", "peak displacement", 1e3, "mm"), ("residual_u_m", "residual displacement", 1e3, "mm"),
              ("friction_work_total_J", "friction work", 1e-3, "kJ"), ("peak_T1_C", "peak T lower", 1, "C"),
-             ("peak_T2_C", "peak T upper", 1, "C"), ("peak_theta_rad", "peak pad tilt", 1, "rad"),
+             ("peak_T2_C", "peak T upper", 1, "C"),
+             ("peak_theta_rad", "peak sliding rotation theta (line of centres)", 1, "rad"),
+             ("peak_beta_rad", "peak pad rocking beta", 1, "rad"),
              ("energy_residual_rel", "energy residual", 1, "rel"), ("runtime_s", "run time", 1, "s"))
 
 
@@ -359,7 +361,9 @@ def _run_kept(scene, sim, dest: Path):
 
 def _extra(result) -> dict:
     """Columns the sweep adds to a member's summary: the total friction work
-    and the peak pad tilt and rotation (the regime map's rocking measure)."""
+    the peak sliding rotation |theta| (the angle of the line of centres: how
+    far the bearing slid) and the peak pad rocking |beta| (the pad's rotation
+    about its pivot, the regime map's rocking measure)."""
     e = {}
     if result.n_rows == 0:
         return e
