@@ -58,7 +58,7 @@ def thin_xy(n: int, x, y):
 
 
 def new_figure(nrows: int = 1, ncols: int = 1, figsize=(7.0, 3.2), left=0.8, right=0.15, bottom=0.5,
-               top=0.35, hgap=0.35, wgap=0.7, sharex=False):
+               top=0.35, hgap=0.35, wgap=0.7, sharex=False, sharey=False):
     """A Figure and its axes (a flat list) with fixed margins in inches."""
     if PYPLOT:
         import matplotlib.pyplot as plt
@@ -71,7 +71,7 @@ def new_figure(nrows: int = 1, ncols: int = 1, figsize=(7.0, 3.2), left=0.8, rig
     ah = (H - bottom - top - (nrows - 1) * hgap) / nrows
     fig.subplots_adjust(left=left / W, right=1 - right / W, bottom=bottom / H, top=1 - top / H,
                         hspace=hgap / ah, wspace=wgap / aw)
-    ax = fig.subplots(nrows, ncols, squeeze=False, sharex=sharex)
+    ax = fig.subplots(nrows, ncols, squeeze=False, sharex=sharex, sharey=sharey)
     return fig, [a for row in ax for a in row]
 
 

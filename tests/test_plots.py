@@ -149,3 +149,29 @@ def test_no_text_cut_at_the_figure_edge(scene, over):
             bb = t.get_window_extent(renderer)
             assert bb.x0 >= -1 and bb.y0 >= -1 and bb.x1 <= W + 1 and bb.y1 <= H + 1, \
                 (scene, name, getattr(t, "get_text", lambda: "legend")(), bb, (W, H))
+
+
+def test_compare_loops_are_small_multiples(tmp_path):
+    """fpd compare's hysteresis.png: one panel per thermal model on shared axes
+    (five loops on one axes hid each other), the first model faint behind the others."""
+    from types import SimpleNamespace
+
+    from matplotlib.figure import Figure
+
+    from fpd.coupling import compare
+    t = np.linspace(0.0, 10.0, 3001)
+    cases = [SimpleNamespace(label=f"model {k}", result={"u_m": 0.05 * np.sin(t), "F_N": 5e4 * np.sign(np.cos(t))
+                                                       + 1e5 * k * 0.05 * np.sin(t)}) for k in range(5)]
+    saved = {}
+    real = Figure.savefig
+    Figure.savefig = lambda self, path, **kw: (saved.setdefault("fig", self), real(self, path, **kw))[1]
+    try:
+        assert compare._loops(tmp_path, cases, "x") == "hysteresis.png"
+    finally:
+        Figure.savefig = real
+    fig = saved["fig"]
+    shown = [a for a in fig.axes if a.get_visible()]
+    assert [a.get_title() for a in shown] == [f"model {k}" for k in range(5)]
+    assert all(a.get_shared_y_axes().joined(a, shown[0]) for a in shown)
+    assert [len(a.lines) for a in shown] == [1, 2, 2, 2, 2]
+    assert (tmp_path / "hysteresis.png").stat().st_size > 10_000
