@@ -27,7 +27,7 @@ COMPARE_MODELS = (
     # only while the pad covers it, about half of the time
     ("fe1d fixed-point", "fe1d", {"model": "fe1d", "source": "fixed-point", "radius_m": "a"}),
     ("axisym", "axisym", {"model": "axisym"}),
-    # the reference where it runs: the footprint as it is, no ring average (issue 13)
+    # the reference where it runs: the footprint as it is, no ring average
     ("fe3d", "fe3d", {"model": "fe3d"}),
 )
 FAST_COMPARE = {"duration": 8.0, "n_elements": 40, "nr": 0, "per_radius": 10, "nz": 12}

@@ -188,6 +188,17 @@ def columns_of(cycles: list[dict]) -> tuple[str, ...]:
     return CSV_COLUMNS + tuple(k for k in TEMP_COLUMNS if cycles and k in cycles[0])
 
 
+def doc_table(cycles: list[dict]) -> str:
+    """The per-cycle table of docs/test_machine.md (a test checks the page
+    against a run of lab-sine)."""
+    lines = ["| cycle | EDC (kJ) | K_eff (kN/m) | mu_eff | change of EDC | peak T1 (\N{DEGREE SIGN}C) |",
+             "|---|---|---|---|---|---|"]
+    for c in cycles:
+        lines.append(f"| {c['cycle']} | {c['EDC_J'] / 1e3:.1f} | {c['K_eff_N_m'] / 1e3:.0f} | {c['mu_eff']:.4f} | "
+                     f"{100 * c['EDC_change_rel']:+.1f} % | {c.get('T1_peak_C', math.nan):.1f} |")
+    return "\n".join(lines)
+
+
 def write_cycles_csv(path, cycles: list[dict]) -> None:
     cols = columns_of(cycles)
     with open(path, "w", newline="") as fh:

@@ -43,8 +43,8 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.kind": ("", '"DFP": double friction pendulum (two concave plates, one rigid pad); '
                         '"SFP": single friction pendulum (seated model only; R1 is its concave radius, '
                         'pad_height its pivot height); "TFP": triple friction pendulum (four concave '
-                        'surfaces S1..S4, two slider plates and a pad; rigid seated model, docs/model.md '
-                        'section 6; [friction.S1]..[friction.S4] and [thermal.slider_lower] / '
+                        'surfaces S1..S4, two slider plates and a pad; the paper\'s two-phase model by default or '
+                        'the rigid seated model, mechanics.model, docs/model.md section 6; [friction.S1]..[friction.S4] and [thermal.slider_lower] / '
                         '[thermal.slider_upper] override per surface and part); "flat": the flat double '
                         'friction bearing of the paper\'s Fig. 2 (a cylinder between flat plates, no R1 / '
                         'R2; docs/model.md section 7; a "DFP" with R1 = R2 = inf is read as "flat").'),
@@ -272,7 +272,8 @@ KEYS: dict[str, tuple[str, str]] = {
 # bearing (docs/model.md section 7) two slips and tip_ratio.
 COLUMNS: dict[str, tuple[str, str]] = {
     "t_s": ("s", "Time."),
-    "xg_m": ("m", "Ground displacement (test machine: the fixed base, 0; bidirectional: its x component)."),
+    "xg_m": ("m", "Ground displacement (test machine: the lower plate's position, driven by the machine, "
+                 "= -u_m; bidirectional: its x component)."),
     "yg_m": ("m", "Bidirectional: y component of the ground displacement."),
     "u_m": ("m", "Displacement of the superstructure relative to the ground (bidirectional: the resultant "
                  "|(ux_m, uy_m)|, >= 0)."),

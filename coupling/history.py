@@ -1,4 +1,4 @@
-"""Where ``simulate`` puts the history it records (issue 7, memory).
+"""Where ``simulate`` puts the history it records (memory bounded whatever the length of the run).
 
 The loop fills a buffer of the rows ``start()`` asks for (in the loop's
 column order) and hands it over whenever it is full and once at the end.

@@ -256,7 +256,7 @@ def summary(scene: Scene, result, sim) -> dict:
 
 
 def tfp_summary(scene: Scene, result, sim) -> dict:
-    """summary.json of a TFP run: per surface S1..S4 (the TFP's wave-2 keys)."""
+    """summary.json of a TFP run: per surface S1..S4."""
     d = scene.data
     s = {"status": result.status, "message": result.message, "scene": scene.name,
          "models": {"device": "TFP", "mechanics": d["mechanics"]["model"],
@@ -416,7 +416,7 @@ def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = Tr
     return s
 
 
-# -- a write that fails (issue 19) ---------------------------------------------------------
+# -- a write that fails -------------------------------------------------------------------
 def _last_row_t(csv_path: Path) -> tuple[int, float | None]:
     """(size of the whole-line prefix, t_s of its last row or None: header only)."""
     with open(csv_path, "rb") as fh:

@@ -198,7 +198,7 @@ TABLES = {
                "history": (("csv", "parquet"), "csv", None)},
 }
 TOP_KEYS = {"name": "str", "description": "str"}
-# the TFP's own [device] keys (its wave-2 keys); its four surfaces and five parts
+# the TFP's own [device] keys; its four surfaces and five parts
 TFP_DEVICE_KEYS = ("R3", "R4", "slider_height", "slider_height_lower", "slider_height_upper",
                    "slider_diameter", "d1", "d2", "d3", "d4", "slider_mass")
 TFP_SURFACES = ("S1", "S2", "S3", "S4")

@@ -1,4 +1,4 @@
-"""The three studies of issue 6: ``fpd compare``, ``fpd converge``, ``fpd stability``.
+"""The three studies: ``fpd compare``, ``fpd converge``, ``fpd stability``.
 
 One file per concept:
 
