@@ -201,3 +201,20 @@ def test_history_pattern_catches_what_it_should():
         assert HISTORY.search(s), s
     for s in ("a shear wave speed", "tissue 13", "the waveform"):
         assert not HISTORY.search(s), s
+
+
+def test_readme_setup_makes_a_venv_and_gives_one_compile_time():
+    text = (ROOT / "README.md").read_text()
+    setup = text[text.index("## Set-up"):text.index("\n## ", text.index("## Set-up") + 5)]
+    cmds = [line.strip() for line in setup.splitlines() if line.startswith("    python3")]
+    assert len(cmds) == 2
+    for c in cmds:
+        assert c.startswith("python3 -m venv .venv && . .venv/bin/activate && python3 -m pip install -e ")
+    # the first compile: one number wherever README, the docs or the notice state it
+    from fpd import jitcache
+    stated = set(re.findall(r"compil\w*[^.;]{0,60}?about (\d+) s", jitcache.NOTICE))
+    for f in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+        body = f.read_text().replace("\n", " ")
+        stated |= set(re.findall(r"compil\w* (?:them )?once[^.;]{0,20}?\(?(?:~|about )(\d+(?:-\d+)?) s", body))
+        assert not re.search(r"compil\w*[^.;]{0,40}?~\d+-\d+ s", body), f
+    assert stated == {"35"}, stated
