@@ -28,7 +28,13 @@ import os
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any, Union
+from typing import TYPE_CHECKING, Any, Union
+
+if TYPE_CHECKING:         # the annotations' types, never imported at run time (import fpd stays cheap)
+    import matplotlib.figure
+    import numpy
+    import pandas
+    import xarray
 
 from . import scene as scn
 from .scene import Scene, SceneError
