@@ -230,7 +230,6 @@ def cycles_figure(cycles: list[dict], title: str):
                            fontsize=8)
         a.set_ylabel(label)
         a.grid(alpha=0.3)
-        a.margins(x=0.12)            # room for the last cycle's mark
     if cycles:
         W = cycles[0]["Q_d_N"] / cycles[0]["mu_eff"] if cycles[0]["mu_eff"] else None
         if W:
@@ -254,6 +253,8 @@ def cycles_figure(cycles: list[dict], title: str):
         a.grid(alpha=0.3)
     ax[-1].set_xlabel("cycle (change against cycle 1 marked)")
     ax[-1].set_xticks(k)
+    if k:
+        ax[-1].set_xlim(k[0] - 0.3, k[-1] + 0.3)      # room for the last cycle's mark (shared by every panel)
     ax[0].set_title(f"{title}: per-cycle test quantities")
     return fig
 
