@@ -1,4 +1,4 @@
-"""The axisym ring-average bias (issue 13, docs/thermal.md section 8).
+"""The axisym ring-average bias (docs/thermal.md section 8).
 
 A stationary disk of radius a, uniform flux q, on a thick plate: on a
 half-space its footprint mean does not depend on where it sits (the closed

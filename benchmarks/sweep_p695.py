@@ -1,4 +1,4 @@
-"""Issue 16's acceptance: the FEMA P695 far-field set (44 components) on the
+"""The acceptance measurement of the FEMA P695 far-field set (44 components) on the
 default scene (two-phase + fe1d, dt = 1 ms) as an ``fpd sweep``.
 
 Measures, each the best of --repeat runs of the whole command in a fresh

@@ -5,7 +5,7 @@ parts, El Centro x 2) at dt = 1 ms: the time-stepping loop's own time
 (Result.runtime_s: stepping only, not imports, compilation or storing), best
 of N runs in one process (the machine may be shared: the best run is the
 least disturbed one), and the Python loop once for comparison.
-Target (issue 15): <= 1 s compiled.
+Target: <= 1 s compiled.
 """
 from __future__ import annotations
 

@@ -5,13 +5,16 @@ The Python API (what the ``fpd`` command does, for scripts and notebooks)::
     import fpd
     r = fpd.run("default", solver={"duration": 5.0})   # a packaged name, a path or a dict
     print(r.summary["peak_u_m"])                       # summary.json's fields
-    r.history["u_m"], r.history.to_pandas()            # timeseries.csv's columns
-    s = fpd.load_scene("lab-sine", friction={"mu": 0.08})
+    r.history["u_m"], r.history["F_N"]                 # timeseries.csv's columns (numpy arrays)
+    figs = r.plot()                                    # the run's figures (matplotlib), by name
+    r.plot("hysteresis").savefig("loop.png")
+    s = fpd.load_scene("lab-sine", friction={"mu_ref": 0.08})
     fpd.compare("default", fast=True).rows             # lumped / fe1d / axisym side by side
     fpd.converge("heat-disk", fast=True).rows          # observed orders
 
-Every scene key, output column, summary.json field and exit status:
-docs/reference.md (``fpd reference`` prints it).
+Every function and class: docs/api.md. Every scene key, output column,
+summary.json field and exit status: docs/reference.md (``fpd reference``
+prints it). A first bearing from its datasheet: docs/tutorial.md.
 
 The names above are imported on first use, so ``import fpd`` itself stays
 cheap (no numpy, scipy or numba). The subpackages live at the top of the

@@ -6,12 +6,12 @@ What the command line does, for a script or a notebook::
     r = fpd.run("default", solver={"duration": 5.0})
     r.summary["peak_u_m"]            # the fields of summary.json
     r.history["u_m"]                 # a column of timeseries.csv, as a numpy array
-    r.history.to_pandas()            # when pandas is installed
+    r.plot("hysteresis")             # a figure of plots/, as a matplotlib Figure
 
-A scene is given as a packaged name (``"default"``, ``"stability/tall-pad"``),
-a path to a TOML file, a dict with the TOML file's structure, or a Scene
-from ``load_scene``. Overrides are keyword arguments, as nested dicts
-(``solver={"dt": 5e-4}``) or dotted keys (``**{"friction.mu": 0.08}``); they
+A scene (``SceneLike``) is given as a packaged name (``"default"``,
+``"stability/tall-pad"``), a path to a TOML file, a dict with the TOML file's
+structure, or a Scene from ``load_scene``. Overrides are keyword arguments, as nested dicts
+(``solver={"dt": 5e-4}``) or dotted keys (``**{"friction.mu_ref": 0.08}``); they
 replace keys of the scene before it is validated, as ``--set`` does. Every key,
 column and summary field is described in docs/reference.md.
 
@@ -28,9 +28,19 @@ import os
 import tempfile
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Union
+
+if TYPE_CHECKING:         # the annotations' types, never imported at run time (import fpd stays cheap)
+    import matplotlib.figure
+    import numpy
+    import pandas
+    import xarray
 
 from fpd.schema import scene as scn
 from fpd.schema.scene import Scene, SceneError
+
+# what a scene argument may be: a packaged name or a path, a dict shaped like the TOML file, a Scene
+SceneLike = Union[str, os.PathLike, Mapping, Scene, None]
 
 __all__ = ["run", "load_scene", "compare", "converge", "Result", "History", "StudyResult", "SceneError"]
 
@@ -66,7 +76,9 @@ def _raw_and_path(scene) -> tuple[dict, str]:
         raw = getattr(scene, "_fpd_raw", None)
         return copy.deepcopy(raw) if raw is not None else _resolved_raw(scene), scene.path
     if isinstance(scene, Mapping):
-        return copy.deepcopy(dict(scene)), "<dict>"
+        raw = copy.deepcopy(dict(scene))
+        raw.setdefault("name", "scene")         # a dict without a name: results/scene, not '<dict>'
+        return raw, "<dict>"
     if scene is None or isinstance(scene, (str, os.PathLike)):
         path = scn.resolve_path(None if scene is None else os.fspath(scene))
         raw = scn.read_toml(path)
@@ -85,7 +97,7 @@ def _resolved_raw(scene: Scene) -> dict:
     return data
 
 
-def load_scene(scene=None, **overrides) -> Scene:
+def load_scene(scene: SceneLike = None, **overrides: Any) -> Scene:
     """Read, override and validate a scene; raise ``SceneError`` on bad input.
 
     ``scene``: a packaged name (``"default"``, ``"lab-sine"``, ``"stability/tall-pad"``;
@@ -99,6 +111,9 @@ def load_scene(scene=None, **overrides) -> Scene:
     """
     raw, path = _raw_and_path(scene)
     try:
+        sup = overrides.get("superstructure")
+        scn.replace_load(raw, [k.split(".", 1)[1] for k in overrides if k.startswith("superstructure.")]
+                         + (list(sup) if isinstance(sup, Mapping) else []))
         _merge(raw, overrides)
     except SceneError as exc:
         raise SceneError(f"{path}: {exc}") from None
@@ -122,7 +137,8 @@ class History(Mapping):
         self.columns = list(columns)
         self.data = data
 
-    def __getitem__(self, name):
+    def __getitem__(self, name: str) -> "numpy.ndarray":
+        """The column ``name`` as a numpy array (``phase``: its names; ``phase_code``: its codes)."""
         import numpy as np
 
         if name == "phase_code" and "phase" in self.columns:
@@ -143,12 +159,13 @@ class History(Mapping):
 
     @property
     def n_rows(self) -> int:
+        """The number of recorded rows."""
         return int(self.data.shape[0])
 
     def __repr__(self):
         return f"History({self.n_rows} rows: {', '.join(self.columns)})"
 
-    def to_pandas(self):
+    def to_pandas(self) -> "pandas.DataFrame":
         """A pandas DataFrame, one column per history column (``phase`` categorical)."""
         try:
             import pandas as pd
@@ -161,7 +178,7 @@ class History(Mapping):
             df["phase"] = pd.Categorical(df["phase"], categories=list(PHASES))
         return df
 
-    def to_xarray(self):
+    def to_xarray(self) -> "xarray.Dataset":
         """An xarray Dataset over the dimension ``t_s``; each variable has its unit
         and meaning (docs/reference.md) in ``attrs``."""
         try:
@@ -190,6 +207,7 @@ class Result:
     - ``scene``: the resolved Scene that ran
     - ``out``: the results folder (a Path) when ``out=`` was given, else None
     - ``status``, ``ok``: ``"ok"`` / ``"failed"`` / ``"interrupted"`` and whether it is ``"ok"``
+    - ``plot()``, ``plot("hysteresis")``: the run's figures as matplotlib Figures
     """
 
     def __init__(self, summary, history, scene, out):
@@ -197,18 +215,56 @@ class Result:
 
     @property
     def status(self) -> str:
+        """``"ok"``, ``"failed"`` or ``"interrupted"`` (summary.json's ``status``)."""
         return self.summary["status"]
 
     @property
     def ok(self) -> bool:
+        """Did the run end with status ``"ok"``?"""
         return self.status == "ok"
+
+    def figure_names(self) -> list[str]:
+        """The names ``plot`` takes for this run (those of the PNGs ``fpd run`` writes in plots/,
+        without the hottest-field pictures)."""
+        from fpd.outputs import figures
+        names = list(figures.figures(self.history, self.scene)) if self.history.n_rows > 1 else []
+        if self.summary.get("test_machine", {}).get("cycles"):
+            names.append("cycles")
+        return names
+
+    def plot(self, name: str | None = None) -> "dict[str, matplotlib.figure.Figure] | matplotlib.figure.Figure":
+        """The run's figures, as ``fpd run`` draws them into plots/, as matplotlib Figures.
+
+        ``plot()``: a dict name -> Figure of every figure of this run (``hysteresis``,
+        ``response``, ``temperature``, ``friction``; ``orbit``, ``force_orbit``,
+        ``heat_path`` for a bidirectional run; ``cycles`` on the test machine).
+        ``plot("hysteresis")``: that one Figure. The figures are made by pyplot:
+        a notebook shows them; a script calls ``plt.show()`` or
+        ``fig.savefig("loop.png")`` (and ``plt.close(fig)`` when done with it). Raises ``ValueError`` for a name this run has not.
+        """
+        from fpd.outputs import drawing, figures
+        names = self.figure_names()
+        if name is not None and name not in names:
+            raise ValueError(f"plot({name!r}): this run's figures are {', '.join(names) or 'none (fewer than 2 rows)'}")
+        builders = figures.figures(self.history, self.scene) if self.history.n_rows > 1 else {}
+        if "cycles" in names:
+            from fpd.outputs.cycles import cycles_figure
+            builders["cycles"] = lambda: cycles_figure(self.summary["test_machine"]["cycles"], self.scene.name)
+        old, drawing.PYPLOT = drawing.PYPLOT, True
+        try:
+            if name is not None:
+                return builders[name]()
+            return {n: build() for n, build in builders.items()}
+        finally:
+            drawing.PYPLOT = old
 
     def __repr__(self):
         return (f"Result(scene={self.scene.name!r}, status={self.status!r}, "
                 f"steps={self.summary.get('steps')}, out={str(self.out) if self.out else None!r})")
 
 
-def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **overrides) -> Result:
+def run(scene: SceneLike = None, out: str | os.PathLike | None = None, *, force: bool = False,
+        progress: bool = False, **overrides: Any) -> Result:
     """Run a scene and return a ``Result`` (summary, history, scene, out).
 
     ``scene``: a packaged name, a path, a dict or a Scene (see ``load_scene``);
@@ -257,9 +313,7 @@ def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **
         if vtk:
             vtk.close()
         sc["solver"].setdefault("duration", sim.n_steps * sim.dt)
-        s = write_all(folder, sc, result, sim, plots=sc["output"]["plots"])
-        if hottest is not None:
-            hottest.pictures(folder.subdir("plots"))
+        s = write_all(folder, sc, result, sim, plots=sc["output"]["plots"], hottest=hottest)
         folder.commit()
     except BaseException:
         folder.discard()
@@ -284,9 +338,11 @@ class StudyResult:
 
     @property
     def rows(self) -> list[dict]:
+        """The main table's rows (compare.csv / orders.csv), one dict per row."""
         return self.tables[self.table]
 
-    def to_pandas(self, table: str | None = None):
+    def to_pandas(self, table: str | None = None) -> "pandas.DataFrame":
+        """A table (``table``, default the main one) as a pandas DataFrame."""
         try:
             import pandas as pd
         except ImportError:
@@ -334,8 +390,8 @@ def _study(kind: str, table: str, scene, out, force, fast, quiet, overrides) -> 
     return StudyResult(table, tables, summary, report, where if out is not None else None)
 
 
-def compare(scene=None, out=None, *, fast: bool = False, force: bool = False, quiet: bool = True,
-            **overrides) -> StudyResult:
+def compare(scene: SceneLike = None, out: str | os.PathLike | None = None, *, fast: bool = False,
+            force: bool = False, quiet: bool = True, **overrides: Any) -> StudyResult:
     """``fpd compare``: the scene under lumped, fe1d (follow-pad, fixed-point) and
     axisym plates. ``rows`` = compare.csv (one row per model and plate: peak and
     end temperature, min mu, friction work, errors against the reference model).
@@ -343,8 +399,8 @@ def compare(scene=None, out=None, *, fast: bool = False, force: bool = False, qu
     return _study("compare", "compare", scene, out, force, fast, quiet, overrides)
 
 
-def converge(scene=None, out=None, *, fast: bool = False, force: bool = False, quiet: bool = True,
-             **overrides) -> StudyResult:
+def converge(scene: SceneLike = None, out: str | os.PathLike | None = None, *, fast: bool = False,
+             force: bool = False, quiet: bool = True, **overrides: Any) -> StudyResult:
     """``fpd converge``: dt and mesh refinement of the scene, error against run
     time. ``rows`` = orders.csv (observed order and finest error per sweep and
     output); ``tables["converge"]`` every level. Other arguments as ``compare``."""

@@ -257,9 +257,7 @@ def cmd_run(args) -> int:
             vtk.close()
         solver = scene["solver"]
         solver.setdefault("duration", sim.n_steps * sim.dt)
-        s = write_all(folder, scene, result, sim, plots=scene["output"]["plots"])
-        if hottest is not None:
-            hottest.pictures(folder.subdir("plots"))
+        s = write_all(folder, scene, result, sim, plots=scene["output"]["plots"], hottest=hottest)
         folder.commit()
     except OSError as exc:      # disk full, quota, permission, folder removed: one line (output.after_write_error)
         held.start()

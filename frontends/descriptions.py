@@ -43,8 +43,8 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.kind": ("", '"DFP": double friction pendulum (two concave plates, one rigid pad); '
                         '"SFP": single friction pendulum (seated model only; R1 is its concave radius, '
                         'pad_height its pivot height); "TFP": triple friction pendulum (four concave '
-                        'surfaces S1..S4, two slider plates and a pad; rigid seated model, docs/model.md '
-                        'section 6; [friction.S1]..[friction.S4] and [thermal.slider_lower] / '
+                        'surfaces S1..S4, two slider plates and a pad; the paper\'s two-phase model by default or '
+                        'the rigid seated model, mechanics.model, docs/model.md section 6; [friction.S1]..[friction.S4] and [thermal.slider_lower] / '
                         '[thermal.slider_upper] override per surface and part); "flat": the flat double '
                         'friction bearing of the paper\'s Fig. 2 (a cylinder between flat plates, no R1 / '
                         'R2; docs/model.md section 7; a "DFP" with R1 = R2 = inf is read as "flat").'),
@@ -74,7 +74,12 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.pad_diameter": ("m", "Pad diameter D = 2a; the contact footprint is a disk of radius a on each plate."),
     "device.pad_mass": ("kg", "Pad mass (the flat bearing: the cylinder's mass m); default: a solid steel "
                               "cylinder of the pad's size (7850 kg/m3). A TFP's pad may be massless (0)."),
-    "superstructure.mass": ("kg", "Mass carried by the bearing (its weight is the vertical load)."),
+    "superstructure.mass": ("kg", "Mass carried by the bearing (its weight is the vertical load). Give "
+                                  "exactly one of mass and weight_kN."),
+    "superstructure.weight_kN": ("kN", "The vertical load as a weight, instead of mass: the scene carries "
+                                       "mass = 1000 weight_kN / g, g = 9.80665 m/s2 (scene.toml writes that mass). "
+                                       "Give exactly one of mass and weight_kN; an override of one (--set, "
+                                       "fpd.run keywords) replaces the other."),
 
     # [friction] (both interfaces; [friction.lower] / [friction.upper] override per interface)
     "friction.law": ("", 'The friction law mu(T, p, v) of the interface; each law has its own keys below. '
@@ -275,7 +280,8 @@ KEYS: dict[str, tuple[str, str]] = {
 # bearing (docs/model.md section 7) two slips and tip_ratio.
 COLUMNS: dict[str, tuple[str, str]] = {
     "t_s": ("s", "Time."),
-    "xg_m": ("m", "Ground displacement (test machine: the fixed base, 0; bidirectional: its x component)."),
+    "xg_m": ("m", "Ground displacement (test machine: the lower plate's position, driven by the machine, "
+                 "= -u_m; bidirectional: its x component)."),
     "yg_m": ("m", "Bidirectional: y component of the ground displacement."),
     "u_m": ("m", "Displacement of the superstructure relative to the ground (bidirectional: the resultant "
                  "|(ux_m, uy_m)|, >= 0)."),
@@ -559,5 +565,10 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "test_machine.cycles[].mu_eff_change_rel": ("", "mu_eff against the first cycle's: mu_k / mu_1 - 1."),
     "test_machine.cycles[].Q_d_change_rel": ("", "Q_d_N against the first cycle's: Q_k / Q_1 - 1."),
     "test_machine.cycles[].xi_eff_change_rel": ("", "xi_eff against the first cycle's: xi_k / xi_1 - 1."),
+    "test_machine.cycles[].T*_peak_C": ("degC", "Per sliding interface i (T1_peak_C, T2_peak_C; a TFP: T1 .. T4): the "
+                                                "largest T<i>_C recorded in the cycle (what that plate model calls "
+                                                "its surface temperature, docs/reference.md's T1_C)."),
+    "test_machine.cycles[].T*_mean_C": ("degC", "Per sliding interface i: the mean of T<i>_C over the cycle's "
+                                                "recorded rows."),
     "plots": ("", "PNG files written in plots/ (fpd run only)."),
 }

@@ -1,4 +1,4 @@
-"""One writer per results folder (issue 19).
+"""One writer per results folder.
 
 Every command that writes a results folder DIR first *claims* it: an
 exclusive ``fcntl.flock`` on a lock file beside DIR, ``.<name>.lock`` in

@@ -21,7 +21,12 @@ of the imposed sine (t in [k T, (k+1) T], T = 1 / frequency):
 - ``xi_eff`` = EDC / (2 pi K_eff d_max^2): the effective damping ratio;
 - ``v_peak_mps``: the largest |relative velocity| of the cycle;
 - each with its change against the first cycle (``*_change_rel`` =
-  x_k / x_1 - 1).
+  x_k / x_1 - 1);
+- ``T<i>_peak_C``, ``T<i>_mean_C``: per sliding interface i (the run's
+  T1_C, T2_C, ... columns: what each plate model calls its surface
+  temperature), the largest and the mean recorded value over the cycle's
+  rows: how far each cycle heats the surfaces, beside the loop quantities
+  that the heating changes.
 
 ``CycleMeter`` takes the rows block by block (the streamed history of ``fpd
 run`` hands it every block it writes), so the numbers are those of every
@@ -55,6 +60,8 @@ class CycleMeter:
         cols = list(columns)
         self.jt, self.ju, self.jF = cols.index("t_s"), cols.index("u_m"), cols.index("F_N")
         self.jv = cols.index("v_mps") if "v_mps" in cols else None
+        # the interfaces' temperature columns (T1_C ... T4_C, those the run has)
+        self.temps = [(i, cols.index(f"T{i}_C")) for i in range(1, 5) if f"T{i}_C" in cols]
         self.T, self.n, self.W = float(period_s), int(cycles), float(vertical_load_N)
         self.edc = np.zeros(self.n)
         self.dpos = np.full(self.n, -np.inf)
@@ -62,6 +69,9 @@ class CycleMeter:
         self.Fpos = np.full(self.n, np.nan)
         self.Fneg = np.full(self.n, np.nan)
         self.vpk = np.zeros(self.n)
+        self.Tpk = np.full((self.n, len(self.temps)), -np.inf)
+        self.Tsum = np.zeros((self.n, len(self.temps)))
+        self.rows = np.zeros(self.n, dtype=int)
         self.seen = np.zeros(self.n, dtype=bool)
         self.closed = np.zeros(self.n, dtype=bool)     # a row at or past the cycle's end was seen
         self.prev = None                                 # the last row of the previous block
@@ -99,6 +109,11 @@ class CycleMeter:
                 self.dneg[k], self.Fneg[k] = uu[j], new[sel, self.jF][j]
             if self.jv is not None:
                 self.vpk[k] = max(self.vpk[k], float(np.max(np.abs(new[sel, self.jv]))))
+            if self.temps:
+                T = new[sel][:, [j for _, j in self.temps]]
+                self.Tpk[k] = np.maximum(self.Tpk[k], T.max(axis=0))
+                self.Tsum[k] += T.sum(axis=0)
+            self.rows[k] += int(sel.sum())
         self.prev = block[-1].copy()
 
     def cycles(self) -> list[dict]:
@@ -118,6 +133,9 @@ class CycleMeter:
                  "mu_eff": edc / (4.0 * self.W * dmax) if dmax > 0 and self.W > 0 else math.nan,
                  "Q_d_N": edc / (4.0 * dmax) if dmax > 0 else math.nan,
                  "xi_eff": edc / (2.0 * math.pi * K * dmax * dmax) if dmax > 0 and K > 0 else math.nan}
+            for m, (i, _) in enumerate(self.temps):
+                c[f"T{i}_peak_C"] = float(self.Tpk[k, m])
+                c[f"T{i}_mean_C"] = float(self.Tsum[k, m] / self.rows[k])
             out.append(c)
         for c in out:
             for key in KEYS:
@@ -161,22 +179,45 @@ def summary_block(meter: CycleMeter, scene) -> dict:
     }
 
 
+# the per-interface temperature columns a cycle may have (those of the run's T<i>_C)
+TEMP_COLUMNS = tuple(f"T{i}_{what}_C" for i in range(1, 5) for what in ("peak", "mean"))
+
+
+def columns_of(cycles: list[dict]) -> tuple[str, ...]:
+    """cycles.csv's columns: CSV_COLUMNS, then the temperature columns present."""
+    return CSV_COLUMNS + tuple(k for k in TEMP_COLUMNS if cycles and k in cycles[0])
+
+
+def doc_table(cycles: list[dict]) -> str:
+    """The per-cycle table of docs/test_machine.md (a test checks the page
+    against a run of lab-sine)."""
+    lines = ["| cycle | EDC (kJ) | K_eff (kN/m) | mu_eff | change of EDC | peak T1 (\N{DEGREE SIGN}C) |",
+             "|---|---|---|---|---|---|"]
+    for c in cycles:
+        lines.append(f"| {c['cycle']} | {c['EDC_J'] / 1e3:.1f} | {c['K_eff_N_m'] / 1e3:.0f} | {c['mu_eff']:.4f} | "
+                     f"{100 * c['EDC_change_rel']:+.1f} % | {c.get('T1_peak_C', math.nan):.1f} |")
+    return "\n".join(lines)
+
+
 def write_cycles_csv(path, cycles: list[dict]) -> None:
+    cols = columns_of(cycles)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh, lineterminator="\n")
-        w.writerow(CSV_COLUMNS)
+        w.writerow(cols)
         for c in cycles:
-            w.writerow([c["cycle"]] + [repr(float(c[k])) for k in CSV_COLUMNS[1:]])
+            w.writerow([c["cycle"]] + [repr(float(c[k])) for k in cols[1:]])
 
 
-def plot_cycles(path, cycles: list[dict], title: str) -> None:
-    """EDC, K_eff, mu_eff (and Q_d on mu_eff's axis, as mu_eff W) per cycle."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def cycles_figure(cycles: list[dict], title: str):
+    """EDC, K_eff, mu_eff (and Q_d on mu_eff's axis, as mu_eff W) per cycle,
+    and each interface's peak and mean surface temperature per cycle."""
+    from .drawing import DEG, new_figure
 
     k = [c["cycle"] for c in cycles]
-    fig, ax = plt.subplots(3, 1, figsize=(7, 7.2), sharex=True, constrained_layout=True)
+    temps = sorted({int(key[1]) for key in (cycles[0] if cycles else {}) if key.endswith("_peak_C")})
+    n = 4 if temps else 3
+    fig, ax = new_figure(n, figsize=(7.0, 2.3 * n + 0.5), left=0.9, right=0.9, top=0.35, bottom=0.5,
+                         hgap=0.15, sharex=True)
     panels = (("EDC_J", 1e-3, "EDC (kJ)", "EDC_change_rel"),
               ("K_eff_N_m", 1e-3, "K_eff (kN/m)", "K_eff_change_rel"),
               ("mu_eff", 1.0, "mu_eff = EDC / (4 W d_max)", "mu_eff_change_rel"))
@@ -194,8 +235,31 @@ def plot_cycles(path, cycles: list[dict], title: str) -> None:
         if W:
             sec = ax[2].secondary_yaxis("right", functions=(lambda m: m * W * 1e-3, lambda q: q / (W * 1e-3)))
             sec.set_ylabel("Q_d = EDC / (4 d_max) (kN)")
+    if temps:
+        a = ax[3]
+        styles = ("-", "--", "-.", ":")
+        for m, i in enumerate(temps):
+            peak = [c[f"T{i}_peak_C"] for c in cycles]
+            mean = [c[f"T{i}_mean_C"] for c in cycles]
+            a.plot(k, peak, "o" + styles[m % 4], color="tab:red", ms=5 - m, label=f"T{i} peak")
+            a.plot(k, mean, "s" + styles[m % 4], color="tab:blue", ms=5 - m, label=f"T{i} mean")
+        same = [i for i in temps[1:] if all(abs(c[f"T{i}_peak_C"] - c[f"T{temps[0]}_peak_C"]) <= 0.003 * max(
+            1.0, abs(c[f"T{temps[0]}_peak_C"])) for c in cycles)]
+        if same:
+            a.text(0.99, 0.04, "T" + ", T".join(map(str, [temps[0], *same])) + " coincide",
+                   ha="right", transform=a.transAxes, fontsize=8, color="0.3")
+        a.set_ylabel(f"surface T per cycle ({DEG})")
+        a.legend(fontsize=7, ncols=len(temps), loc="upper left")
+        a.grid(alpha=0.3)
     ax[-1].set_xlabel("cycle (change against cycle 1 marked)")
     ax[-1].set_xticks(k)
+    if k:
+        ax[-1].set_xlim(k[0] - 0.3, k[-1] + 0.3)      # room for the last cycle's mark (shared by every panel)
     ax[0].set_title(f"{title}: per-cycle test quantities")
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    return fig
+
+
+def plot_cycles(path, cycles: list[dict], title: str) -> None:
+    """plots/cycles.png (cycles_figure)."""
+    from .drawing import save
+    save(cycles_figure(cycles, title), path)

@@ -1,4 +1,4 @@
-"""Where ``simulate`` puts the history it records (issue 7, memory).
+"""Where ``simulate`` puts the history it records (memory bounded whatever the length of the run).
 
 The loop fills a buffer of the rows ``start()`` asks for (in the loop's
 column order) and hands it over whenever it is full and once at the end.
@@ -182,7 +182,7 @@ class StreamHistory:
         # output.ParquetWriter; None: the CSV text on an open file (CsvWriter)
         self._writer_cls = writer
         # meters: callables columns -> an object with add(rows) (or None), fed
-        # every block (e.g. coupling/cycles.CycleMeter: per-cycle loop areas)
+        # every block (e.g. outputs/cycles.CycleMeter: per-cycle loop areas)
         self._meter_makers = tuple(meters)
         self.meters = []
         self.spill_path = Path(spill_path) if spill_path is not None else None

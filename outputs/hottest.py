@@ -76,6 +76,11 @@ class HottestFields:
                 if best is None or tmax > best[0]:
                     self.best[side] = (tmax, t, plate, plate.field_state())
                 continue
+            if plate is not None and hasattr(plate, "temperature") and side in self.best:
+                # the field is built only when it beats the kept one (a look is then a max)
+                T = plate.temperature()
+                if not (np.size(T) and float(np.nanmax(T)) > self.best[side][0]):
+                    continue
             fld = plate.field() if plate is not None else None
             if fld is not None:
                 self.consider(side, t, *fld, surface=plate.surface_temperature(),
@@ -154,10 +159,9 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
     The title gives the hottest node and, when known, what the run's
     T1_C / T2_C column holds at that time (the model's surface quantity:
     footprint mean, material point, ...) and why the two differ."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.tri import Triangulation
+
+    from .drawing import new_figure, save
 
     points = np.asarray(points, dtype=float)
     if points.shape[1] == 2:
@@ -172,10 +176,12 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
         if params is not None else None
     three_d = point_T and ext[0] > 0 and ext[1] > 0 and ext[2] > 0
     section = point_T and not three_d and ext[2] > 0 and (ext[0] > 0 or ext[1] > 0)
+    # fixed margins (inches): room for the three-line title above, the colour bar at the right
     if three_d:
-        fig, axes = plt.subplots(1, 2, figsize=(10, 4.4), constrained_layout=True)
+        fig, axes = new_figure(1, 2, figsize=(10, 4.4), left=0.7, right=0.1, top=0.75, bottom=0.5, wgap=0.75)
     else:
-        fig, ax = plt.subplots(figsize=(7, 4.6), constrained_layout=True)
+        fig, (ax,) = new_figure(figsize=(7, 4.6), left=0.8, right=0.15 if not section else 0.1, top=0.8,
+                                bottom=0.55)
     if not point_T or not (three_d or section):
         # a column: T against the depth (cell values at the cell mid-depths)
         if point_T:
@@ -255,8 +261,12 @@ def plot_plate_field(path: Path, label: str, tmax: float, t: float, points, cell
         if surface < tmax - 0.005:
             head += ("\n(a mean over the footprint is below the footprint's hottest point)" if "mean" in what
                      else "\n(the model's point is not the hottest node)")
-    fig.suptitle(head, fontsize=9.5)
+    fig.suptitle(head, fontsize=9.5, y=1 - 0.08 / fig.get_figheight(), va="top")
+    # the title's lines above the axes (fixed margins, no layout pass)
+    H = fig.get_figheight()
+    lines = head.count("\n") + 1
+    top = (0.2 + 0.17 * lines + (0.25 if three_d else 0.0)) / H
+    fig.subplots_adjust(top=1 - top)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save(fig, path)
     return path

@@ -246,7 +246,7 @@ def summary(scene: Scene, result, sim) -> dict:
 
 
 def tfp_summary(scene: Scene, result, sim) -> dict:
-    """summary.json of a TFP run: per surface S1..S4 (the TFP's wave-2 keys)."""
+    """summary.json of a TFP run: per surface S1..S4."""
     d = scene.data
     s = {"status": result.status, "message": result.message, "scene": scene.name,
          "models": {"device": "TFP", "mechanics": d["mechanics"]["model"],
@@ -381,9 +381,11 @@ def stream_history(folder: ResultsFolder, scene: Scene, **kw):
     return StreamHistory(folder.path(HISTORY_FILES[fmt]), spill_path=spill, **kw)
 
 
-def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = True) -> dict:
+def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = True, hottest=None) -> dict:
     """Everything but what the run streamed: timeseries.csv (unless streamed
-    already), scene.toml, summary.json, plots/."""
+    already), scene.toml, summary.json, plots/ (with each plate's hottest
+    field when ``hottest``, a HottestFields, is given); summary.json's
+    ``plots`` names every PNG written in plots/."""
     if not result.streamed:
         fmt = history_format(scene)
         (write_parquet if fmt == "parquet" else write_csv)(folder.path(HISTORY_FILES[fmt]), result)
@@ -395,19 +397,19 @@ def write_all(folder: ResultsFolder, scene: Scene, result, sim, plots: bool = Tr
         from .cycles import plot_cycles, write_cycles_csv
         write_cycles_csv(folder.path("cycles.csv"), s["test_machine"]["cycles"])
     if plots and result.n_rows > 1:
-        if "W4_J" in result:                 # the TFP: four surfaces, regimes
-            from .tfp_plots import make_tfp_plots as make_plots
-        else:
-            from .plots import make_plots
+        from .figures import make_plots
         s["plots"] = make_plots(folder.subdir("plots"), result.plot_view(), scene)
         if s.get("test_machine", {}).get("cycles"):
             plot_cycles(folder.path("plots", "cycles.png"), s["test_machine"]["cycles"], scene.name)
             s["plots"].append("cycles.png")
+    if plots and hottest is not None:
+        s.setdefault("plots", [])
+        s["plots"] += [Path(p).name for p in hottest.pictures(folder.subdir("plots"))]
     folder.path("summary.json").write_text(json.dumps(s, indent=2) + "\n")
     return s
 
 
-# -- a write that fails (issue 19) ---------------------------------------------------------
+# -- a write that fails -------------------------------------------------------------------
 def _last_row_t(csv_path: Path) -> tuple[int, float | None]:
     """(size of the whole-line prefix, t_s of its last row or None: header only)."""
     with open(csv_path, "rb") as fh:

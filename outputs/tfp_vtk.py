@@ -13,7 +13,7 @@ so that they overlay device.pvd (``place_part_field``: each part's field
 wrapped onto its own sliding surface, at that body's pose), with point data
 ``depth_m`` (below the sliding face); fe3d parts on the grid of
 ``output.vtk_fe3d``. The series is bounded before it is written
-(coupling/vtk_budget.py).
+(outputs/vtk_budget.py).
 """
 from __future__ import annotations
 
@@ -180,7 +180,7 @@ class TFPVTKSeries:
             self.hottest.consider(part, t, *fld, surface=vals.get(f"T{i + 1}_C"), params=self.sim.plate_params[i])
 
     def _entries(self, n: int, vals: dict):
-        """(time, the frame's files as coupling/vtk_budget entries, [(part,
+        """(time, the frame's files as outputs/vtk_budget entries, [(part,
         its own field)] for the hottest-field pictures)."""
         sim = self.sim
         g = sim.geometry

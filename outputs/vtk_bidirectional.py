@@ -157,7 +157,7 @@ class VTKSeries3D:
         put(self.writers, *self._entries(n, dict(vals)))
 
     def _entries(self, n, vals):
-        """(time, the frame's file as coupling/vtk_budget entries)."""
+        """(time, the frame's file as outputs/vtk_budget entries)."""
         geom = self.geom
         L = geom.L
         ux, uy = float(vals["ux_m"]), float(vals["uy_m"])

@@ -18,7 +18,7 @@
   the plate's concave surface, the column or section under the footprint,
   moving with the ground or the superstructure), so it overlays device.pvd,
   with point data ``depth_m`` (below the sliding face: the heated layer);
-  an fe3d plate on the grid of ``output.vtk_fe3d`` (coupling/vtk_budget.py),
+  an fe3d plate on the grid of ``output.vtk_fe3d`` (outputs/vtk_budget.py),
   in float32; no series for plates without a field (lumped, none).
 
 Every frame is written when ``simulate`` calls ``VTKSeries.frame`` (every
@@ -220,7 +220,7 @@ class VTKSeries:
             self.hottest.consider(side, t, *fld, surface=vals.get(f"T{i + 1}_C"), params=self.sim.plate_params[i])
 
     def _entries(self, n: int, vals: dict):
-        """(time, the frame's files as coupling/vtk_budget entries, [(side,
+        """(time, the frame's files as outputs/vtk_budget entries, [(side,
         the plate's own field)] for the hottest-field pictures)."""
         sim, geom = self.sim, self.geom
         mech = sim.mechanics

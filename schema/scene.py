@@ -180,7 +180,9 @@ TABLES = {
         "d4": ("float", None, _pos),
         "slider_mass": ("float", None, _nonneg),
     },
-    "superstructure": {"mass": ("float", REQUIRED, _pos)},
+    # exactly one of the two: the mass (kg) or its weight (kN, mass x 9.81 m/s2 / 1000), the
+    # vertical load the way a datasheet gives it; the resolved scene carries the mass
+    "superstructure": {"mass": ("float", None, _pos), "weight_kN": ("float", None, _pos)},
     "mechanics": {"model": (("two-phase", "seated"), "two-phase", None),
                   # normal forces at the step midpoint (second order, the default) or frozen
                   # at t_n with a projection every step (the paper's section 3, first order)
@@ -197,7 +199,7 @@ TABLES = {
                "history": (("csv", "parquet"), "csv", None)},
 }
 TOP_KEYS = {"name": "str", "description": "str"}
-# the TFP's own [device] keys (its wave-2 keys); its four surfaces and five parts
+# the TFP's own [device] keys; its four surfaces and five parts
 TFP_DEVICE_KEYS = ("R3", "R4", "slider_height", "slider_height_lower", "slider_height_upper",
                    "slider_diameter", "d1", "d2", "d3", "d4", "slider_mass")
 TFP_SURFACES = ("S1", "S2", "S3", "S4")
@@ -533,6 +535,8 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
             given = ({"R1": 2.2, "R2": 2.2, "pad_height": 0.1, "pad_diameter": 0.25} if table == "device"
                      else {"mass": 1.0})
         data[table] = _table(ctx, table, given, schema)
+        if table == "superstructure":
+            _mass_or_weight(ctx, data[table])
     dev = data["device"]
     if dev["kind"] == "TFP":
         tfp_device(ctx, data, raw)
@@ -569,6 +573,19 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
         return Scene(path=path, data=data)
     _cross_checks(ctx, data)
     return Scene(path=path, data=data)
+
+
+def _mass_or_weight(ctx: _Ctx, sup: dict) -> None:
+    """superstructure: exactly one of mass (kg) and weight_kN (kN); the weight
+    becomes the mass it stands for (W / g, g = 9.81 m/s2)."""
+    from fpd.mechanics.geometry import G_ACC
+    if "mass" in sup and "weight_kN" in sup:
+        ctx.fail("superstructure.weight_kN", sup["weight_kN"],
+                 f"give either mass (kg) or weight_kN (kN), not both (mass = {_fmt(sup['mass'])} is given too)")
+    if "weight_kN" in sup:
+        sup["mass"] = sup.pop("weight_kN") * 1e3 / G_ACC
+    elif "mass" not in sup:
+        ctx.missing("superstructure.mass", "give the mass carried (kg) or its weight as weight_kN (kN)")
 
 
 def _cross_checks(ctx: _Ctx, data: dict):
@@ -722,6 +739,19 @@ def parse_override(text: str) -> tuple[list[str], object]:
 RECORD_SOURCES = ("record", "file", "record_set")
 
 
+LOAD_KEYS = ("mass", "weight_kN")       # the superstructure's load: exactly one of them
+
+
+def replace_load(raw: dict, given) -> None:
+    """An override of superstructure.mass or .weight_kN replaces the scene
+    file's own load (--set superstructure.weight_kN=600 on a scene with a mass)."""
+    given = set(given) & set(LOAD_KEYS)
+    if given and isinstance(raw.get("superstructure"), dict):
+        for key in LOAD_KEYS:
+            if key not in given:
+                raw["superstructure"].pop(key, None)
+
+
 def apply_overrides(raw: dict, overrides: list[str]) -> dict:
     raw = copy.deepcopy(raw)
     parsed = [(text,) + parse_override(text) for text in overrides or []]
@@ -732,6 +762,7 @@ def apply_overrides(raw: dict, overrides: list[str]) -> dict:
         for key in RECORD_SOURCES:
             if key not in given:
                 raw["loading"].pop(key, None)
+    replace_load(raw, {keys[1] for _, keys, _ in parsed if len(keys) == 2 and keys[0] == "superstructure"})
     for text, keys, value in parsed:
         node = raw
         for k in keys[:-1]:

@@ -27,7 +27,7 @@ COMPARE_MODELS = (
     # only while the pad covers it, about half of the time
     ("fe1d fixed-point", "fe1d", {"model": "fe1d", "source": "fixed-point", "radius_m": "a"}),
     ("axisym", "axisym", {"model": "axisym"}),
-    # the reference where it runs: the footprint as it is, no ring average (issue 13)
+    # the reference where it runs: the footprint as it is, no ring average
     ("fe3d", "fe3d", {"model": "fe3d"}),
 )
 FAST_COMPARE = {"duration": 8.0, "n_elements": 40, "nr": 0, "per_radius": 10, "nz": 12}
@@ -195,20 +195,45 @@ def compare_plots(folder: Path, cases, name) -> list[str]:
         plt.close(fig)
         made.append("friction.png")
     if ok and "u_m" in ok[0].result:
-        fig, ax = plt.subplots(figsize=(6.5, 4.5))
-        for c in ok:
-            ax.plot(1e3 * c.result["u_m"], 1e-3 * c.result["F_N"], styles.get(c.label, "-"), lw=0.8,
-                    label=c.label)
-        ax.set_xlabel("relative displacement u (mm)")
-        ax.set_ylabel("horizontal force F (kN)")
-        ax.set_title(f"{name}: hysteresis by thermal model")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(folder / "hysteresis.png", dpi=110)
-        plt.close(fig)
-        made.append("hysteresis.png")
+        made.append(_loops(folder, ok, name))
     return made
+
+
+def _loops(folder: Path, cases, name) -> str:
+    """The hysteresis loops in small multiples: one panel per thermal model on
+    shared axes, the first model's loop drawn faintly behind the others (five
+    loops on one axes hide each other)."""
+    import math
+
+    from fpd.outputs.drawing import new_figure, save, thin_xy
+    n = len(cases)
+    ncols = min(3, n)
+    nrows = math.ceil(n / ncols)
+    fig, axes = new_figure(nrows, ncols, figsize=(3.4 * ncols + 0.9, 2.9 * nrows + 0.8), left=0.8, right=0.15,
+                           top=0.6, bottom=0.55, hgap=0.55, wgap=0.2, sharex=True, sharey=True)
+    base = cases[0]
+    bu, bF = 1e3 * base.result["u_m"], 1e-3 * base.result["F_N"]
+    bs = thin_xy(len(bu), bu, bF)
+    for k, (ax, c) in enumerate(zip(axes, cases)):
+        u, F = 1e3 * c.result["u_m"], 1e-3 * c.result["F_N"]
+        if k:
+            ax.plot(bu[bs], bF[bs], lw=0.6, color="0.75", label=base.label)
+        s = thin_xy(len(u), u, F)
+        ax.plot(u[s], F[s], lw=0.7, color=f"C{k}", label=c.label)
+        ax.set_title(c.label, fontsize=9)
+        ax.grid(alpha=0.3)
+        if k:
+            ax.legend(fontsize=7, loc="upper left")
+        if k % ncols == 0:
+            ax.set_ylabel("F (kN)")
+        if k >= n - ncols:
+            ax.set_xlabel("u (mm)")
+            ax.xaxis.set_tick_params(labelbottom=True)
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    fig.suptitle(f"{name}: hysteresis by thermal model ({base.label} in grey behind the others)", fontsize=10)
+    save(fig, folder / "hysteresis.png")
+    return "hysteresis.png"
 
 
 def compare_report(name, cases, rows, missing, ref, val, fast, plots) -> str:

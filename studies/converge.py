@@ -180,7 +180,7 @@ def converge_plan(scene, fast=False) -> tuple[list[Sweep], list[str]]:
 
 
 def fe3d_sweeps(scene, t, fine_dt, fast, has_exact) -> list:
-    """fe3d (issue 13): the face mesh (per_radius 10, 20, 40 elements per
+    """fe3d: the face mesh (per_radius 10, 20, 40 elements per
     footprint radius, nz held), the depth mesh (nz halved and doubled, the
     grading kept nested) and the thermal step (step_multiple 40, 20, 10, 5
     mechanical steps); each against its Richardson limit (a heat scene's

@@ -25,7 +25,7 @@ Resumable and fault-tolerant:
 - Ctrl-C (or SIGTERM) stops the sweep, writes the table of what finished
   (the rest ``not run``) and keeps the store: rerun to finish.
 
-DIR is written like every results folder (coupling/output.ResultsFolder): in
+DIR is written like every results folder (outputs/output.ResultsFolder): in
 a temporary folder beside it, moved into place at the end; on a rerun the
 stored members are hard-linked into the new folder first.
 """
@@ -58,7 +58,9 @@ MEMBER_DEFAULTS = {"output.plots": False, "output.vtk_every": 0}
 # headline numbers of sweep.md: (column, label, unit scale, unit)
 HEADLINES = (("peak_u_m", "peak displacement", 1e3, "mm"), ("residual_u_m", "residual displacement", 1e3, "mm"),
              ("friction_work_total_J", "friction work", 1e-3, "kJ"), ("peak_T1_C", "peak T lower", 1, "C"),
-             ("peak_T2_C", "peak T upper", 1, "C"), ("peak_theta_rad", "peak pad tilt", 1, "rad"),
+             ("peak_T2_C", "peak T upper", 1, "C"),
+             ("peak_theta_rad", "peak sliding rotation theta (line of centres)", 1, "rad"),
+             ("peak_beta_rad", "peak pad rocking beta", 1, "rad"),
              ("energy_residual_rel", "energy residual", 1, "rel"), ("runtime_s", "run time", 1, "s"))
 
 
@@ -359,7 +361,9 @@ def _run_kept(scene, sim, dest: Path):
 
 def _extra(result) -> dict:
     """Columns the sweep adds to a member's summary: the total friction work
-    and the peak pad tilt and rotation (the regime map's rocking measure)."""
+    the peak sliding rotation |theta| (the angle of the line of centres: how
+    far the bearing slid) and the peak pad rocking |beta| (the pad's rotation
+    about its pivot, the regime map's rocking measure)."""
     e = {}
     if result.n_rows == 0:
         return e

@@ -172,8 +172,26 @@ def _check_stability(out, fast):
         rise = float(r["T_max_C"]) - 20.0
         assert math.isfinite(float(r["T_max_C"])) and float(r["T_min_C"]) >= 20.0 - 1e-4 * rise - 1e-12
         assert float(r["T_max_C"]) <= float(r["T_bound_hi_C"])
+        # a bound that can fail: within 25 times the rise reached (it was 10^4 times: 20 .. 2.9e5 C)
+        assert float(r["T_bound_hi_C"]) - 20.0 <= 25.0 * max(rise, 0.1) + 1e-9, r
     md = (out / "stability.md").read_text()
     assert f"{s['cases']} of {s['cases']} cases pass" in md
+
+
+def test_slab_surface_rise_closed_forms():
+    """stability's FE-plate bound: the insulated-back slab under a uniform flux.
+    Early: the halfspace 2 q sqrt(kappa t / pi) / k; late: q t / (rho c h) +
+    q h / (3 k) (Carslaw and Jaeger 3.3 (8), the series' transient gone)."""
+    from fpd.studies.stability import slab_surface_rise
+    q, k, rho_c, h = 2e5, 16.0, 7850.0 * 500.0, 0.05
+    kappa = k / rho_c
+    t = 2.0                    # sqrt(kappa t) = 2.9 mm << h
+    assert slab_surface_rise(q, t, h, k, rho_c) == pytest.approx(2 * q * math.sqrt(kappa * t / math.pi) / k,
+                                                                 rel=1e-12)
+    t = 20 * h * h / kappa     # 12 000 s
+    late = q * t / (rho_c * h) + q * h / (3 * k)
+    assert slab_surface_rise(q, t, h, k, rho_c) == pytest.approx(late, rel=1e-9)
+    assert slab_surface_rise(0.0, t, h, k, rho_c) == 0.0
 
 
 def test_stability_fast(tmp_path):

@@ -163,6 +163,10 @@ mode = "zip"
     assert float(rows[0]["peak_u_m"]) > 0 and rows[0]["message"] == ""
     md = (lite / "out" / "sweep.md").read_text()
     assert "Members not ok" in md and "0001 | error" in md
+    # theta (the line of centres: how far it slid) is not called the pad's tilt (beta, its rocking)
+    theta = float(rows[0]["peak_theta_rad"])
+    assert f"| peak sliding rotation theta (line of centres) | rad | {theta:.4g} |" in md
+    assert "| peak pad rocking beta | rad |" in md and "pad tilt" not in md
 
 
 def test_killed_worker_members_are_rerun(lite, tmp_path, monkeypatch):

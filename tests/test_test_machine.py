@@ -111,3 +111,32 @@ def test_cycle_meter_is_blocking_invariant():
     cut = CycleMeter(cols, 1.0, 2, 1000.0)
     cut.add(data[:1500])
     assert len(cut.cycles()) == 1
+
+
+def test_docs_test_machine_numbers_are_lab_sines(lab):
+    """docs/test_machine.md's per-cycle table and machine-work sentence are those
+    of the packaged lab-sine as it runs now (they went stale once)."""
+    from fpd.outputs.cycles import doc_table
+    s = json.loads((lab / "summary.json").read_text())
+    text = (ROOT / "docs" / "test_machine.md").read_text()
+    assert doc_table(s["test_machine"]["cycles"]) in text
+    W12 = sum(s["friction_work_J"].values())
+    assert (f"`machine_work_J` = {s['test_machine']['machine_work_J'] / 1e3:.1f} kJ against "
+            f"W1 + W2 = {W12 / 1e3:.1f} kJ in lab-sine") in text
+
+
+def test_reference_states_what_the_runs_do(lab):
+    """docs/reference.md's claims checked against runs: on the test machine
+    xg_m is the driven lower plate, -u_m at every row; a TFP scene without
+    mechanics.model runs the two-phase model (the reference said 'rigid seated')."""
+    ts = _csv(lab / "timeseries.csv")
+    assert np.array_equal(ts["xg_m"], -ts["u_m"])
+    text = (ROOT / "docs" / "reference.md").read_text()
+    assert "= -u_m" in text and "the fixed base, 0" not in text
+    import tomllib
+
+    import fpd as api
+    raw = tomllib.loads((ROOT / "scenes" / "tfp-elcentro.toml").read_text())
+    raw.pop("mechanics", None)
+    assert api.load_scene(raw)["mechanics"]["model"] == "two-phase"
+    assert "TFP\": triple friction pendulum" in text and "two-phase model by default" in text
