@@ -193,12 +193,12 @@ KEYS: dict[str, tuple[str, str]] = {
                             '"seated": the classical seated model (the pad never tilts). A displacement loading '
                             'always uses the seated test machine (a TFP: either model in the machine too). The '
                             'flat bearing has its seated model only ("two-phase" is refused).'),
-    "mechanics.normal_force": ("", 'The normal forces of a step: "start": frozen at the start of the step, '
-                                   'the velocity projected on re-seating (the paper\'s section-3 scheme, '
-                                   'first order); "midpoint": at the step midpoint, inside the fixed point '
-                                   '(second order; runs the bidirectional steppers, with a zero y component on '
-                                   'a planar scene). Default: "midpoint" for a bidirectional scene, "start" '
-                                   'otherwise (docs/bidirectional.md, section 2). DFP and SFP only.'),
+    "mechanics.normal_force": ("", 'The normal forces of a step: "midpoint" (the default): at the step '
+                                   'midpoint, inside the fixed point (second order); "start": frozen at the '
+                                   'start of the step, the velocity projected on re-seating (the paper\'s '
+                                   'section-3 scheme, first order). Every DFP / SFP scene runs the one 3D '
+                                   'stepper, a planar one with the y component absent (docs/bidirectional.md, '
+                                   'section 2). DFP and SFP only.'),
 
     # [thermal] (both plates; [thermal.lower] / [thermal.upper] override per plate)
     "thermal.model": ("", '"none": no heat; "lumped": the paper\'s lumped plate (Eq. 9-10); "fe1d": conduction '

@@ -1,4 +1,4 @@
-"""The VTK series within a size budget (coupling/vtk_budget.py, meshes/vtk.py):
+"""The VTK series within a size budget (outputs/vtk_budget.py, meshes/vtk.py):
 compressed frames that ParaView's readers (pyvista) and meshio open with the
 values the run computed, a size estimated before writing that bounds the
 actual size, the refusal beyond output.vtk_max_GB, fe3d frames on a slice
@@ -138,7 +138,7 @@ def test_slice_and_coarse_grids_are_the_models_field(tmp_path):
     from fpd.schema import scene as scn
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
-    from fpd.coupling.vtk_budget import FieldView
+    from fpd.outputs.vtk_budget import FieldView
 
     sim = build(scn.load(None, ["solver.duration=3.0", 'thermal.model="fe3d"']))
     simulate(sim)
