@@ -83,6 +83,12 @@ FIXED_POINT_ITERS = 50
 
 
 
+def hypot(x, y):
+    """sqrt(x^2 + y^2), the same bits on both paths (CPython's math.hypot and
+    the C library's, which numba calls, may differ in the last bit)."""
+    return math.sqrt(x * x + y * y)
+
+
 def corner_pivot_rotation(a, eta_bottom, eta_top, h, R2, shift):
     """Phase-1 rotation of the pad about its trailing rim point, in the plane
     pi, for a shift L |d| >= 0 of C2 along the tangent (the planar formula of
@@ -758,7 +764,7 @@ def centres(C, S):
     """Footprint centres (c1x, c1y, c2x, c2y): lower plate R1 theta (cos phi,
     sin phi), upper plate -R2 theta (cos phi, sin phi)."""
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
-    r = math.hypot(nx, ny)
+    r = hypot(nx, ny)
     th = math.atan2(r, -nz)
     if r > 0.0:
         cx, cy = nx / r, ny / r
@@ -823,13 +829,13 @@ def values(C, S, t, xg, yg, out):
     L = C[C_L]
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     Ek, Ep = energies(C, S)
-    th = math.atan2(math.hypot(nx, ny), -nz)
+    th = math.atan2(hypot(nx, ny), -nz)
     c1x, c1y, c2x, c2y = centres(C, S)
     dx, dy, dz, rvx, rvy = rocking_offsets(C, S)
     ux, uy, vx, vy = L * nx + dx, L * ny + dy, L * S[S_WX] + rvx, L * S[S_WY] + rvy
-    out[0], out[1], out[2], out[3], out[4], out[5] = t, xg, yg, ux, uy, math.hypot(ux, uy)
-    out[6], out[7], out[8] = vx, vy, math.hypot(vx, vy)
-    out[9], out[10], out[11] = S[S_FX], S[S_FY], math.hypot(S[S_FX], S[S_FY])
+    out[0], out[1], out[2], out[3], out[4], out[5] = t, xg, yg, ux, uy, hypot(ux, uy)
+    out[6], out[7], out[8] = vx, vy, hypot(vx, vy)
+    out[9], out[10], out[11] = S[S_FX], S[S_FY], hypot(S[S_FX], S[S_FY])
     out[12], out[13], out[14], out[15] = L * uplift_factor(nx, ny, nz) + dz, th, math.atan2(ny, nx), S[S_BETA1]
     out[16], out[17], out[18], out[19] = C[C_R1] * th, C[C_R2] * th, S[S_N1], S[S_N2]
     out[20], out[21], out[22] = S[S_W1], S[S_W2], S[S_MODE]
