@@ -117,6 +117,12 @@ def _target_factor(ld: dict, rec) -> float:
     return target / rec.pga_g
 
 
+def rim_of(scene: Scene) -> tuple:
+    """(d1, d2, restitution) of a DFP / SFP (d2 None for the SFP)."""
+    dev = scene["device"]
+    return dev["d1"], dev.get("d2"), dev["rim_restitution"]
+
+
 def plate_params(scene: Scene, side: str) -> PlateParams:
     t = scene.thermal(side)
     # a heat-only scene keeps the footprint at the plate centre: the meshes
@@ -186,7 +192,7 @@ def build(scene: Scene) -> Simulation:
         # y component absent (signed planar columns), both models, both schemes
         from fpd.mechanics.bidirectional import BidirectionalStepper
         mech = BidirectionalStepper(geom, loading, None, normal_force=scene["mechanics"]["normal_force"],
-                                    model=model, planar=True)
+                                    model=model, planar=True, rim=rim_of(scene))
     if hasattr(loading, "record"):
         info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
                           "pga_g": loading.record.pga_g, "scale": ld["scale"],
@@ -272,7 +278,8 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
     else:
         gx, gy = loading
         model = "seated" if scene["mechanics"]["model"] == "seated" else "two-phase"
-        mech = BidirectionalStepper(geom, gx, gy, normal_force=scene["mechanics"]["normal_force"], model=model)
+        mech = BidirectionalStepper(geom, gx, gy, normal_force=scene["mechanics"]["normal_force"], model=model,
+                                    rim=rim_of(scene))
         n_steps = gx.n_steps
         for comp, g in (("record", gx), ("record_y", gy)):
             if g is not None and hasattr(g, "record"):

@@ -41,9 +41,11 @@ class Stats:
         self.rows = 0
         self.max = self.min = self.first = self.last = None
         # the energy ledger over the whole history (largest |residual|, largest |input|)
+        # (input first, then every term it goes into: kinetic, potential, the friction
+        # work of each interface, the re-seating and rim losses where the device has them)
         terms = ("E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J")
-        self._ledger_cols = ([self.columns.index(c) for c in terms]
-                             + ([self.columns.index("E_reseat_J")] if "E_reseat_J" in self.columns else [])
+        extra = [c for c in ("W3_J", "W4_J", "E_reseat_J", "E_rim_J") if c in self.columns]
+        self._ledger_cols = ([self.columns.index(c) for c in (*terms, *extra)]
                              if all(c in self.columns for c in terms) else None)
         self.ledger_worst = self.input_worst = 0.0
 

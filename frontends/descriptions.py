@@ -62,8 +62,16 @@ KEYS: dict[str, tuple[str, str]] = {
                                         "slider_height."),
     "device.slider_diameter": ("m", "TFP: diameter of the slider plates; their footprint on S1 and S4 is a "
                                     "disk of radius slider_diameter / 2."),
-    "device.d1": ("m", "TFP: slide capacity of S1 before its rim (arc from the surface centre): |R1 phi| <= d1."),
-    "device.d2": ("m", "TFP: slide capacity of S2 before its rim (arc): |R2 alpha| <= d2."),
+    "device.d1": ("m", "Slide capacity of the lower surface (TFP: S1) before its rim, as the arc of the "
+                       "footprint centre from the surface centre: a DFP / SFP |R1 theta| <= d1 (default: what the "
+                       "plate allows, thermal.lower.plate_radius - pad radius; more is refused); a TFP "
+                       "|R1 phi| <= d1 (required)."),
+    "device.d2": ("m", "Slide capacity of the upper surface of a DFP (|R2 theta| <= d2; default "
+                       "thermal.upper.plate_radius - pad radius), of S2 of a TFP (|R2 alpha| <= d2). The DFP's "
+                       "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim."),
+    "device.rim_restitution": ("", "DFP / SFP: coefficient of restitution of a rim impact: the velocity normal "
+                                   "to the rim is stopped (0, the inelastic stop) or handed back times it; the "
+                                   "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J)."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
     "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "
@@ -355,22 +363,25 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim2": ("", "TFP: 1 when S2 is at its rim (|s2_m| >= d2), else 0."),
     "rim3": ("", "TFP: 1 when S3 is at its rim (|s3_m| >= d3), else 0."),
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
-    "J_rim_Ns": ("N s", "TFP: impulse of the rim impacts of the step on the superstructure (0 in a step without "
-                         "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's force."),
-    "n_rim1": ("", "TFP: rim impacts on S1 so far (steps in which the slider arrived at the rim of S1)."),
-    "n_rim2": ("", "TFP: rim impacts on S2 so far."),
+    "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
+                         "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
+                         "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N)."),
+    "n_rim1": ("", "Rim impacts on the lower surface (TFP: S1) so far: arrivals at the rim (a DFP counts them on "
+                   "the surface that bounds the slide, or on both)."),
+    "n_rim2": ("", "Rim impacts on the upper surface of a DFP (TFP: S2) so far."),
     "n_rim3": ("", "TFP: rim impacts on S3 so far."),
     "n_rim4": ("", "TFP: rim impacts on S4 so far."),
     "E_input_J": ("J", "Cumulative work of the ground (or machine) on the device: "
-                       "E_input_J = E_kin_J + E_pot_J + W1_J + W2_J [+ E_reseat_J] (a TFP: "
-                       "+ W3_J + W4_J + E_rim_J)."),
+                       "E_input_J = E_kin_J + E_pot_J + W1_J + W2_J + E_rim_J [+ E_reseat_J] (a TFP: "
+                       "+ W3_J + W4_J)."),
     "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground."),
     "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad; a TFP: and the slider plates; "
                      "the flat bearing: 0)."),
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
                         "seated configuration at t_n+1 is stopped; first order in dt)."),
-    "E_rim_J": ("J", "TFP: cumulative kinetic energy lost in the (inelastic) impacts on the rims."),
+    "E_rim_J": ("J", "Cumulative energy taken by the rims: a TFP's inelastic impacts; a DFP / SFP's impacts "
+                     "((1 - e^2) of the kinetic energy normal to the rim) and contact."),
     "E_stored_J": ("J", "Heat stored in the plates (above the initial temperature; a TFP: its four parts)."),
     "E_air_J": ("J", "Cumulative heat lost to the air (and through the back face)."),
     # two-phase diagnostics (docs/two_phase.md, section 5)
@@ -453,8 +464,16 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_slide_m.S3": ("m", "TFP: peak |s3_m|, the farthest the pad went on S3."),
     "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
-    "rim_loss_J": ("J", "TFP: rim impact loss (final E_rim_J)."),
-    "rim_impulse_Ns": ("N s", "TFP: the largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
+    "rim_loss_J": ("J", "Energy taken by the rims (final E_rim_J)."),
+    "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
+    "rim_impacts.lower": ("", "DFP / SFP: number of rim impacts on the lower surface (final n_rim1)."),
+    "rim_impacts.upper": ("", "DFP: number of rim impacts on the upper surface (final n_rim2)."),
+    "capacity.*.capacity_m": ("m", "DFP / SFP: the surface's slide capacity (device.d1 / d2, or the plate's)."),
+    "capacity.*.peak_slide_m": ("m", "DFP / SFP: the largest arc of the footprint centre from the surface "
+                                     "centre (peak |s1_m| / |s2_m|)."),
+    "capacity.*.ratio": ("", "DFP / SFP: peak slide / capacity (1: the rim was reached)."),
+    "capacity.*.impacts": ("", "DFP / SFP: rim impacts counted on the surface."),
+    "capacity_ratio": ("", "DFP / SFP: the largest capacity ratio of the surfaces (1: the rim was reached)."),
     "rim_impacts.S1": ("", "TFP: number of rim impacts on S1 (final n_rim1)."),
     "rim_impacts.S2": ("", "TFP: number of rim impacts on S2 (final n_rim2)."),
     "rim_impacts.S3": ("", "TFP: number of rim impacts on S3 (final n_rim3)."),

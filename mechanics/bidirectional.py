@@ -30,6 +30,8 @@ from .seated import SEATED_COLUMNS
 from .two_phase import COLUMNS as PLANAR_COLUMNS, pivot_chain
 
 K = _pure
+# the rim (docs/model.md 9): its loss, the impacts' impulse, their count per surface
+RIM_COLUMNS = ("E_rim_J", "J_rim_Ns", "n_rim1", "n_rim2")
 COLUMNS = (
     "t_s", "xg_m", "yg_m", "ux_m", "uy_m", "u_m", "vx_mps", "vy_mps", "v_mps",
     "Fx_N", "Fy_N", "F_N", "z_m", "theta_rad", "phi_rad", "beta_rad",
@@ -37,8 +39,10 @@ COLUMNS = (
     "E_input_J", "E_kin_J", "E_pot_J", "E_reseat_J",
     "beta1_rad", "beta2_rad", "pad_tilt_rad", "ds1_m", "ds2_m", "Ff1_N", "Ff2_N",
     "slip1_m", "slip2_m", "c1x_m", "c1y_m", "c2x_m", "c2y_m",
-)
+) + RIM_COLUMNS
 NORMAL_FORCE = ("midpoint", "start")
+PLANAR_COLUMNS = PLANAR_COLUMNS + RIM_COLUMNS
+SEATED_COLUMNS = SEATED_COLUMNS + RIM_COLUMNS
 
 
 class PadRocks(MechanicsFailure):
@@ -145,6 +149,20 @@ class _Base(TwoInterfaces):
         w = math.sqrt(wx * wx + wy * wy + S[K.S_WZ] ** 2)
         self.S[K.S_SV1], self.S[K.S_SV2] = C[K.C_R1] * w, C[K.C_R2] * w
 
+    def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0) -> None:
+        """The slide capacities (arc from each surface's centre, m; the SFP's
+        d1 only) and the rim's restitution: the axis's tilt is bounded by
+        min(d1 / R1, d2 / R2), the surface (or both) that sets it counts the
+        impacts (docs/model.md 9)."""
+        g = self.geom
+        arcs = [d1 / g.R1] + ([d2 / g.R2] if (d2 is not None and g.kind == "DFP") else [])
+        th = min(arcs)
+        C = self.C
+        C[K.C_THMAX], C[K.C_REST] = th, float(restitution)
+        C[K.C_RIM1] = 1.0 if arcs[0] <= th * (1 + 1e-12) else 0.0
+        C[K.C_RIM2] = 1.0 if len(arcs) > 1 and arcs[1] <= th * (1 + 1e-12) else 0.0
+        self.capacity = (d1, d2 if g.kind == "DFP" else None)
+
     # -- protocol attributes ----------------------------------------------------
     @property
     def N1(self) -> float:
@@ -210,7 +228,7 @@ class _Base(TwoInterfaces):
     def energy_residual(self) -> float:
         S = self.S
         Ek, Ep = _pure.energies(self.C, S)
-        return float(S[K.S_EIN] - (Ek + Ep + S[K.S_W1] + S[K.S_W2] + S[K.S_ERES]))
+        return float(S[K.S_EIN] - (Ek + Ep + S[K.S_W1] + S[K.S_W2] + S[K.S_ERES] + S[K.S_ERIM]))
 
     def save(self):
         """(n, then every slot of the state as a float)."""
@@ -252,7 +270,8 @@ class BidirectionalStepper(_Base):
     compiled kernel (None: when numba is loaded)."""
 
     def __init__(self, geom: DeviceGeometry, gx, gy=None, normal_force: str = "midpoint",
-                 jit: bool | None = None, model: str = "two-phase", planar: bool = False):
+                 jit: bool | None = None, model: str = "two-phase", planar: bool = False,
+                 rim: tuple | None = None):
         if normal_force not in NORMAL_FORCE:
             raise ValueError(f"normal_force = {normal_force!r}: must be one of {NORMAL_FORCE}")
         if gy is not None and (gy.n_steps != gx.n_steps or gy.dt != gx.dt):
@@ -263,6 +282,8 @@ class BidirectionalStepper(_Base):
         self._setup(geom, gx.dt, gx.n_steps, normal_force == "midpoint", jit, seated=model == "seated")
         self.normal_force = normal_force
         self.model = "seated" if geom.kind == "SFP" else model
+        if rim is not None:
+            self.set_rim(*rim)
         if planar:
             # the motion in the x-z plane (y absent): the planar steppers' columns, signed
             seated = self.model == "seated"

@@ -59,7 +59,10 @@ C_N1X, C_N1Z, C_N2X, C_N2Z = 24, 25, 26, 27
 # the columns written by values(): PLANAR_NONE the bidirectional ones (COLUMNS), a motion
 # in the x-z plane (y absent): PLANAR_TWO_PHASE / PLANAR_SEATED the planar steppers' ones
 C_PLANAR = 28
-N_C = 29
+# the rim (docs/model.md 9): the axis's largest tilt, min(d1 / R1, d2 / R2) (0: no rim), the
+# restitution of an impact, and which surfaces bound it (1.0 each: the limiting one, or both)
+C_THMAX, C_REST, C_RIM1, C_RIM2 = 29, 30, 31, 32
+N_C = 33
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -72,7 +75,10 @@ S_SV1, S_SV2, S_DPHI = 24, 25, 26
 # no rocking after a landing, the landing flag and the phase-1 angle at the landing
 S_ROCK, S_BETA, S_BETAD, S_EX, S_EY, S_EZ, S_NOROCK, S_LANDED, S_BLAND = 27, 28, 29, 30, 31, 32, 33, 34, 35
 S_DIRX = 36            # x component of the direction of the last slide (the planar columns' sign)
-N_S = 37
+# the rim: kinetic and potential energy taken by impacts and contact (J), the impulse of
+# the step's impact (N s), the impacts' count, at the rim at the end of the last step
+S_ERIM, S_JRIM, S_NRIM, S_ATRIM = 37, 38, 39, 40
+N_S = 41
 
 STICK, SLIP, TILT = 0, 1, 2
 FLAG_OK, FLAG_ROCKING, FLAG_OVERTURN = 0, 1, 2
@@ -556,6 +562,63 @@ def _event_substep(C, S, ax, ay, h, rem, h_min, mu1, mu2):
     return hs
 
 
+def rim(C, S):
+    """Keep the axis inside the rim's cone (tilt <= C[C_THMAX]) after a
+    (part-)step: an axis past it is put back on it along its meridian, and
+    the velocity's outward component there is reversed times the restitution
+    (0: the inelastic stop). The energy it takes (kinetic and potential, the
+    overshoot's included) is booked in S[S_ERIM]. Returns (jx, jy): the
+    horizontal momentum an impact took (an arrival at the rim: reported as
+    an impulse, not a force), (0, 0) for contact (the axis already on the
+    rim when the step began: the rim's reaction, part of the force)."""
+    thmax = C[C_THMAX]
+    if thmax <= 0.0 or S[S_ROCK] != 0.0:
+        return 0.0, 0.0
+    nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
+    r = hypot(nx, ny)
+    th = math.atan2(r, -nz)
+    if th <= thmax:
+        if th < thmax * (1.0 - 1e-9):   # off the rim (an axis left on it stays in contact)
+            S[S_ATRIM] = 0.0
+        return 0.0, 0.0
+    Ek0, Ep0 = energies(C, S)
+    px0, py0 = momentum(C, S)
+    cx, cy = nx / r, ny / r
+    # the velocity in the meridian frame at the overshoot: outward along the meridian,
+    # and round the axis (w is tangent: w . n = 0)
+    c0, s0 = -nz, r
+    wr = S[S_WX] * c0 * cx + S[S_WY] * c0 * cy + S[S_WZ] * s0
+    wa = -S[S_WX] * cy + S[S_WY] * cx
+    st, ct = math.sin(thmax), math.cos(thmax)
+    S[S_NX], S[S_NY], S[S_NZ] = st * cx, st * cy, -ct
+    Ep1 = energies(C, S)[1]
+    if wr > 0.0:
+        # the outward rate at the rim itself: the overshoot turned kinetic energy into
+        # potential (Ep0 - Ep1); the rim hands back e of that rate, inwards, so the
+        # impact takes (1 - e^2) of the kinetic energy normal to the rim
+        I = C[C_I]
+        ek = 0.5 * I * wr * wr + (Ep0 - Ep1)
+        w_rim = 0.0
+        if ek > 0.0:
+            w_rim = math.sqrt(2.0 * ek / I)
+        wr = -C[C_REST] * w_rim
+    # carried to the rim along the meridian (the same frame there)
+    wx, wy, wz = wr * ct * cx - wa * cy, wr * ct * cy + wa * cx, wr * st
+    S[S_WX], S[S_WY], S[S_WZ] = wx, wy, wz
+    Ek1, Ep1 = energies(C, S)
+    S[S_ERIM] += (Ek0 + Ep0) - (Ek1 + Ep1)
+    px1, py1 = momentum(C, S)
+    w = math.sqrt(wx * wx + wy * wy + wz * wz)
+    S[S_SV1], S[S_SV2] = C[C_R1] * w, C[C_R2] * w
+    if S[S_ATRIM] != 0.0:              # resting against the rim: its reaction
+        return 0.0, 0.0
+    S[S_ATRIM] = 1.0
+    S[S_NRIM] += 1.0
+    jx, jy = px1 - px0, py1 - py0
+    S[S_JRIM] = S[S_JRIM] + hypot(jx, jy)
+    return jx, jy
+
+
 def step(C, S, ax, ay, h, mu1, mu2):
     """One step of length h under the step-mean ground acceleration (ax, ay)
     with mu1, mu2 held. Returns a flag (FLAG_OK, FLAG_ROCKING). Sets the
@@ -570,6 +633,8 @@ def step(C, S, ax, ay, h, mu1, mu2):
     rem = h
     flag = FLAG_OK
     h_min = h * SUBSTEP_MIN
+    jx = jy = 0.0
+    S[S_JRIM] = 0.0
     for _ in range(SUBSTEPS_MAX):
         hs = rem
         if C[C_MID] != 0.0:
@@ -577,6 +642,8 @@ def step(C, S, ax, ay, h, mu1, mu2):
         used, flag = _part(C, S, ax, ay, hs, mu1, mu2)
         if flag != FLAG_OK:
             break
+        dx, dy = rim(C, S)
+        jx, jy = jx + dx, jy + dy
         rem = rem - used
         if not rem > 0.0:
             break
@@ -585,8 +652,9 @@ def step(C, S, ax, ay, h, mu1, mu2):
         S[S_BETA1] = S[S_BLAND]
     Mt = C[C_M] + C[C_MP]
     px1, py1 = momentum(C, S)
-    S[S_FX] = -(Mt * ax + (px1 - px0) / h)
-    S[S_FY] = -(Mt * ay + (py1 - py0) / h)
+    # an impact's impulse is not a force of the step (it is reported as itself: S_JRIM)
+    S[S_FX] = -(Mt * ax + (px1 - px0 - jx) / h)
+    S[S_FY] = -(Mt * ay + (py1 - py0 - jy) / h)
     return flag
 
 
@@ -757,7 +825,14 @@ def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
 
 # -- outputs (the class's values() and the compiled loop's rows) ----------------------
 
-N_VALUES = 40           # len(mechanics.bidirectional.COLUMNS)
+N_VALUES = 44           # len(mechanics.bidirectional.COLUMNS)
+
+
+def rim_values(C, S, out, j):
+    """E_rim_J, J_rim_Ns, n_rim1, n_rim2 into out[j:j + 4] (the impacts counted
+    on the surface, or both, that bounds the slide)."""
+    out[j], out[j + 1] = S[S_ERIM], S[S_JRIM]
+    out[j + 2], out[j + 3] = C[C_RIM1] * S[S_NRIM], C[C_RIM2] * S[S_NRIM]
 
 
 def centres(C, S):
@@ -801,6 +876,7 @@ def values_planar(C, S, t, xg, out):
         out[0], out[1], out[2], out[3], out[4], out[5], out[6] = t, xg, u, v, S[S_FX], z, th
         out[7], out[8], out[9], out[10] = R1 * th, R2 * th, S[S_N1], S[S_N2]
         out[11], out[12], out[13], out[14], out[15], out[16] = S[S_W1], S[S_W2], S[S_MODE], S[S_EIN], Ek, Ep
+        rim_values(C, S, out, 17)
         return
     if S[S_N2] <= 0.0:
         tip = 0.0
@@ -818,6 +894,7 @@ def values_planar(C, S, t, xg, out):
     out[23], out[24], out[25], out[26] = sg * S[S_DS1], sg * S[S_DS2], sg * S[S_FF1], sg * S[S_FF2]
     out[27] = S[S_WX] * -nz + S[S_WZ] * nx          # theta' (n = (sin theta, 0, -cos theta))
     out[28], out[29], out[30] = S[S_SLIP1], S[S_SLIP2], tip
+    rim_values(C, S, out, 31)
 
 
 def values(C, S, t, xg, yg, out):
@@ -843,3 +920,4 @@ def values(C, S, t, xg, yg, out):
     out[27], out[28], out[29], out[30], out[31] = S[S_BETA1], S[S_BETA2], S[S_TILT], S[S_DS1], S[S_DS2]
     out[32], out[33], out[34], out[35] = S[S_FF1], S[S_FF2], S[S_SLIP1], S[S_SLIP2]
     out[36], out[37], out[38], out[39] = c1x, c1y, c2x, c2y
+    rim_values(C, S, out, 40)

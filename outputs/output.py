@@ -194,6 +194,24 @@ def _f(x):
     return x if math.isfinite(x) else None
 
 
+def rim_summary(d: dict, st) -> dict:
+    """The DFP / SFP rim (docs/model.md 9): per surface its capacity, the
+    peak slide (arc from its centre), their ratio and the impacts counted on
+    it; the rim's loss and the impacts' impulse (N s: an impact is an
+    impulse, never a force); the largest ratio, for sweep tables."""
+    dev = d["device"]
+    sides = (("lower", "s1_m", "d1", "n_rim1"),) + ((("upper", "s2_m", "d2", "n_rim2"),)
+                                                      if dev["kind"] == "DFP" else ())
+    cap = {}
+    for side, col, key, n in sides:
+        peak = st.peak_abs(col)
+        cap[side] = {"capacity_m": _f(dev[key]), "peak_slide_m": _f(peak), "ratio": _f(peak / dev[key]),
+                     "impacts": int(round(st.final(n)))}
+    return {"rim_loss_J": _f(st.final("E_rim_J")), "rim_impulse_Ns": _f(st.peak_abs("J_rim_Ns")),
+            "capacity": cap, "capacity_ratio": _f(max(c["ratio"] for c in cap.values())),
+            "rim_impacts": {side: c["impacts"] for side, c in cap.items()}}
+
+
 def summary(scene: Scene, result, sim) -> dict:
     d = scene.data
     if d["device"]["kind"] == "TFP":
@@ -220,6 +238,9 @@ def summary(scene: Scene, result, sim) -> dict:
         if "E_reseat_J" in result:
             out += st.final("E_reseat_J")
             s["reseat_loss_J"] = _f(st.final("E_reseat_J"))
+        if "E_rim_J" in result:
+            out += st.final("E_rim_J")
+            s.update(rim_summary(d, st))
         s["input_work_J"] = _f(e_in)
         # the largest residual over the recorded history, relative to the largest input
         # (a ledger that closes only at the end would hide what went wrong on the way)

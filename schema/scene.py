@@ -174,8 +174,11 @@ TABLES = {
         "slider_height_lower": ("float", None, _pos),
         "slider_height_upper": ("float", None, _pos),
         "slider_diameter": ("float", None, _pos),
+        # slide capacity of each surface before its rim (arc from its centre, m): d1..d4 of a
+        # TFP, d1, d2 of a DFP, d1 of an SFP (default: what the plate allows, plate_radius - a)
         "d1": ("float", None, _pos),
         "d2": ("float", None, _pos),
+        "rim_restitution": ("float", 0.0, _share),
         "d3": ("float", None, _pos),
         "d4": ("float", None, _pos),
         "slider_mass": ("float", None, _nonneg),
@@ -201,7 +204,7 @@ TABLES = {
 TOP_KEYS = {"name": "str", "description": "str"}
 # the TFP's own [device] keys; its four surfaces and five parts
 TFP_DEVICE_KEYS = ("R3", "R4", "slider_height", "slider_height_lower", "slider_height_upper",
-                   "slider_diameter", "d1", "d2", "d3", "d4", "slider_mass")
+                   "slider_diameter", "d3", "d4", "slider_mass")
 TFP_SURFACES = ("S1", "S2", "S3", "S4")
 TFP_PARTS = ("lower", "slider_lower", "slider_upper", "upper")   # heated by S1, S2, S3, S4
 TWO_SIDES = ("lower", "upper")
@@ -549,6 +552,12 @@ def validate(raw: dict, path: str = "<scene>") -> Scene:
     for key in TFP_DEVICE_KEYS:
         if key in dev:
             ctx.fail(f"device.{key}", dev[key], f'is a key of kind = "TFP" only (this device is "{dev["kind"]}")')
+    if dev["kind"] == "flat":
+        for key in ("d1", "d2"):
+            if key in dev:
+                ctx.fail(f"device.{key}", dev[key], 'is a capacity of a concave surface: the flat bearing has none')
+    if dev["kind"] == "SFP" and "d2" in dev:
+        ctx.fail("device.d2", dev["d2"], "the SFP has one sliding surface: give its capacity as d1")
     if "R1" not in dev and dev["kind"] != "flat":
         ctx.missing("device.R1", "give a number (the lower concave radius, m)")
     if dev["kind"] == "flat":
@@ -628,6 +637,32 @@ def _cross_checks(ctx: _Ctx, data: dict):
         if dev["pad_diameter"] / 2 > t["plate_radius"] and t["model"] != "none":
             ctx.fail("thermal.plate_radius", t["plate_radius"],
                      f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
+    _capacities(ctx, data, geom)
+
+
+def _capacities(ctx: _Ctx, data: dict, geom) -> None:
+    """The DFP's d1, d2 and the SFP's d1 (docs/model.md 9): by default what
+    the plate allows (plate_radius - a: the footprint's edge at the plate's),
+    a given one no larger; the test machine's programme within them."""
+    dev, a = data["device"], data["device"]["pad_diameter"] / 2
+    keys = (("d1", "lower"),) if dev["kind"] == "SFP" else (("d1", "lower"), ("d2", "upper"))
+    for key, side in keys:
+        room = data["thermal"][side]["plate_radius"] - a
+        if key not in dev:
+            if room <= 0.0:
+                ctx.fail(f"thermal.{side}.plate_radius", data["thermal"][side]["plate_radius"],
+                         f"must exceed the pad radius {a:g} m (the footprint needs room to slide: device.{key})")
+            dev[key] = room
+        elif dev[key] > room * (1 + 1e-12):
+            ctx.fail(f"device.{key}", dev[key], f"the footprint (radius {a:g} m) would pass the plate's edge: at most "
+                     f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
+    ld = data["loading"]
+    if ld["kind"] == "displacement":
+        arcs = [(key, dev[key] / (geom.R1 if key == "d1" else geom.R2)) for key, _ in keys]
+        key, theta = min(arcs, key=lambda x: x[1])
+        if ld["amplitude_m"] > geom.L * math.sin(theta) * (1 + 1e-12):
+            ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"drives the bearing past its capacity: device.{key} = "
+                     f"{dev[key]:.4g} m allows |u| <= {geom.L * math.sin(theta):.4g} m")
 
 
 def check_time_grid(ctx: _Ctx, ld: dict, sol: dict) -> None:
