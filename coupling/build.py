@@ -298,7 +298,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
     return sim
 
 
-# -- the triple friction pendulum and the flat bearing (model.md 9) ---------------------
+# -- the triple friction pendulum (model.md 6) and the flat bearing (model.md 7) ---------
 
 def build_tfp(scene: Scene) -> Simulation:
     from fpd.mechanics.tfp import TFPStepper
