@@ -160,12 +160,20 @@ def _parser() -> argparse.ArgumentParser:
   fpd sweep my-sweep.toml --out sw              one worker per core on a local cluster
   fpd sweep my-sweep.toml --out sw --workers 1  one local worker
   fpd sweep my-sweep.toml --out sw --scheduler tcp://head:8786   an existing Dask cluster
+
+exit status: 0 every member ok; 3 some members failed or errored (the table is complete,
+a rerun retries them); 4 members not run (the cluster lost: run again to finish);
+2 bad input; 130 interrupted.
 """)
     w.add_argument("sweep", metavar="SWEEP.toml", help="the sweep file (TOML: scene, mode, [axes], [set], [run])")
     w.add_argument("--out", metavar="DIR", help="results folder (default: results/<sweep name>/)")
     w.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
     w.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
     w.add_argument("--force", action="store_true", help="start afresh (default: resume a sweep in --out)")
+    w.add_argument("--keep-failed", action="store_true",
+                   help="on a rerun, keep stored failed and error members (default: retry every member not ok)")
+    w.add_argument("--max-members", type=int, metavar="N",
+                   help="refuse a sweep of more than N members (default: 100000)")
     w.add_argument("--quiet", action="store_true", help="print nothing but errors (no progress, no report)")
 
     m = sub.add_parser(

@@ -20,6 +20,7 @@ pytest.importorskip("dask.distributed")
 
 from fpd.coupling import cli  # noqa: E402
 from fpd.coupling import sweep as swp  # noqa: E402
+from fpd.coupling import sweep_store as store  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "scenes" / "records" / "IELC180.AT2"
@@ -155,7 +156,7 @@ mode = "zip"
 "coupling.tol_K" = [1e-3, 1e-3, 1e-12]
 "coupling.max_iter" = [20, 20, 1]
 ''')
-    assert cli.main(["sweep", str(s), "--out", str(lite / "out"), "--workers", "2", "--quiet"]) == 0
+    assert cli.main(["sweep", str(s), "--out", str(lite / "out"), "--workers", "2", "--quiet"]) == swp.EXIT_MEMBERS
     rows = _rows(lite / "out")
     assert [x["status"] for x in rows] == ["ok", "error", "failed"]
     assert "zap" in rows[1]["message"] and "\n" not in rows[1]["message"]
@@ -243,8 +244,8 @@ def test_members_of_a_killed_client_are_adopted(lite, capsys):
     stale = lite / f".out.partial-{dead}" / ".members"
     stale.mkdir(parents=True)
     for m in sw.members:
-        res = swp.run_member({"id": m.id, "hash": m.hash, "raw": m.raw, "path": m.path, "keep": "summary"})
-        (stale / f"{m.hash}.json").write_text(json.dumps(res))
+        res = swp.run_member(swp.member_spec(m, "summary", lambda p: (None, None)))
+        store.write(stale, m.hash, res)
     assert cli.main(["sweep", str(s), "--out", str(lite / "out")]) == 0
     assert "2 already done, 0 to run" in capsys.readouterr().out
     assert [x["status"] for x in _rows(lite / "out")] == ["ok", "ok"]
