@@ -79,7 +79,29 @@ def _parse_npts_dt(line: str):
     return None
 
 
+def _file_kind(mode: int) -> str | None:
+    """What a file that is not a regular file is (None for a regular file)."""
+    import stat
+    for test, name in ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISSOCK, "a socket"), (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device")):
+        if test(mode):
+            return name
+    return None if stat.S_ISREG(mode) else "not a regular file"
+
+
 def _read_text(path) -> str:
+    import os
+    try:
+        kind = _file_kind(os.stat(path).st_mode)     # before opening: a FIFO would block the open forever
+    except FileNotFoundError:
+        raise RecordError(path, "file not found") from None
+    except OSError as exc:
+        raise RecordError(path, f"cannot be read ({exc.strerror})") from None
+    if kind == "a directory":
+        raise RecordError(path, "is a directory, not a record file")
+    if kind is not None:
+        raise RecordError(path, f"is {kind}, not a regular file: give a record file")
     try:
         raw = open(path, "rb").read()
     except FileNotFoundError:
@@ -295,8 +317,36 @@ def read_record(path, units: str | None = None, dt: float | None = None) -> Reco
             raise RecordError(path, f"{what}: acceleration units not named "
                               "in its header; set loading.units = \"g\" or \"m/s2\"")
     if dt is not None:
+        if ncols == 2:
+            _refuse_time_column(text, path, dt)
         return parse_samples(text, path, dt, units)
     return parse_two_column(text, path, units)
+
+
+def _refuse_time_column(text: str, path, dt: float) -> None:
+    """loading.dt with a file of two values per line whose first column
+    increases on every line, from about 0: a (time, acceleration) record.
+    Read as samples it would interleave the times with the accelerations;
+    refused (an accelerogram's samples never increase on every line)."""
+    first = []
+    for line in text.splitlines():
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        toks = s.replace(",", " ").replace(";", " ").split()
+        try:
+            row = [float(x) for x in toks]
+        except ValueError:
+            if first:
+                return                  # parse_samples names the bad value
+            continue
+        if len(row) != 2:
+            return
+        first.append(row[0])
+    if len(first) >= 3 and all(b > a for a, b in zip(first, first[1:])):
+        raise RecordError(path, f"has two columns and the first increases on every line ({first[0]:g} to "
+                          f"{first[-1]:g}): a time column, but loading.dt = {dt:g} s reads every value as an "
+                          "acceleration sample; remove loading.dt (the times are read from the file)")
 
 
 def _units_from_header(text: str):
