@@ -1,7 +1,8 @@
 """``fpd``: the command line (docs/reference.md).
 
 Exit status: 0 success; 2 bad input (one line on stderr, no results folder);
-1 numerical failure (history kept); 130 interrupted (history kept).
+1 numerical failure (history kept); 130 interrupted (history kept); fpd sweep:
+3 some members failed or errored, 4 members not run (the cluster lost).
 """
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_MEMBERS, EXIT_UNFINISHED = 3, 4     # fpd sweep: members not ok; members not run (coupling/sweep.py)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -45,7 +47,8 @@ examples:
   fpd run --help                          the options of one command
 
 Scene keys, output columns, summary.json fields, exit status: docs/reference.md
-(or `fpd reference`). Exit status: 0 ok, 1 numerical failure, 2 bad input, 130 interrupted.
+(or `fpd reference`). Exit status: 0 ok, 1 numerical failure, 2 bad input, 130 interrupted
+(fpd sweep: 3 members not ok, 4 members not run).
 """
 
 _SCENE_HELP = "a scene file (TOML) or a packaged scene name (see `fpd scenes`)"

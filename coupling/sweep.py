@@ -70,7 +70,7 @@ from .scene import SceneError
 
 # exit statuses: every member ok; some failed or errored (the table is complete);
 # the sweep could not finish (members not run: the cluster lost); Ctrl-C
-EXIT_OK, EXIT_MEMBERS, EXIT_UNFINISHED, EXIT_INTERRUPTED = 0, 3, 4, 130
+from .cli import EXIT_INTERRUPTED, EXIT_MEMBERS, EXIT_OK, EXIT_UNFINISHED  # noqa: E402,F401
 MAX_MEMBERS = 100_000     # a sweep of more members is refused (--max-members raises the cap)
 SWEEP_KEYS = ("name", "description", "scene", "mode", "axes", "set", "run")
 RUN_KEYS = {"keep": ("summary", "timeseries")}
