@@ -513,8 +513,8 @@ def harmonic_ground_motion(amplitude_m, frequency_Hz, cycles, dt, duration=None)
     # does not feel, so steps see only the smooth part
     v_smooth = amplitude_m * w * np.cos(w * tt)
     a_step = np.diff(v_smooth) / dt
-    return GroundMotion(name=f"harmonic {amplitude_m:g} m {frequency_Hz:g} Hz", dt=dt,
-                        t=t, d=d, v=v, a=a, a_step=a_step)
+    return _compacted(GroundMotion(name=f"harmonic {amplitude_m:g} m {frequency_Hz:g} Hz", dt=dt,
+                                   t=t, d=d, v=v, a=a, a_step=a_step))
 
 
 @dataclass
@@ -587,8 +587,19 @@ def pulse_ground_motion(shape, velocity_mps, period_s, t0_s, duration, dt) -> Gr
             a = np.where(on, V * w * np.cos(w * s), 0.0)
         else:
             raise ValueError(f"unknown pulse shape {shape!r}")
-    return GroundMotion(name=f"{shape} pulse {V:g} m/s", dt=dt, t=t, d=d, v=v, a=a,
-                        a_step=np.diff(v) / dt)
+    return _compacted(GroundMotion(name=f"{shape} pulse {V:g} m/s", dt=dt, t=t, d=d, v=v, a=a,
+                                   a_step=np.diff(v) / dt))
+
+
+def _compacted(gm: GroundMotion) -> GroundMotion:
+    """The motion's arrays moved into compact arrays (compact_zeros), so that
+    the steppers' float_array shares them instead of copying (the same values)."""
+    for name in ("t", "d", "v", "a", "a_step"):
+        x = getattr(gm, name)
+        c = compact_zeros(len(x))
+        c[:] = x
+        setattr(gm, name, c)
+    return gm
 
 
 def float_array(x) -> "array":

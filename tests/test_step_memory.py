@@ -90,3 +90,17 @@ def test_a_ten_million_step_run_stays_under_300_MB():
     out = json.loads(r.stdout.strip().splitlines()[-1])
     assert out["status"] == "ok" and out["steps"] == 10_000_000
     assert out["rss_peak"] < 300e6, out
+
+
+def test_analytic_loadings_share_their_arrays_with_the_stepper():
+    """Pulses and sines: the same values as computed, in compact arrays the
+    stepper uses as they are (float_array returns the same memory)."""
+    for gm in (gmod.pulse_ground_motion("cosine", 0.5, 1.0, 0.2, 3.0, 1e-3),
+               gmod.harmonic_ground_motion(0.05, 0.5, 2, 1e-3)):
+        assert all(gmod.float_array(getattr(gm, k)) is gmod.float_array(getattr(gm, k))
+                   for k in ("t", "d", "v", "a", "a_step"))
+        assert np.array_equal(gm.a_step, np.diff(gm.v) / gm.dt)
+    g = gmod.pulse_ground_motion("cosine", 0.5, 1.0, 0.2, 3.0, 1e-3)
+    t = np.arange(3001) * 1e-3
+    s = np.clip(t - 0.2, 0.0, 1.0)
+    assert np.array_equal(g.v, 0.5 * 0.5 * (1.0 - np.cos(2 * np.pi * s)))
