@@ -673,9 +673,9 @@ def _verdict(sw, rows, out, ran, lost, wall, quiet) -> int:
         return EXIT_INTERRUPTED if lost.interrupted else EXIT_UNFINISHED
     if bad:
         counts = Counter(r["status"] for r in bad)
-        sys.stderr.write(f"fpd: {len(bad)} of {n} members not ok ("
-                         + ", ".join(f"{c} {s}" for s, c in counts.most_common()) + f": {_ids([r['member'] for r in bad])}"
-                         f"; first: {bad[0]['message'][:200]}); see {out}/sweep.csv; a rerun retries them "
+        which = ", ".join(f"{c} {s}" for s, c in counts.most_common())
+        sys.stderr.write(f"fpd: {len(bad)} of {n} members not ok ({which}: {_ids([r['member'] for r in bad])}; "
+                         f"first: {bad[0]['message'][:200]}); see {out}/sweep.csv; a rerun retries them "
                          "(--keep-failed keeps them)\n")
         return EXIT_MEMBERS
     return EXIT_OK
@@ -694,13 +694,10 @@ WORKER_WAIT_S = 60.0  # no worker on the scheduler for this long: the sweep stop
 
 def _cluster_lost(exc) -> bool:
     from asyncio import CancelledError
+    from concurrent.futures import CancelledError as FutureCancelled     # distributed's cancelled futures
 
     from distributed.comm.core import CommClosedError
-    try:
-        from distributed.client import FuturesCancelledError     # wait() on futures the client lost
-    except ImportError:
-        FuturesCancelledError = CancelledError
-    return isinstance(exc, (CancelledError, FuturesCancelledError, CommClosedError, OSError, TimeoutError))
+    return isinstance(exc, (CancelledError, FutureCancelled, CommClosedError, OSError, TimeoutError))
 
 
 def _dispatch(sw, todo, store, workers, scheduler, quiet, done, lost) -> int:
@@ -711,7 +708,7 @@ def _dispatch(sw, todo, store, workers, scheduler, quiet, done, lost) -> int:
 
     t0 = time.perf_counter()
     cluster = Cluster(workers, scheduler)       # a one-line error when dask is missing
-    from distributed import wait
+    from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
     client = cluster.client
@@ -746,27 +743,23 @@ def _dispatch(sw, todo, store, workers, scheduler, quiet, done, lost) -> int:
         specs = [member_spec(m, sw.keep, shipped) for m in todo]
         futures = client.map(run_member, specs, key=[f"fpd-member-{m.hash}" for m in todo], pure=False)
         del specs
-        pending, idle_since = set(futures), None
-        while pending:
-            try:
-                finished, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
-            except Exception as exc:
-                if not isinstance(exc, TimeoutError):
-                    if not _cluster_lost(exc):
-                        raise
-                    lost.reason = f"lost the connection to {cluster.where}"
-                    break
-                finished = ()
+        ac, idle_since = as_completed(futures), None
+        while not ac.is_empty():
+            finished = ac.next_batch(block=False)
+            if not finished:         # nothing new: is the cluster still there, with workers?
+                time.sleep(0.05)
                 if client.status not in ("running", "connecting"):
                     lost.reason = f"{cluster.where} closed the connection"
                     break
-                n_w = cluster.n_workers() if client.status == "running" else 1
+                try:
+                    n_w = cluster.n_workers() if client.status == "running" else 1
+                except Exception:
+                    n_w = 1
                 idle_since = None if n_w else (idle_since or time.perf_counter())
                 if idle_since and time.perf_counter() - idle_since > WORKER_WAIT_S:
                     lost.reason = f"no worker left on {cluster.where} for {WORKER_WAIT_S:g} s"
                     break
                 continue
-            pending = set(pending)
             for fut in finished:
                 m = by_hash[fut.key.rsplit("-", 1)[1]]
                 try:

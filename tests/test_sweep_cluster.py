@@ -31,7 +31,6 @@ import pytest
 
 pytest.importorskip("dask.distributed")
 
-from fpd.coupling import cli  # noqa: E402
 from fpd.coupling import sweep as swp  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
