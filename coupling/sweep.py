@@ -743,20 +743,24 @@ def _dispatch(sw, todo, store, workers, scheduler, quiet, done, lost) -> int:
         specs = [member_spec(m, sw.keep, shipped) for m in todo]
         futures = client.map(run_member, specs, key=[f"fpd-member-{m.hash}" for m in todo], pure=False)
         del specs
-        ac, idle_since = as_completed(futures), None
+        ac, idle_since, looked = as_completed(futures), None, time.perf_counter()
         while not ac.is_empty():
             finished = ac.next_batch(block=False)
-            if not finished:         # nothing new: is the cluster still there, with workers?
-                time.sleep(0.05)
+            if not finished:         # nothing new: is the cluster still there (a local check), with workers?
+                time.sleep(0.02)
                 if client.status not in ("running", "connecting"):
                     lost.reason = f"{cluster.where} closed the connection"
                     break
+                now = time.perf_counter()
+                if now - looked < 2.0:       # asking the scheduler costs it (and a local cluster) CPU: rarely
+                    continue
+                looked = now
                 try:
                     n_w = cluster.n_workers() if client.status == "running" else 1
                 except Exception:
                     n_w = 1
-                idle_since = None if n_w else (idle_since or time.perf_counter())
-                if idle_since and time.perf_counter() - idle_since > WORKER_WAIT_S:
+                idle_since = None if n_w else (idle_since or now)
+                if idle_since and now - idle_since > WORKER_WAIT_S:
                     lost.reason = f"no worker left on {cluster.where} for {WORKER_WAIT_S:g} s"
                     break
                 continue
