@@ -49,10 +49,8 @@ def speed(repeat):
         sim = build.build(s)
         r = simulate(sim)
         best = min(best, r.runtime_s)
-    from fpd.coupling import bidirectional_loop
-    kind = "compiled" if bidirectional_loop.compiled_loop_2d(sim, 1, 2, r.columns and list(sim.mechanics.columns)
-                                                               + ["mu1", "mu2", "T1_C", "T2_C", "E_stored_J",
-                                                                  "E_air_J"]) else "Python"
+    from fpd.coupling import fast_loop
+    kind = "compiled" if fast_loop.compiled_loop(sim, 1, 2, fast_loop.loop_columns(sim)) else "Python"
     print(f"coupled loop (two-phase midpoint + fe1d both plates, kumar2015, staggered; {kind} loop): "
           f"best {best:.3f} s ({1e6 * best / gx.n_steps:.1f} us/step), status {r.status}")
 

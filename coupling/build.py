@@ -160,7 +160,7 @@ def make_plate(params: PlateParams, dt: float):
 
 
 def build(scene: Scene) -> Simulation:
-    if scene["device"]["kind"] == "TFP":          # four surfaces, five parts: coupling/tfp_loop.py
+    if scene["device"]["kind"] == "TFP":          # four surfaces, five parts (build_tfp)
         return build_tfp(scene)
     if scene["device"]["kind"] == "flat":         # the flat double bearing (paper Fig. 2)
         return build_flat(scene)

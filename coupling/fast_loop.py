@@ -78,7 +78,7 @@ def law_rows(laws):
 def plate_arrays(plates, kinds, lj):
     """Per plate the arrays the loop kernels step, (Mb, Ab, FAC, V, I, P), and
     whether P is a float64 copy of the plate's row (written back by
-    unpack_plates), with the kind codes of loop_kernel ``lj``. fe1d arrays
+    unpack_plates), with the kind codes of the engine ``lj``. fe1d arrays
     are the plate's own; stand-ins of their types for the others (one
     compiled signature for every mix; (2, 2) in Fortran order: a (2, 1) array
     would also be C-contiguous, typed 'C' by numba)."""

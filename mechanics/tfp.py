@@ -211,7 +211,7 @@ class TFPStepper:
     imposed, its weight carried). ``step(mu1, mu2, mu3, mu4)`` advances one
     step and returns the friction work of S1..S4 in it. The state is one
     float64 vector (tfp_kernel.S_*), advanced by tfp_kernel.advance, so the
-    compiled loop (coupling/tfp_fast.py) runs the same source."""
+    compiled engine (coupling/engine_kernel.py with mechanics/dev_tfp.py) runs the same source."""
 
     n_interfaces = 4
 

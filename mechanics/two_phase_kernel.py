@@ -2,7 +2,7 @@
 
 mechanics/two_phase.py (TwoPhaseStepper) holds the state vector S and the
 constants C of these functions and calls ``step``/``values``; the compiled
-loop (coupling/loop_kernel.py) calls their numba copy (fpd/kernels.py) on a
+engine (coupling/engine_kernel.py) calls their numba copy (fpd/kernels.py) on a
 float64 copy of the same S. The derivation is in mechanics/two_phase.py's
 docstring and docs/two_phase.md; this file is the arithmetic.
 

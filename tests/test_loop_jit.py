@@ -1,4 +1,4 @@
-"""The compiled loop (coupling/loop_kernel.py, issue 7) and the compiled
+"""The compiled engine (coupling/engine_kernel.py) and the compiled
 kernels give the Python loop's and the pure kernels' numbers bit for bit: the two-phase
 step (seated, arrest, rocking, landing, overturning), the friction laws,
 whole coupled runs (fe1d, lumped, no heat, mixed plates, fixed-point source,

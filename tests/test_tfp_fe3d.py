@@ -1,5 +1,5 @@
 """fe3d plates on the triple friction pendulum's four heated parts
-(coupling/tfp_loop.py, docs/model.md section 6.5): the heat content against
+(docs/model.md section 6.5): the heat content against
 the friction work (conservation), the surface temperature against axisym
 (independent model), the footprint's side on each part, per-part model
 mixing, scene validation and the VTK series (meshio read-back, overlay).
