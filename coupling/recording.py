@@ -18,16 +18,29 @@ CHUNK_ROWS = 1 << 14        # rows per block handed over (37 columns: 4.8 MB)
 
 @contextlib.contextmanager
 def signals_held():
-    """SIGINT and SIGTERM wait (pending, not lost) until the block is done."""
-    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+    """SIGINT and SIGTERM wait (pending, not lost) until the block is done.
+
+    Their handlers are swapped for one that only notes the signal, and the
+    signal is raised again once the block is done. (Blocking them with
+    pthread_sigmask holds them only in this thread: a signal the system
+    hands to another thread of the process, one numba, dask or a library
+    started, would still interrupt the block, since Python runs its
+    handlers in the main thread.)"""
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    sigs = {signal.SIGINT, signal.SIGTERM}
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, sigs)
+    pending = []
+    sigs = (signal.SIGINT, signal.SIGTERM)
+    old = {}
     try:
+        for s in sigs:
+            old[s] = signal.signal(s, lambda sig, frame: pending.append(sig))
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        for s, handler in old.items():
+            signal.signal(s, handler)
+        for sig in dict.fromkeys(pending):
+            signal.raise_signal(sig)
 
 
 class Stats:

@@ -248,3 +248,31 @@ def test_streamed_memory_does_not_grow_with_steps(tmp_path):
     in_memory_history = 8 * ncol * n4
     assert p4 < 1.25 * p1 + 256 * 1024, (p1, p4)           # flat, not 4x
     assert p4 < in_memory_history / 4, (p4, in_memory_history)
+
+
+def test_a_signal_handed_to_another_thread_waits_for_the_block_too():
+    """The system may hand a process's SIGINT to any thread (numba, dask and
+    libraries start some): it still waits until the held block is done, then
+    interrupts (the full suite once lost a row of a committed block to it)."""
+    import threading
+    import time
+
+    from fpd.coupling.recording import signals_held
+    started, stop = threading.Event(), threading.Event()
+    other = threading.Thread(target=lambda: (started.set(), stop.wait(10)))
+    other.start()
+    started.wait()
+    order = []
+    try:
+        with signals_held():
+            signal.pthread_kill(other.ident, signal.SIGINT)
+            for _ in range(10_000):
+                order.append(1)
+            time.sleep(0.05)
+            order.append("done")
+    except KeyboardInterrupt:
+        order.append("interrupted")
+    finally:
+        stop.set()
+        other.join()
+    assert order[-2:] == ["done", "interrupted"]
