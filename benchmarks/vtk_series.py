@@ -1,4 +1,4 @@
-"""Wall time of `fpd run default --set output.vtk_every=N` (issue 18 target:
+"""Wall time of `fpd run default --set output.vtk_every=N` (target:
 N = 1, i.e. 39 991 frames and 160 000 files, in under 60 s), best of R runs,
 with the run's CPU time (user + system: the system part is creating the
 files) and the same run without VTK for reference.

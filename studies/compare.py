@@ -325,7 +325,7 @@ def compare_report(name, cases, rows, missing, ref, val, fast, plots) -> str:
 
 def _errors_vs_reference(rows, ref) -> list[str]:
     """Each model's error against the reference: peak surface temperature, mu
-    at that moment, friction work, peak displacement (issue 13)."""
+    at that moment, friction work, peak displacement."""
     if ref is None:
         return []
     L = [f"## Error of each model against {ref.label}\n"]
