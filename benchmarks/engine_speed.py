@@ -48,7 +48,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     sys.path.insert(0, args.root)
     import numba  # noqa: F401  (every case takes the compiled loop)
-    scn = _module("fpd.schema.scene", "fpd.coupling.scene")
+    scn = _module("fpd.schema.scene", "fpd.schema.scene")
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
     for name, scene, over in CASES:

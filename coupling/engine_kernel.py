@@ -35,7 +35,7 @@ __jit_options__ = {"inline": "always"}
 
 KIND_NONE, KIND_LUMPED, KIND_FE1D = 0, 1, 2
 # ctl (int64)
-C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT, C_NVAL, C_2D = range(11)
+C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT, C_NVAL, C_2D, C_TRACK = range(12)
 N_CTL = 12
 # ctl[C_STATUS]
 RUNNING, DONE, REPLAY, ROW_FAILED, FULL = 0, 1, 2, 3, 4
@@ -117,8 +117,31 @@ def end_chunk(ctl, status, n, n_end, k, last_row):
     ctl[C_K], ctl[C_LAST], ctl[C_STATUS] = k, last_row, status
 
 
+def track_row(row, n_track, SX, SN, LI, SL):
+    """Every step's extremes of the row's first n_track values (the stepper's,
+    mu_i, T_i) into SX, SN, and the energy ledger's worst residual and input
+    into SL (LI: the input's column, then every term it goes into; empty
+    without a ledger): the summary reads every step, not only the rows kept."""
+    for j in range(n_track):
+        x = row[j]
+        if x > SX[j]:
+            SX[j] = x
+        if x < SN[j]:
+            SN[j] = x
+    if LI.shape[0] > 0:
+        s = 0.0
+        for k in range(1, LI.shape[0]):
+            s += row[LI[k]]
+        r = abs(row[LI[0]] - s)
+        if r > SL[0]:
+            SL[0] = r
+        e = abs(row[LI[0]])
+        if e > SL[1]:
+            SL[1] = e
+
+
 def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is, Ps, T, mu, mun, dW,
-              buf, row, ctl):
+              buf, row, ctl, SX, SN, LI, SL):
     """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
     (DONE; REPLAY: step ctl[C_NDONE] + 1 is for the Python loop, the state is
     as before it; ROW_FAILED: that step's row, in ``row``, is not finite;
@@ -131,12 +154,17 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
     arrays (Mbs[i] .. Ps[i]: the fe1d column, or the lumped row Ps[i]), T[i],
     mu[i] the loop's temperature and friction coefficient (updated in place);
     mun, dW: room for N floats. The row: the device's ctl[C_NVAL] values,
-    then mu_i, and with plates T_i, E_stored_J, E_air_J."""
+    then mu_i, and with plates T_i, E_stored_J, E_air_J. With ctl[C_TRACK]
+    (rows kept less often than every step) every step's row goes through
+    track_row (SX, SN, LI, SL)."""
     n0, n_end = ctl[C_NDONE], ctl[C_NEND]
     k, n_rows, every, last_row, N = ctl[C_K], ctl[C_NROWS], ctl[C_EVERY], ctl[C_LAST], ctl[C_N]
     heat = ctl[C_HEAT] != 0
-    nv, two_d = ctl[C_NVAL], ctl[C_2D]
+    nv, two_d, track = ctl[C_NVAL], ctl[C_2D], ctl[C_TRACK] != 0
     ni = T.shape[0]
+    n_track = nv + ni
+    if heat:
+        n_track += ni
     status = DONE
     n = n0
     for n in range(n0 + 1, n_end + 1):
@@ -168,15 +196,21 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
                 cx, cy = dev.centre(C, S, i)
                 T[i] = interface_heat(kinds[i], Mbs[i], Abs[i], FACs[i], Vs[i], Is[i], Ps[i], eta[i], dW[i], dt,
                                       plate_centre(kinds[i], Ps[i], cx, cy, two_d), T[i])
-        if n % every == 0 or n == N:
+        kept_step = n % every == 0 or n == N
+        if track or kept_step:
             dev.values(C, S, L, n, dt, row)
             for i in range(ni):
                 row[nv + i] = mu[i]
             if heat:
+                for i in range(ni):
+                    row[nv + ni + i] = T[i]
+            if track:
+                track_row(row, n_track, SX, SN, LI, SL)
+        if kept_step:
+            if heat:
                 st = 0.0
                 lo = 0.0
                 for i in range(ni):
-                    row[nv + ni + i] = T[i]
                     st += plate_stored(kinds[i], Vs[i], Is[i], Ps[i])
                     lo += plate_lost(kinds[i], Ps[i])
                 row[nv + 2 * ni] = st

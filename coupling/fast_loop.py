@@ -152,8 +152,9 @@ def warm(sim) -> None:
         return
 
 
-def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
-    """A CompiledLoop for this simulation, or None: the Python loop runs it."""
+def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None, track=None):
+    """A CompiledLoop for this simulation, or None: the Python loop runs it.
+    ``track``: (SX, SN, LI, SL), every step's extremes and ledger (run.StepTracker)."""
     kinds = eligible(sim)
     if kinds is None:
         return None
@@ -163,15 +164,15 @@ def compiled_loop(sim, every: int, n_rows: int, cols, inject_failure_at=None):
         return None
     try:
         eng = engine(sim.mechanics)
+        return CompiledLoop(sim, eng, kinds, every, n_rows, cols, inject_failure_at, track)
     except ImportError:
         return None
-    return CompiledLoop(sim, eng, kinds, every, n_rows, cols, inject_failure_at)
 
 
 class CompiledLoop:
     """Runs steps 1.. of simulate()'s loop compiled; see run()."""
 
-    def __init__(self, sim, eng, kinds, every, n_rows, cols, inject_failure_at):
+    def __init__(self, sim, eng, kinds, every, n_rows, cols, inject_failure_at, track=None):
         self.sim, self.lj = sim, eng
         self.kinds, self.cols = kinds, list(cols)
         mech = sim.mechanics
@@ -196,11 +197,17 @@ class CompiledLoop:
         self.plates, codes = plate_arrays(sim.plates, kinds, eng)
         self.kind_codes = np.array(codes, dtype=np.int64)
         self.plate_args = tuple(tuple(arr[j] for arr, _ in self.plates) for j in range(6))
+        if track is None:            # every row kept: the history sees every step (stand-ins of the same types)
+            track = (np.zeros(1), np.zeros(1), np.zeros(0, dtype=np.int64), np.zeros(2))
+        else:
+            self.ctl[eng.C_TRACK] = 1
+        self.track = track
         self._call(np.zeros((1, len(cols))))   # load the engine now (build() did: warm()), not in the timed loop
 
     def _args(self, buf):
         return (self.C, self.S, self.S0, self.L, self.X, self.sim.dt, self.LW, self.areas, self.eta,
-                self.kind_codes, *self.plate_args, self.T, self.mu, self.mun, self.dW, buf, self.row, self.ctl)
+                self.kind_codes, *self.plate_args, self.T, self.mu, self.mun, self.dW, buf, self.row, self.ctl,
+                *self.track)
 
     def _call(self, buf):
         """run_chunk from ctl[C_NDONE] to ctl[C_NEND] (0 to 0: just the dispatch)."""

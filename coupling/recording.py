@@ -65,6 +65,19 @@ class Stats:
             self.ledger_worst = max(self.ledger_worst, float(np.max(np.abs(res))))
             self.input_worst = max(self.input_worst, float(np.max(np.abs(block[:, j[0]]))))
 
+    def merge_steps(self, names, mx, mn, ledger_worst: float, input_worst: float) -> None:
+        """Fold in the extremes of every step (coupling/run.StepTracker), where
+        the history kept fewer rows than steps."""
+        if self.rows == 0:
+            return
+        for name, a, b in zip(names, mx, mn):
+            if name in self.columns and a >= b:
+                j = self.columns.index(name)
+                self.max[j] = max(self.max[j], a)
+                self.min[j] = min(self.min[j], b)
+        self.ledger_worst = max(self.ledger_worst, float(ledger_worst))
+        self.input_worst = max(self.input_worst, float(input_worst))
+
     def _get(self, arr, name) -> float:
         return float(arr[self.columns.index(name)])
 

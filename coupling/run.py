@@ -109,16 +109,25 @@ class Result:
     def n_rows(self) -> int:
         return self.history.rows if self.streamed else self.data.shape[0]
 
+    step_extremes = None      # a StepTracker when the history kept fewer rows than steps
+
     @property
     def stats(self):
-        """Max, min, first and last row per column (history.Stats)."""
+        """Max, min, first and last row per column (recording.Stats): of every
+        step, whatever rows the history kept (the step extremes merged in)."""
         if self.streamed:
-            return self.history.stats
-        if self._stats is None:
-            from .recording import Stats
-            self._stats = Stats(self.columns)
-            self._stats.add(self.data)
-        return self._stats
+            st = self.history.stats
+        else:
+            if self._stats is None:
+                from .recording import Stats
+                self._stats = Stats(self.columns)
+                self._stats.add(self.data)
+            st = self._stats
+        tr = self.step_extremes
+        if tr is not None and not getattr(st, "_steps_merged", False):
+            st.merge_steps(tr.names, tr.SX, tr.SN, tr.SL[0], tr.SL[1])
+            st._steps_merged = True
+        return st
 
     def plot_view(self) -> "Result":
         """What the plots draw: this result, or the streamed history's bounded copy."""
@@ -163,6 +172,49 @@ def _columns(sim: Simulation):
         cols = ["t_s"] + ([f"T{i + 1}_C" for i in range(n)] + ["E_stored_J", "E_air_J"] if heat else [])
     order = [c for c in CANONICAL if c in cols] + [c for c in cols if c not in CANONICAL]
     return cols, order
+
+
+LEDGER = ("E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J", "W3_J", "W4_J", "E_reseat_J", "E_rim_J")
+
+
+class StepTracker:
+    """Every step's extremes of the loop's row (the stepper's values, mu_i,
+    T_i) and the energy ledger's worst residual and input, when the history
+    keeps fewer rows than steps (output.csv_every > 1): the summary's peaks
+    and ledger then read every step, as with every row kept. The arrays are
+    the compiled engine's too (engine_kernel.track_row, the same arithmetic)."""
+
+    def __init__(self, cols: list, n: int):
+        self.names = cols[:n]
+        self.SX, self.SN = np.full(n, -np.inf), np.full(n, np.inf)
+        self.SL = np.zeros(2)
+        li = [cols.index(c) for c in LEDGER if c in cols[:n]]
+        base = all(c in cols[:n] for c in LEDGER[:5])
+        self.LI = np.array(li if base else [], dtype=np.int64)
+
+    @property
+    def arrays(self):
+        return self.SX, self.SN, self.LI, self.SL
+
+    def add(self, row) -> None:
+        SX, SN = self.SX, self.SN
+        for j in range(len(SX)):
+            x = row[j]
+            if x > SX[j]:
+                SX[j] = x
+            if x < SN[j]:
+                SN[j] = x
+        LI = self.LI
+        if len(LI):
+            s = 0.0
+            for k in LI[1:]:
+                s += row[k]
+            r = abs(row[LI[0]] - s)
+            if r > self.SL[0]:
+                self.SL[0] = r
+            e = abs(row[LI[0]])
+            if e > self.SL[1]:
+                self.SL[1] = e
 
 
 def _poisoned(snap):
@@ -243,9 +295,12 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     total_iter, worst_iter = 0, 0
     hot_every = look_every(N)              # the plates' fields, ~2000 times a run
     old = mech.footprints() if mech else None
+    # every step's extremes and ledger when not every step's row is kept
+    tracker = StepTracker(cols, len(mech.columns) + ni * (2 if heat else 1)) if (mech and every > 1) else None
     # the compiled engine (coupling/fast_loop.py); the loop below takes over where it stops
     fast = mech is not None and not iterated and sub == 1
-    jit = compiled_loop(sim, every, n_rows, cols, inject_failure_at) if fast else None
+    jit = (compiled_loop(sim, every, n_rows, cols, inject_failure_at, tracker.arrays if tracker else None)
+           if fast else None)
     # the bar's clock starts after the kernels are loaded (or compiled): its ETA is the stepping's
     bar = _Progress(N, dt, progress)
     t_start = time.perf_counter()
@@ -313,6 +368,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 if inject_failure_at is not None and n == inject_failure_at:
                     # poison the state (tests of the failure path): every float of the snapshot
                     mech.restore(_poisoned(mech.save()))
+                if tracker is not None:
+                    tracker.add(values() + tuple(mu) + (tuple(T) if heat else ()))
             if n % every == 0 or n == N or n == inject_failure_at:
                 r = row(n)
                 check_row(r, cols, n, dt)
@@ -341,6 +398,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                  tuple(plates), dict(sim.info), history=hist)
     # a failed or interrupted step n is not counted, unless its row was already kept
     res.steps = n if status == "ok" or last_row == n else n - 1
+    res.step_extremes = tracker
     return res
 
 

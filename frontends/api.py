@@ -263,8 +263,20 @@ class Result:
                 f"steps={self.summary.get('steps')}, out={str(self.out) if self.out else None!r})")
 
 
-def run(scene: SceneLike = None, out: str | os.PathLike | None = None, *, force: bool = False,
-        progress: bool = False, **overrides: Any) -> Result:
+def _check_args(fn: str, out, **flags) -> None:
+    """The API's own arguments, before anything runs: ``out`` a path (or
+    None), the flags booleans; else SceneError (one line naming the argument)."""
+    if out is not None and not isinstance(out, (str, os.PathLike)):
+        raise SceneError(f"fpd.{fn}(out={out!r}): out must be a folder path (a str or a Path) or None, "
+                         f"not {type(out).__name__}")
+    if isinstance(out, str) and not out.strip():
+        raise SceneError(f"fpd.{fn}(out={out!r}): out must be a folder path, not an empty string")
+    for name, value in flags.items():
+        if not (isinstance(value, bool) or type(value).__name__ == "bool_"):     # numpy's too
+            raise SceneError(f"fpd.{fn}({name}={value!r}): {name} must be True or False, not {type(value).__name__}")
+
+
+def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **overrides) -> Result:
     """Run a scene and return a ``Result`` (summary, history, scene, out).
 
     ``scene``: a packaged name, a path, a dict or a Scene (see ``load_scene``);
@@ -282,6 +294,7 @@ def run(scene: SceneLike = None, out: str | os.PathLike | None = None, *, force:
     from fpd.outputs.output import ResultsFolder, check_out_dir, summary, write_all
     from fpd.coupling.run import simulate
 
+    _check_args("run", out, force=force, progress=progress)
     sc = load_scene(scene, **overrides)
     if progress:
         from fpd import jitcache
@@ -365,6 +378,7 @@ def _study(kind: str, table: str, scene, out, force, fast, quiet, overrides) -> 
 
     from fpd.studies.compare import cmd_compare
     from fpd.studies.converge import cmd_converge
+    _check_args(kind, out, force=force, fast=fast, quiet=quiet)
 
     with tempfile.TemporaryDirectory(prefix=f"fpd-{kind}-") as tmp:
         if overrides or isinstance(scene, (Mapping, Scene)):

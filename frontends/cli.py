@@ -1,7 +1,8 @@
 """``fpd``: the command line (docs/reference.md).
 
 Exit status: 0 success; 2 bad input (one line on stderr, no results folder);
-1 numerical failure (history kept); 130 interrupted (history kept).
+1 numerical failure (history kept); 130 interrupted (history kept); fpd sweep:
+3 some members failed or errored, 4 members not run (the cluster lost).
 """
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ import signal  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-EXIT_OK, EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED = 0, 1, 2, 130
+from fpd.status import EXIT_FAILED, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_MEMBERS, EXIT_OK, EXIT_UNFINISHED  # noqa: F401
 
 
 class _Parser(argparse.ArgumentParser):
@@ -45,7 +46,8 @@ examples:
   fpd run --help                          the options of one command
 
 Scene keys, output columns, summary.json fields, exit status: docs/reference.md
-(or `fpd reference`). Exit status: 0 ok, 1 numerical failure, 2 bad input, 130 interrupted.
+(or `fpd reference`). Exit status: 0 ok, 1 numerical failure, 2 bad input, 130 interrupted
+(fpd sweep: 3 members not ok, 4 members not run).
 """
 
 _SCENE_HELP = "a scene file (TOML) or a packaged scene name (see `fpd scenes`)"
@@ -160,12 +162,20 @@ def _parser() -> argparse.ArgumentParser:
   fpd sweep my-sweep.toml --out sw              one worker per core on a local cluster
   fpd sweep my-sweep.toml --out sw --workers 1  one local worker
   fpd sweep my-sweep.toml --out sw --scheduler tcp://head:8786   an existing Dask cluster
+
+exit status: 0 every member ok; 3 some members failed or errored (the table is complete,
+a rerun retries them); 4 members not run (the cluster lost: run again to finish);
+2 bad input; 130 interrupted.
 """)
     w.add_argument("sweep", metavar="SWEEP.toml", help="the sweep file (TOML: scene, mode, [axes], [set], [run])")
     w.add_argument("--out", metavar="DIR", help="results folder (default: results/<sweep name>/)")
     w.add_argument("--workers", type=int, help="local worker processes (default: one per core)")
     w.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, e.g. tcp://host:8786")
     w.add_argument("--force", action="store_true", help="start afresh (default: resume a sweep in --out)")
+    w.add_argument("--keep-failed", action="store_true",
+                   help="on a rerun, keep stored failed and error members (default: retry every member not ok)")
+    w.add_argument("--max-members", type=int, metavar="N",
+                   help="refuse a sweep of more than N members (default: 100000)")
     w.add_argument("--quiet", action="store_true", help="print nothing but errors (no progress, no report)")
 
     m = sub.add_parser(

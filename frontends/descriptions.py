@@ -26,10 +26,15 @@ EXIT: dict[int, str] = {
     1: "Numerical failure (non-finite state, coupling not converged, the pad overturned), with the step and "
        "time on stderr; the results folder holds the history up to it (status \"failed\"). Writing the results "
        "failed (disk full, quota, permission): one line saying how far the run got; DIR keeps only whole files "
-       "(docs/studies.md, \"Running on shared machines\"). Studies: a case failed (fpd sweep and fpd map exit 0 "
-       "and give each member's status in their table).",
-    2: "Bad input (scene, file, option, results folder): one line on stderr naming the file, the key, the "
-       "value and what is allowed; no results folder is written.",
+       "(docs/studies.md, \"Running on shared machines\"). Studies: a case failed (fpd map exits 0 "
+       "and gives each member's status in its table).",
+    2: "Bad input (scene, file, option, results folder, a mesh larger than the memory available, a sweep of "
+       "more than --max-members members, a sweep worker without the same fpd): one line on stderr naming the "
+       "file, the key, the value and what is allowed; no results folder is written.",
+    3: "fpd sweep: some members failed or errored; the table is complete and says which (status, message); "
+       "one line on stderr with how many and the first message. A rerun retries them (--keep-failed keeps them).",
+    4: "fpd sweep: the sweep could not finish (the scheduler lost, no worker left): the members not run are "
+       "rows \"not run\", the finished ones are kept; run the same command again to finish.",
     130: "Interrupted (Ctrl-C, SIGTERM); the results folder holds the history up to then (status "
          "\"interrupted\"); fpd sweep keeps the finished members (run it again to finish).",
 }

@@ -291,7 +291,8 @@ class BidirectionalStepper(_Base):
             self.columns = SEATED_COLUMNS if seated else PLANAR_COLUMNS
             self.two_d = False
         self._ax = float_array(gx.a_step)
-        self._ay = float_array(gy.a_step if gy is not None else np.zeros(gx.n_steps))
+        # a planar run has no y component at all: no series of zeros (8 bytes a step)
+        self._ay = float_array(gy.a_step) if gy is not None else (None if planar else float_array(np.zeros(gx.n_steps)))
         self._xg = gx.d
         self._yg = gy.d if gy is not None else None
 
@@ -310,7 +311,9 @@ class BidirectionalStepper(_Base):
             raise ImportError("numba is not available")
         xg = as_float64(self._xg)
         yg = as_float64(self._yg) if self._yg is not None else xg     # (read only with a y component)
-        return self.C, self.S, (as_float64(self._ax), as_float64(self._ay), xg, yg), (np.zeros(1),)
+        ax = as_float64(self._ax)
+        ay = as_float64(self._ay) if self._ay is not None else ax      # (a planar run reads no ay: dev_bidirectional)
+        return self.C, self.S, (ax, ay, xg, yg), (np.zeros(1),)
 
     def engine_pull(self, S) -> None:
         """Nothing to copy: the engine steps the stepper's own state."""
@@ -323,7 +326,8 @@ class BidirectionalStepper(_Base):
             raise IndexError(f"all {self.n_steps} steps of the loading are taken")
         S = self.S
         W1, W2 = S[K.S_W1], S[K.S_W2]
-        flag = self._K.step(self.C, S, self._ax[self.n], self._ay[self.n], self.dt, mu1, mu2)
+        flag = self._K.step(self.C, S, self._ax[self.n], self._ay[self.n] if self._ay is not None else 0.0,
+                            self.dt, mu1, mu2)
         if flag != K.FLAG_OK:
             raise _failure(flag, self.n * self.dt)
         self.n += 1
@@ -334,7 +338,8 @@ class BidirectionalStepper(_Base):
         after each step (the kernel's own loop; compiled when this stepper is)."""
         n1 = self.n_steps if n_steps is None else self.n + n_steps
         out = np.zeros((n1 - self.n, 3))
-        AX, AY = np.asarray(self._ax), np.asarray(self._ay)
+        AX = np.asarray(self._ax)
+        AY = np.asarray(self._ay) if self._ay is not None else np.zeros(len(AX))
         C, S = (self.C, self.S) if self.compiled else (self.C, self.S)
         done = self._K.run_steps(C, S, AX, AY, self.dt, mu1, mu2, self.n, n1, out)
         self.n += done

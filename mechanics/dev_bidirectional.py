@@ -30,7 +30,10 @@ def centre(C, S, i):
 
 def step(C, S, L, X, n, dt, mu, dW):
     w1, w2 = S[bk.S_W1], S[bk.S_W2]
-    flag = bk.step(C, S, L[0][n - 1], L[1][n - 1], dt, mu[0], mu[1])
+    ay = 0.0
+    if C[bk.C_PLANAR] == bk.PLANAR_NONE:     # a planar run has no y component
+        ay = L[1][n - 1]
+    flag = bk.step(C, S, L[0][n - 1], ay, dt, mu[0], mu[1])
     dW[0] = S[bk.S_W1] - w1
     dW[1] = S[bk.S_W2] - w2
     return flag

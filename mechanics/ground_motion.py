@@ -79,7 +79,29 @@ def _parse_npts_dt(line: str):
     return None
 
 
+def _file_kind(mode: int) -> str | None:
+    """What a file that is not a regular file is (None for a regular file)."""
+    import stat
+    for test, name in ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISSOCK, "a socket"), (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device")):
+        if test(mode):
+            return name
+    return None if stat.S_ISREG(mode) else "not a regular file"
+
+
 def _read_text(path) -> str:
+    import os
+    try:
+        kind = _file_kind(os.stat(path).st_mode)     # before opening: a FIFO would block the open forever
+    except FileNotFoundError:
+        raise RecordError(path, "file not found") from None
+    except OSError as exc:
+        raise RecordError(path, f"cannot be read ({exc.strerror})") from None
+    if kind == "a directory":
+        raise RecordError(path, "is a directory, not a record file")
+    if kind is not None:
+        raise RecordError(path, f"is {kind}, not a regular file: give a record file")
     try:
         raw = open(path, "rb").read()
     except FileNotFoundError:
@@ -295,8 +317,36 @@ def read_record(path, units: str | None = None, dt: float | None = None) -> Reco
             raise RecordError(path, f"{what}: acceleration units not named "
                               "in its header; set loading.units = \"g\" or \"m/s2\"")
     if dt is not None:
+        if ncols == 2:
+            _refuse_time_column(text, path, dt)
         return parse_samples(text, path, dt, units)
     return parse_two_column(text, path, units)
+
+
+def _refuse_time_column(text: str, path, dt: float) -> None:
+    """loading.dt with a file of two values per line whose first column
+    increases on every line, from about 0: a (time, acceleration) record.
+    Read as samples it would interleave the times with the accelerations;
+    refused (an accelerogram's samples never increase on every line)."""
+    first = []
+    for line in text.splitlines():
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        toks = s.replace(",", " ").replace(";", " ").split()
+        try:
+            row = [float(x) for x in toks]
+        except ValueError:
+            if first:
+                return                  # parse_samples names the bad value
+            continue
+        if len(row) != 2:
+            return
+        first.append(row[0])
+    if len(first) >= 3 and all(b > a for a, b in zip(first, first[1:])):
+        raise RecordError(path, f"has two columns and the first increases on every line ({first[0]:g} to "
+                          f"{first[-1]:g}): a time column, but loading.dt = {dt:g} s reads every value as an "
+                          "acceleration sample; remove loading.dt (the times are read from the file)")
 
 
 def _units_from_header(text: str):
@@ -330,6 +380,85 @@ def baseline_fit(t, v):
     return float(b1), float(b2)
 
 
+CHUNK = 1 << 16        # grid points sampled at a time: the temporaries stay O(CHUNK), not O(steps)
+
+
+def compact_zeros(n: int) -> np.ndarray:
+    """n zeros as a numpy view of an array('d') (float_array hands the same
+    memory to the steppers instead of a copy)."""
+    from array import array
+    return np.frombuffer(array("d", [0.0]) * n, dtype=np.float64)
+
+
+def _sample(t_rec, a_rec, v_rec, d_rec, dt, n, want):
+    """The piecewise-linear record (and its exact integrals) on t_n = n dt,
+    n = 0..n, block by block; ``want``: the names among t, d, v, a, a_step
+    to fill (a_step has n entries, the others n + 1). Element by element the
+    same arithmetic as on the whole grid at once: the same numbers, bit for bit."""
+    out = {k: compact_zeros(n if k == "a_step" else n + 1) for k in want}
+    t_end = t_rec[-1]
+    for i0 in range(0, n + 1, CHUNK):
+        i1 = min(n + 1, i0 + CHUNK + 1)          # one point more: a_step of the block's last step
+        t = np.arange(i0, i1) * dt
+        k = np.clip(np.searchsorted(t_rec, t, side="right") - 1, 0, len(t_rec) - 2)
+        h = t_rec[k + 1] - t_rec[k]
+        tau = np.minimum(t - t_rec[k], h)
+        slope = (a_rec[k + 1] - a_rec[k]) / h
+        a = a_rec[k] + slope * tau
+        v = v_rec[k] + a_rec[k] * tau + 0.5 * slope * tau ** 2
+        d = d_rec[k] + v_rec[k] * tau + 0.5 * a_rec[k] * tau ** 2 + slope * tau ** 3 / 6.0
+        after = t > t_end
+        if after.any():
+            extra = t[after] - t_end
+            a[after] = 0.0
+            v[after] = v_rec[-1]
+            d[after] = d_rec[-1] + v_rec[-1] * extra
+        m = min(CHUNK, n + 1 - i0)                # the block's own points
+        for name, arr in (("t", t), ("d", d), ("v", v), ("a", a)):
+            if name in out:
+                out[name][i0:i0 + m] = arr[:m]
+        if "a_step" in out and i0 < n:
+            j1 = min(n, i0 + CHUNK)
+            out["a_step"][i0:j1] = np.diff(v[:j1 - i0 + 1]) / dt
+    return out
+
+
+@dataclass
+class _Lazy:
+    """How a record's v and a are computed when first asked for."""
+    args: tuple
+
+
+class RecordGroundMotion(GroundMotion):
+    """A record on the solver grid. t, d and a_step (what the steppers read)
+    are kept; v and a are computed when first asked for (a long run does not
+    hold them: 16 bytes per step)."""
+
+    @property
+    def v(self):
+        if self._v is None:
+            self._va()
+        return self._v
+
+    @v.setter
+    def v(self, x):
+        self._v = x
+
+    @property
+    def a(self):
+        if self._a is None:
+            self._va()
+        return self._a
+
+    @a.setter
+    def a(self, x):
+        self._a = x
+
+    def _va(self):
+        got = _sample(*self._lazy.args, want=("v", "a"))
+        self._v, self._a = got["v"], got["a"]
+
+
 def ground_motion_from_samples(name, t_rec, a_rec, dt, duration=None,
                                baseline: bool = True) -> GroundMotion:
     """Sample the piecewise-linear acceleration (m/s2) of a record on the grid
@@ -340,6 +469,10 @@ def ground_motion_from_samples(name, t_rec, a_rec, dt, duration=None,
     least squares to the uncorrected velocity is removed, i.e. the linear
     acceleration b1 + 2 b2 t is subtracted. The corrected acceleration is still
     piecewise linear, so a, v and d stay exactly consistent.
+
+    Memory: the grid is sampled block by block into compact arrays that the
+    steppers use without a copy (float_array); v and a are computed only when
+    asked for (RecordGroundMotion): a run holds 24 bytes per step of loading.
     """
     t_rec = np.asarray(t_rec, float)
     a_rec = np.asarray(a_rec, float)
@@ -352,21 +485,10 @@ def ground_motion_from_samples(name, t_rec, a_rec, dt, duration=None,
     if duration is None:
         duration = float(t_rec[-1])
     n = max(1, int(round(duration / dt)))
-    t = np.arange(n + 1) * dt
-    k = np.clip(np.searchsorted(t_rec, t, side="right") - 1, 0, len(t_rec) - 2)
-    h = t_rec[k + 1] - t_rec[k]
-    tau = np.minimum(t - t_rec[k], h)
-    slope = (a_rec[k + 1] - a_rec[k]) / h
-    a = a_rec[k] + slope * tau
-    v = v_rec[k] + a_rec[k] * tau + 0.5 * slope * tau ** 2
-    d = d_rec[k] + v_rec[k] * tau + 0.5 * a_rec[k] * tau ** 2 + slope * tau ** 3 / 6.0
-    after = t > t_rec[-1]
-    if after.any():
-        extra = t[after] - t_rec[-1]
-        a[after] = 0.0
-        v[after] = v_rec[-1]
-        d[after] = d_rec[-1] + v_rec[-1] * extra
-    gm = GroundMotion(name=name, dt=dt, t=t, d=d, v=v, a=a, a_step=np.diff(v) / dt)
+    args = (t_rec, a_rec, v_rec, d_rec, dt, n)
+    got = _sample(*args, want=("t", "d", "a_step"))
+    gm = RecordGroundMotion(name=name, dt=dt, t=got["t"], d=got["d"], v=None, a=None, a_step=got["a_step"])
+    gm._lazy = _Lazy(args)
     gm.baseline = (b1, b2)
     return gm
 
@@ -391,8 +513,8 @@ def harmonic_ground_motion(amplitude_m, frequency_Hz, cycles, dt, duration=None)
     # does not feel, so steps see only the smooth part
     v_smooth = amplitude_m * w * np.cos(w * tt)
     a_step = np.diff(v_smooth) / dt
-    return GroundMotion(name=f"harmonic {amplitude_m:g} m {frequency_Hz:g} Hz", dt=dt,
-                        t=t, d=d, v=v, a=a, a_step=a_step)
+    return _compacted(GroundMotion(name=f"harmonic {amplitude_m:g} m {frequency_Hz:g} Hz", dt=dt,
+                                   t=t, d=d, v=v, a=a, a_step=a_step))
 
 
 @dataclass
@@ -465,8 +587,19 @@ def pulse_ground_motion(shape, velocity_mps, period_s, t0_s, duration, dt) -> Gr
             a = np.where(on, V * w * np.cos(w * s), 0.0)
         else:
             raise ValueError(f"unknown pulse shape {shape!r}")
-    return GroundMotion(name=f"{shape} pulse {V:g} m/s", dt=dt, t=t, d=d, v=v, a=a,
-                        a_step=np.diff(v) / dt)
+    return _compacted(GroundMotion(name=f"{shape} pulse {V:g} m/s", dt=dt, t=t, d=d, v=v, a=a,
+                                   a_step=np.diff(v) / dt))
+
+
+def _compacted(gm: GroundMotion) -> GroundMotion:
+    """The motion's arrays moved into compact arrays (compact_zeros), so that
+    the steppers' float_array shares them instead of copying (the same values)."""
+    for name in ("t", "d", "v", "a", "a_step"):
+        x = getattr(gm, name)
+        c = compact_zeros(len(x))
+        c[:] = x
+        setattr(gm, name, c)
+    return gm
 
 
 def float_array(x) -> "array":
@@ -476,6 +609,11 @@ def float_array(x) -> "array":
     costs 8 bytes per step and per series."""
     from array import array
 
+    base = getattr(x, "base", None)
+    if (isinstance(base, memoryview) and isinstance(base.obj, array) and base.obj.typecode == "d"
+            and x.ndim == 1 and x.dtype == np.float64 and len(base.obj) == x.size
+            and x.ctypes.data == base.obj.buffer_info()[0]):
+        return base.obj           # a compact array (compact_zeros): the same memory, no copy
     a = array("d")
     a.frombytes(np.ascontiguousarray(x, dtype=np.float64).tobytes())
     return a

@@ -468,6 +468,10 @@ def _record_path(ctx: _Ctx, key: str, given: str, scene_dir: Path) -> str:
         p = cand if cand.exists() or not p.exists() else p.resolve()
     if not p.exists():
         ctx.fail(key, given, f"file not found (looked in {p.parent})")
+    from fpd.mechanics.ground_motion import _file_kind
+    kind = _file_kind(p.stat().st_mode)
+    if kind is not None:                 # a FIFO would block the reader forever
+        ctx.fail(key, given, f"is {kind}, not a regular file: give a record file")
     return str(p.resolve())
 
 
@@ -510,6 +514,12 @@ def _record_set(ctx: _Ctx, res: dict) -> None:
 
 def validate(raw: dict, path: str = "<scene>") -> Scene:
     """Validate a parsed TOML tree and fill defaults; raise SceneError."""
+    sc = _validate(raw, path)
+    check_mesh_memory(_Ctx(path), sc.data)
+    return sc
+
+
+def _validate(raw: dict, path: str) -> Scene:
     ctx = _Ctx(path)
     if not isinstance(raw, dict):
         raise SceneError(f"{path}: the scene must be a TOML table")
@@ -709,6 +719,99 @@ def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
         if t["model"] == "axisym":
             ctx.fail("thermal.model", "axisym", "the axisymmetric plate cannot take the 2D footprint path "
                      'of a bidirectional run: use "fe1d", "lumped" or "none"')
+
+
+# -- what a plate's mesh needs in memory (checked before anything is built) ---------------
+# bytes per node of the state and work vectors, and per entry of the dense per-direction
+# eigenvector matrices (the modal integrators keep about this many n x n matrices)
+_VEC_BYTES = {"fe1d": 8 * 48, "axisym": 8 * 40, "fe3d": 8 * 12}
+_DENSE_COPIES = 8
+_AXISYM_MODAL_MAX = 2000        # thermal/axisym_modes.TensorModes.MAX_NODES: beyond it a sparse LU
+
+
+def _graded_count(length: float, band: float, h: float) -> float:
+    """Elements of meshes.box.banded_nodes(length, band, h) without building it."""
+    band = min(max(band, 0.0), length)
+    inner = math.ceil(band / h - 1e-9) if band > 0 else 0
+    rest = length - band
+    outer = math.log1p(rest * 0.1 / h) / math.log(1.1) if rest > 0 else 0.0   # growth 1.1 from h
+    return max(inner, 1) + math.ceil(outer)
+
+
+def mesh_estimate(t: dict, a: float) -> tuple[float, str, str] | None:
+    """(bytes, mesh in words, the key that sizes it) of one plate's mesh, or
+    None (no mesh): the nodes counted as meshes/ builds them, the dense
+    per-direction eigenvector matrices of the modal integrators, or the
+    sparse LU's fill beyond them."""
+    model = t["model"]
+    if model == "fe1d":
+        n = t["n_elements"] + 1.0
+        return n * _VEC_BYTES["fe1d"], f"{n:.3g} nodes through the thickness", "n_elements"
+    h = a / t["per_radius"]
+    if model == "axisym":
+        if t.get("mesh_file"):
+            return None
+        nr1 = (t["nr"] if t["nr"] else _graded_count(t["plate_radius"], t["plate_radius"], h)) + 1.0
+        nz1 = t["nz"] + 1.0
+        N = nr1 * nz1
+        if max(nr1, nz1) <= _AXISYM_MODAL_MAX:
+            dense = 8.0 * _DENSE_COPIES * (nr1 ** 2 + nz1 ** 2)
+        else:                         # sparse LU: fill ~ the narrower side per node (minimum degree)
+            dense = 8.0 * 3 * N * (min(nr1, nz1) + 2)
+        key = "nz" if nz1 >= nr1 else ("nr" if t["nr"] else "per_radius")
+        return N * _VEC_BYTES["axisym"] + dense, f"{nr1:.3g} x {nz1:.3g} nodes (r x z)", key
+    if model == "fe3d":
+        half = 0.5 * math.sqrt(math.pi) * t["plate_radius"]
+        nx = max(2, math.ceil(2 * half / h - 1e-9)) + 1.0
+        ny = 2 * _graded_count(half, min(half, a), h) + 1.0
+        nz1 = t["nz"] + 1.0
+        dense = 8.0 * _DENSE_COPIES * (nx ** 2 + ny ** 2 + nz1 ** 2)
+        key = "nz" if nz1 >= nx else "per_radius"
+        return nx * ny * nz1 * _VEC_BYTES["fe3d"] + dense, f"{nx:.3g} x {ny:.3g} x {nz1:.3g} nodes", key
+    return None
+
+
+def available_memory() -> float | None:
+    """Bytes of memory available now (Linux: MemAvailable), or None if unknown."""
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return float(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def check_mesh_memory(ctx: _Ctx, data: dict) -> None:
+    """Plates whose meshes need more memory than is available are refused
+    before anything is built (one line naming the key that sizes the mesh),
+    instead of a MemoryError after minutes of assembly."""
+    dev = data["device"]
+    a = 0.5 * (dev.get("slider_diameter") or dev["pad_diameter"])
+    total, worst = 0.0, None
+    for side, t in data["thermal"].items():
+        est = mesh_estimate(t, a)
+        if est is None:
+            continue
+        total += est[0]
+        if worst is None or est[0] > worst[1][0]:
+            worst = (side, est)
+    if worst is None:
+        return
+    avail = available_memory()
+    if avail is None or total <= 0.8 * avail:
+        return
+    side, (need, what, key) = worst
+    t = data["thermal"][side]
+    same = all(u.get(key) == t[key] and u["model"] == t["model"] for u in data["thermal"].values())
+    ctx.fail(f"thermal.{key}" if same else f"thermal.{side}.{key}", t[key],
+             f"the {t['model']} mesh of the {side} plate ({what}) needs about {need / 1e9:.3g} GB "
+             f"(all plates {total / 1e9:.3g} GB), more than 80 % of the {avail / 1e9:.3g} GB of memory available: "
+             f"lower thermal.{key}" + (" (or per_radius)" if key == "nz" and t["model"] != "fe1d" else ""))
 
 
 def check_steps(path: str, dt: float, length: float) -> None:

@@ -42,7 +42,7 @@ import numpy as np
 
 from fpd.schema import scene as scn
 from fpd.schema.scene import SceneError
-from .sweep import STORE, Member, Sweep, finalize, run_sweep
+from .sweep import EXIT_MEMBERS, STORE, Member, Sweep, finalize, run_sweep
 
 LEVELS = (0.01, 0.05, 0.20)
 DT = 1e-3
@@ -126,7 +126,7 @@ def cmd_map(args) -> int:
                "map.intensity": grid["pulse_V"] + grid["pga_g"], "map.variant": list(VARIANTS)}
     code = run_sweep(sw, out / "sweep", getattr(args, "workers", None), getattr(args, "scheduler", None),
                      args.force, args.quiet)
-    if code != 0:
+    if code not in (0, EXIT_MEMBERS):     # failed members are cells of the map too
         return code
     store = out / "sweep" / STORE
     res = {}

