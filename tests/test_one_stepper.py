@@ -186,3 +186,29 @@ def test_compiled_flat_bearing_under_a_record_equals_the_pure_path(monkeypatch, 
     if status == "failed":
         assert "the pad tips" in a.message and len(a.data) > 6000
     np.testing.assert_array_equal(a.data, b.data)
+
+
+@pytest.mark.parametrize("scene, over", [
+    ("flat-lab", {"thermal": {"model": "lumped"}}),
+    ("lab-sine", {}),
+    ("lab-sine", {"loading": {"waveform": "circle"}}),
+])
+def test_compiled_engine_tracks_every_step_as_the_pure_path(monkeypatch, scene, over):
+    """With rows kept every 10 steps the summary (every step's peaks and
+    ledger: the engine's track_row, the Python loop's StepTracker) is the
+    same, value for value, compiled and pure, for the flat bearing and the
+    two test machines."""
+    pytest.importorskip("numba")
+    from fpd import kernels
+    if not kernels.available():
+        pytest.skip("FPD_NO_JIT")
+    from fpd.frontends import api
+
+    def summary():
+        s = api.run(scene, output={"csv_every": 10, "plots": False}, **over).summary
+        s.pop("runtime_s", None)
+        return s
+
+    a = summary()
+    monkeypatch.setenv("FPD_NO_JIT", "1")
+    assert a == summary()
