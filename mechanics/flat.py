@@ -57,8 +57,10 @@ class FlatGeometry:
         return self.mass * self.g
 
     def resisting_moment(self, N_top: float) -> float:
-        """N D + m g D / 2 about the trailing bottom corner (N m)."""
-        return N_top * self.pad_diameter + self.pad_mass * self.g * self.pad_diameter / 2.0
+        """N D + m g D / 2 about the trailing bottom corner (N m): flat_kernel's."""
+        C = [0.0] * K.N_PAR
+        C[K.I_MPAD], C[K.I_D], C[K.I_G] = self.pad_mass, self.pad_diameter, self.g
+        return K.resisting_moment(C, N_top)
 
     def mu_tip(self, mu_lower: float | None = None) -> float:
         """Closed-form tipping threshold of the top face's mu (quasi-static, pad
@@ -167,7 +169,7 @@ class FlatStepper(TwoInterfaces):
         """The exception the step's error flag S[S_ERR] stands for."""
         g, S = self.geom, self.S
         raise PadTipped(f"the pad tips: friction couple {S[K.S_DEM]:.4g} N m > N D + m g D/2 = "
-                        f"{g.resisting_moment(self.N2):.4g} N m (closed form: mu > {g.mu_tip():.4g})")
+                        f"{K.resisting_moment(self.C, self.N2):.4g} N m (closed form: mu > {g.mu_tip():.4g})")
 
     # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
     engine_device = "fpd.mechanics.dev_flat"
