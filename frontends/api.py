@@ -276,7 +276,8 @@ def _check_args(fn: str, out, **flags) -> None:
             raise SceneError(f"fpd.{fn}({name}={value!r}): {name} must be True or False, not {type(value).__name__}")
 
 
-def run(scene=None, out=None, *, force: bool = False, progress: bool = False, **overrides) -> Result:
+def run(scene: SceneLike = None, out: str | os.PathLike | None = None, *, force: bool = False,
+        progress: bool = False, **overrides: Any) -> Result:
     """Run a scene and return a ``Result`` (summary, history, scene, out).
 
     ``scene``: a packaged name, a path, a dict or a Scene (see ``load_scene``);

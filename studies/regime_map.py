@@ -197,6 +197,7 @@ def _metrics(runs: dict, T0: float) -> dict:
     m["T_lumped_vs_fe1d_fine"] = (dB - dF) / dB if dB > 0 else math.nan
     m["dT_fe1d_K"], m["dT_lumped_K"] = dA, dD
     m["peak_u_mm"] = 1e3 * g("A", "peak_u_m")
+    m["capacity_ratio"] = g("A", "capacity_ratio")          # 1: the slide reached a rim
     m["stuck"] = 1.0 if m["peak_u_mm"] < 1e-3 else 0.0       # the bearing never slid: nothing to compare
     m["failed"] = sorted(v for v, r in runs.items() if r.get("status") != "ok")
     m["overturned"] = 1.0 if any("overturned" in str(r.get("message", "")) for r in runs.values()) else 0.0
@@ -425,7 +426,7 @@ def report(cells, grid, kind, wall, figs, sw, res) -> str:
     L += ["## Numbers behind the map", "",
           "| family | h/D | intensity | peak u (mm) | dT fe1d (K) | dT lumped (K) | beta(dt/2) mrad mu .06 | "
           "beta(dt/2) mrad mu .6 | tilt share .06 | tilt share .6 | u 2p/seated | W 2p/seated | T lumped/fe1d | "
-          "u lumped/fe1d | not ok |", "|" + "---|" * 15]
+          "u lumped/fe1d | capacity ratio | not ok |", "|" + "---|" * 16]
     for fam, d in cells.items():
         for (hD, lev), c in sorted(d.items()):
             def p(k):
@@ -438,7 +439,8 @@ def report(cells, grid, kind, wall, figs, sw, res) -> str:
             L.append(f"| {fam} | {hD:g} | {lev:g} | {n('peak_u_mm')} | {n('dT_fe1d_K')} | {n('dT_lumped_K')} | "
                      f"{n('tilt_share_mu006_beta_mrad')} | {n('tilt_share_mu06_beta_mrad')} | {p('tilt_share_mu006')} | "
                      f"{p('tilt_share_mu06')} | {p('u_2p_vs_seated')} | {p('W_2p_vs_seated')} | "
-                     f"{p('T_lumped_vs_fe1d')} | {p('u_lumped_vs_fe1d')} | {','.join(c['failed']) or ''} |")
+                     f"{p('T_lumped_vs_fe1d')} | {p('u_lumped_vs_fe1d')} | {n('capacity_ratio')} | "
+                     f"{','.join(c['failed']) or ''} |")
     L += ["", "Variants: A two-phase+fe1d dt, B the same at dt/2, C seated+fe1d dt, E at dt/2, D two-phase+lumped "
           "dt, F at dt/2, G two-phase+fe1d mu_ref = 0.6 dt, H at dt/2. Every run is a row of sweep/sweep.csv "
           "(map.* columns say which cell and variant).", ""]

@@ -84,6 +84,7 @@ HEADLINES = (("peak_u_m", "peak displacement", 1e3, "mm"), ("residual_u_m", "res
              ("peak_T2_C", "peak T upper", 1, "C"),
              ("peak_theta_rad", "peak sliding rotation theta (line of centres)", 1, "rad"),
              ("peak_beta_rad", "peak pad rocking beta", 1, "rad"),
+             ("capacity_ratio", "capacity ratio (peak slide / capacity)", 1, "-"),
              ("energy_residual_rel", "energy residual", 1, "rel"), ("runtime_s", "run time", 1, "s"))
 
 
@@ -863,6 +864,46 @@ def write_tables(folder, sw: Sweep, rows: list[dict], wall_s: float, ran: int) -
             data[c] = vals
         pq.write_table(pa.table(data), folder.path("sweep.parquet"))
     folder.path("sweep.md").write_text(report(sw, rows, wall_s, ran))
+    groups = rim_by_axis(sw, rows)
+    if groups is not None and len(groups[1]) > 1:
+        rim_figure(folder.path("rim_probability.png"), *groups)
+
+
+RIM_REACHED = 1.0 - 1e-9          # capacity_ratio at or above it: the slide reached a rim
+
+
+def rim_by_axis(sw: Sweep, rows: list[dict]):
+    """(axis, [(value, members ok, members at a rim)]) over the ground-motion
+    intensity axis of the sweep (loading.scale, else loading.target_pga_g),
+    or None: the probability of rim impact against intensity (with a FEMA
+    P695 set: the collapse count of an isolation system)."""
+    axis = next((a for a in ("loading.scale", "loading.target_pga_g") if a in sw.axes), None)
+    if axis is None:
+        return None
+    out = []
+    for v in sw.axes[axis]:
+        ok = [r for r in rows if r["status"] == "ok" and r.get(axis) == v and "capacity_ratio" in r]
+        if ok:
+            out.append((v, len(ok), sum(1 for r in ok if r["capacity_ratio"] >= RIM_REACHED)))
+    return axis, out
+
+
+def rim_figure(path, axis: str, groups) -> None:
+    """rim_probability.png: the fraction of members reaching a rim against the intensity."""
+    from fpd.outputs.drawing import new_figure, save
+    fig, (ax,) = new_figure(figsize=(6.0, 3.2), left=0.8, bottom=0.6)
+    x = [g[0] for g in groups]
+    p = [g[2] / g[1] for g in groups]
+    ax.plot(x, p, "o-", lw=1.2)
+    for xi, pi, g in zip(x, p, groups):
+        ax.annotate(f"{g[2]}/{g[1]}", (xi, pi), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    ax.set_xlabel(axis)
+    ax.set_ylabel("P(rim impact)")
+    ax.set_ylim(-0.05, 1.12)
+    ax.margins(x=0.08)
+    ax.grid(alpha=0.3)
+    ax.set_title("members whose slide reached a rim")
+    save(fig, path)
 
 
 def _num(rows, col):
@@ -897,6 +938,20 @@ def report(sw: Sweep, rows: list[dict], wall_s: float, ran: int) -> str:
         at = max((r for r in ok if r.get(col) in vals), key=lambda r: r[col])["member"]
         lines.append(f"| {label} | {unit} | {scale * min(vals):.4g} | {scale * statistics.median(vals):.4g} | "
                      f"{scale * max(vals):.4g} | {at} |")
+    rim = [r for r in ok if "capacity_ratio" in r]
+    if rim:
+        hit = [r for r in rim if r["capacity_ratio"] >= RIM_REACHED]
+        lines += ["", "## Rim impacts", "",
+                  f"{len(hit)} of {len(rim)} members ({100 * len(hit) / len(rim):.3g} %) reached a rim "
+                  "(capacity ratio = peak slide / capacity >= 1)" + (f": {_ids([r['member'] for r in hit])}."
+                                                                     if hit else ".")]
+        groups = rim_by_axis(sw, rows)
+        if groups is not None and groups[1]:
+            axis, g = groups
+            lines += ["", f"Probability of rim impact against `{axis}`"
+                      + (" (rim_probability.png)" if len(g) > 1 else "") + ":", "",
+                      f"| {axis} | members ok | at a rim | probability |", "|---|---|---|---|"]
+            lines += [f"| {scn._fmt(v)} | {n} | {k} | {k / n:.3g} |" for v, n, k in g]
     bad = [r for r in rows if r["status"] != "ok"]
     if bad:
         lines += ["", "## Members not ok", "", "| member | status | message |", "|---|---|---|"]

@@ -329,3 +329,31 @@ def test_a_huge_sweep_is_refused_before_it_is_expanded(lite, capsys):
     assert "3 members (3); at most 2 allowed" in capsys.readouterr().err
     assert cli.main(["sweep", str(s2), "--out", str(lite / "out"), "--max-members", "0"]) == 2
     assert "--max-members 0: must be >= 1" in capsys.readouterr().err
+
+
+def test_sweep_reports_rim_impacts_against_the_intensity(lite):
+    """A DFP with a 15 mm capacity under El Centro (6 s) scaled 0.2, 0.5, 1
+    and 2: the members whose slide reaches the rim (capacity ratio 1) are
+    counted per scale in sweep.md and drawn against it (rim_probability.png);
+    every member's capacity ratio is a column of sweep.csv."""
+    rec_scene = LITE.split("[loading]")[0] + '[loading]\nkind = "record"\nrecord = "elcentro-1940"\n' + \
+        "[thermal]" + LITE.split("[thermal]")[1]
+    (lite / "rec.toml").write_text(rec_scene)
+    s = _write(lite, '''scene = "rec.toml"
+[set]
+"device.d1" = 0.015
+"solver.duration" = 6.0
+[axes]
+"loading.scale" = [0.2, 0.5, 1.0, 2.0]
+''')
+    out = lite / "out"
+    assert cli.main(["sweep", str(s), "--out", str(out), "--workers", "1", "--quiet"]) == 0
+    rows = {float(r["loading.scale"]): r for r in _rows(out)}
+    ratio = {k: float(r["capacity_ratio"]) for k, r in rows.items()}
+    assert ratio[0.2] < 1.0 and ratio[2.0] == pytest.approx(1.0, abs=1e-9), ratio
+    hit = sum(1 for v in ratio.values() if v >= swp.RIM_REACHED)
+    md = (out / "sweep.md").read_text()
+    assert "## Rim impacts" in md and f"{hit} of 4 members" in md
+    assert "| loading.scale | members ok | at a rim | probability |" in md
+    assert "| 0.2 | 1 | 0 | 0 |" in md and "| 2 | 1 | 1 | 1 |" in md
+    assert (out / "rim_probability.png").stat().st_size > 5000

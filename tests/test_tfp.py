@@ -240,7 +240,7 @@ def test_tfp_scene_errors_are_one_line(tmp_path, sets, tokens):
 
 def test_tfp_key_on_a_dfp_is_refused(tmp_path):
     p = _run_cli(["check", "default", "--set", "device.d3=0.2"], tmp_path)
-    assert p.returncode == 2 and "device.d1" in p.stderr and "TFP" in p.stderr
+    assert p.returncode == 2 and "device.d3" in p.stderr and "TFP" in p.stderr
 
 
 def test_small_angle_loop_area_and_the_series_model():
