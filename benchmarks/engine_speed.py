@@ -24,6 +24,11 @@ CASES = [
     ("DFP bidirectional (fe1d)", "impvall-bidirectional", []),
     ("TFP two-phase (fe1d)", "tfp-elcentro", ["thermal.model=fe1d"]),
     ("TFP seated, lumped", "tfp-elcentro", ["mechanics.model=seated", "thermal.model=lumped"]),
+    ("flat machine (flat-lab)", "flat-lab", []),
+    ("flat machine, lumped", "flat-lab", ["thermal.model=lumped"]),
+    ("test machine (lab-sine, fe1d)", "lab-sine", []),
+    ("test machine, lumped", "lab-sine", ["thermal.model=lumped"]),
+    ("orbit machine (circle, fe1d)", "lab-sine", ['loading.waveform="circle"']),
 ]
 
 

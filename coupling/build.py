@@ -345,4 +345,7 @@ def build_flat(scene: Scene) -> Simulation:
         info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
                           "pga_g": loading.record.pga_g, "scale": ld["scale"],
                           "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
-    return Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
+    sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
+    from .fast_loop import warm
+    warm(sim)           # load the compiled engine now, not after the run's folder is made
+    return sim

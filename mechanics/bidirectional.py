@@ -367,6 +367,24 @@ class BidirectionalTestMachine(_Base):
         # the lower plate moves by -u
         return (-float(self._U[self.n, 0]), -float(self._U[self.n, 1]))
 
+    # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
+    engine_device = "fpd.mechanics.dev_orbit_machine"
+
+    def engine_state(self):
+        """(C, S, L, X) as the engine reads them: the stepper's own arrays (it
+        steps with the compiled kernel from now on), the programme (u, u',
+        u'' per grid point), no scratch. ImportError without numba."""
+        self.use_compiled()
+        if not self.compiled:
+            raise ImportError("numba is not available")
+        return self.C, self.S, (self._U, self._UD, self._UDD), (np.zeros(1),)
+
+    def engine_pull(self, S) -> None:
+        """Nothing to copy: the engine steps the stepper's own state."""
+
+    def engine_push(self, S, n: int) -> None:
+        self.n = n
+
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         if self.n >= self.n_steps:
             raise IndexError(f"all {self.n_steps} steps of the loading are taken")

@@ -26,10 +26,11 @@ import numpy as np
 
 from . import flat_kernel as K
 from .geometry import G_ACC
-from .ground_motion import float_array
+from .ground_motion import as_float64, float_array
 from .protocol import TwoInterfaces
-from .seated import SLIP, STICK, MechanicsFailure
+from .phases import STICK, MechanicsFailure
 
+ENGINE_WORTH_STEPS = 60_000     # from here a mechanics-only run loads numba for the compiled engine
 COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J",
            "phase", "E_input_J", "E_kin_J", "E_pot_J", "tip_ratio")
 
@@ -56,8 +57,10 @@ class FlatGeometry:
         return self.mass * self.g
 
     def resisting_moment(self, N_top: float) -> float:
-        """N D + m g D / 2 about the trailing bottom corner (N m)."""
-        return N_top * self.pad_diameter + self.pad_mass * self.g * self.pad_diameter / 2.0
+        """N D + m g D / 2 about the trailing bottom corner (N m): flat_kernel's."""
+        C = [0.0] * K.N_PAR
+        C[K.I_MPAD], C[K.I_D], C[K.I_G] = self.pad_mass, self.pad_diameter, self.g
+        return K.resisting_moment(C, N_top)
 
     def mu_tip(self, mu_lower: float | None = None) -> float:
         """Closed-form tipping threshold of the top face's mu (quasi-static, pad
@@ -74,11 +77,25 @@ class PadTipped(MechanicsFailure):
     pass
 
 
+def _slot(i: int, kind=float):
+    """A FlatStepper attribute that is slot i of its state vector S."""
+    return property(lambda self: kind(self.S[i]), lambda self, v: self.S.__setitem__(i, kind(v)))
+
+
 class FlatStepper(TwoInterfaces):
     """Flat bearing under a ground motion or in the test machine (two interfaces:
-    the coupled loop of coupling/run.py drives it like the DFP steppers)."""
+    the coupled loop of coupling/run.py drives it like the DFP steppers).
+
+    The step is mechanics/flat_kernel.py ``advance`` (written once, the one
+    the compiled engine calls through mechanics/dev_flat.py); the state is
+    the list ``S`` it reads and writes, the attributes are views of its
+    slots, the constants the list ``C``."""
 
     columns = COLUMNS
+    n, t, F = _slot(K.S_N, int), _slot(K.S_T), _slot(K.S_F)
+    N1, N2, W1, W2, E_in = _slot(K.S_N1), _slot(K.S_N2), _slot(K.S_W1), _slot(K.S_W2), _slot(K.S_EIN)
+    phase, tip = _slot(K.S_PHASE, int), _slot(K.S_TIP)
+    slip_v1, slip_v2 = _slot(K.S_SV1), _slot(K.S_SV2)
 
     def __init__(self, geom: FlatGeometry, loading):
         self.geom = geom
@@ -88,81 +105,92 @@ class FlatStepper(TwoInterfaces):
         if self.machine:
             self._u, self._ud = float_array(loading.u), float_array(loading.ud)
             self._a = float_array(-np.diff(loading.ud) / loading.dt)
+            self._xg = float_array(np.zeros(1))
         else:
             self._a, self._xg = float_array(loading.a_step), float_array(loading.d)
-        self.par = np.array([geom.pad_mass, geom.mass])
-        self.st = np.zeros(4)
-        self.out = np.zeros(K.N_OUT)
-        self._w = np.zeros(2)
-        self.n, self.t, self.F = 0, 0.0, 0.0
+            self._u = self._ud = float_array(np.zeros(1))
+        self.C = C = [0.0] * K.N_PAR
+        C[K.I_MPAD], C[K.I_MSUP], C[K.I_H], C[K.I_D] = geom.pad_mass, geom.mass, geom.pad_height, geom.pad_diameter
+        C[K.I_G], C[K.I_DT], C[K.I_MACH] = geom.g, self.dt, 1.0 if self.machine else 0.0
+        self.S = [0.0] * K.N_S
+        self.out = [0.0] * K.N_OUT
+        self._w = [0.0] * 2
         self.N2 = geom.weight
         self.N1 = geom.weight + geom.pad_mass * geom.g
-        self.W1 = self.W2 = 0.0
-        self.E_in = 0.0
         self.phase = STICK
-        self.tip = 0.0
-        self.slip_v1 = self.slip_v2 = 0.0
         if self.machine and self._ud[0] != 0.0:
-            self.st[3] = self._ud[0]          # launched on the top face; its kinetic energy is input
+            self.S[K.S_V2] = self._ud[0]          # launched on the top face; its kinetic energy is input
             self.E_in = self.E_kin
 
     @property
+    def st(self) -> list:
+        """(q1, q2, q1', q2'): the pad's slip on the lower plate, the superstructure's on the pad."""
+        return self.S[:4]
+
+    @property
     def s1(self) -> float:
-        return float(self.st[0])
+        return float(self.S[K.S_Q1])
 
     @property
     def s2(self) -> float:
-        return float(self.st[1])
+        return float(self.S[K.S_Q2])
 
     @property
     def E_kin(self) -> float:
-        return K.kinetic(self.par, float(self.st[2]), float(self.st[3]))
+        return K.kinetic(self.C, float(self.S[K.S_V1]), float(self.S[K.S_V2]))
 
     def xg(self) -> float:
-        return -self._u[self.n] if self.machine else self._xg[self.n]
+        return K.ground(self.C, self._u, self._xg, self.n)
 
     def ledger_residual(self) -> float:
         return self.E_in - (self.E_kin + self.W1 + self.W2)
 
     def values(self) -> tuple:
-        st = self.st
-        return (self.t, self.xg(), float(st[0] + st[1]), float(st[2] + st[3]), self.F, float(st[0]), float(st[1]),
-                self.N1, self.N2, self.W1, self.W2, self.phase, self.E_in, self.E_kin, 0.0, self.tip)
+        row = [0.0] * K.N_VALUES
+        K.values(self.C, self.S, self.xg(), row)
+        row[11] = int(row[11])
+        return tuple(row)
 
     def save(self):
-        return (self.n, self.t, self.st.copy(), self.F, self.W1, self.W2, self.E_in, self.phase, self.tip,
-                self.slip_v1, self.slip_v2)
+        """The state's slots, the step count and the phase as ints."""
+        S = self.S
+        return tuple(int(x) if i in (K.S_N, K.S_PHASE) else x for i, x in enumerate(S))
 
     def restore(self, snap) -> None:
-        (self.n, self.t, st, self.F, self.W1, self.W2, self.E_in, self.phase, self.tip,
-         self.slip_v1, self.slip_v2) = snap
-        self.st[:] = st
+        self.S[:] = [float(x) for x in snap]
 
     def step(self, mu1: float, mu2: float) -> tuple:
-        g, n, dt = self.geom, self.n, self.dt
-        ag = self._a[n]
         o = self.out
-        c1, c2 = mu1 * self.N1, mu2 * self.N2
-        if self.machine:
-            K.step(self.par, self.st, dt, ag, c1, c2, 1, self._u[n + 1], self._ud[n + 1], o, self._w)
-            self.F = float(o[K.O_F])
-        else:
-            K.step(self.par, self.st, dt, ag, c1, c2, 0, 0.0, 0.0, o, self._w)
-            # the bearing's force on the superstructure, against u: the top face's friction
-            self.F = float(o[K.O_FTOP])
-        dW1, dW2 = float(o[K.O_W1]), float(o[K.O_W2])
-        self.W1 += dW1
-        self.W2 += dW2
-        self.E_in += float(o[K.O_EIN])
-        H = g.pad_height
-        demand = abs(H * float(o[K.O_FTOP]) - 0.5 * H * g.pad_mass * float(o[K.O_APAD]))
-        self.tip = demand / g.resisting_moment(self.N2)
-        dq1, dq2 = float(o[K.O_DQ1]), float(o[K.O_DQ2])
-        self.phase = SLIP if (dq1 != 0.0 or dq2 != 0.0) else STICK
-        self.slip_v1, self.slip_v2 = abs(dq1) / dt, abs(dq2) / dt
-        self.n = n + 1
-        self.t = self.n * dt
-        if self.tip > 1.0:
-            raise PadTipped(f"the pad tips: friction couple {demand:.4g} N m > N D + m g D/2 = "
-                            f"{g.resisting_moment(self.N2):.4g} N m (closed form: mu > {g.mu_tip():.4g})")
-        return dW1, dW2
+        if K.advance(self.C, self.S, self._a, self._u, self._ud, mu1, mu2, o, self._w) != 0.0:
+            self.raise_error()
+        return o[K.O_W1], o[K.O_W2]
+
+    def raise_error(self) -> None:
+        """The exception the step's error flag S[S_ERR] stands for."""
+        g, S = self.geom, self.S
+        raise PadTipped(f"the pad tips: friction couple {S[K.S_DEM]:.4g} N m > N D + m g D/2 = "
+                        f"{K.resisting_moment(self.C, self.N2):.4g} N m (closed form: mu > {g.mu_tip():.4g})")
+
+    # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
+    engine_device = "fpd.mechanics.dev_flat"
+
+    def engine_state(self):
+        """(C, S, L, X) as the engine reads them: float64 copies of the
+        constants and state, the loading (a per step, u, u' per grid point,
+        the ground position per grid point) and step()'s scratch (out, w)."""
+        f = (lambda x: np.asarray(x, dtype=float))
+        return (f(self.C), f(self.S), (as_float64(self._a), as_float64(self._u), as_float64(self._ud),
+                                       as_float64(self._xg)), (np.zeros(K.N_OUT), np.zeros(2)))
+
+    def engine_pull(self, S) -> None:
+        """The state into the engine's copy (before a chunk)."""
+        S[:] = self.S
+
+    def engine_push(self, S, n: int) -> None:
+        """The engine's copy back (after a chunk; the step count is in S)."""
+        self.S[:] = S.tolist()
+
+    @staticmethod
+    def engine_worth_loading(n_steps: int) -> bool:
+        """Loading numba and the engine (~0.7 s) pays past ~60000 steps (the Python step ~12 us, compiled ~0.5 us)."""
+        return n_steps >= ENGINE_WORTH_STEPS

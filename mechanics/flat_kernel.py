@@ -9,13 +9,29 @@ ground acceleration works through b(q) = (m + M) q1 + M q2. Same
 energy-consistent Moreau step as the TFP (mechanics/tfp_kernel.py, whose
 exact minimisers it reuses): friction impulses in Sgn(dq), trapezoidal
 positions, a stuck coordinate ends at rest (its kinetic energy to friction).
+
+``advance`` is the whole step of the stepper (mechanics/flat.py FlatStepper
+and the coupled engine, mechanics/dev_flat.py): ``step`` and then the
+bookkeeping (friction work, input work, phase, slip speeds, the force, the
+tipping check as a flag), on the state vector S.
 """
 from . import tfp_kernel as tk
+from .phases import SLIP, STICK
 
 __kernel__ = True
 
-I_MPAD, I_MSUP = 0, 1
-N_PAR = 2
+# C: the constants (``par`` of step(): its first two slots)
+I_MPAD, I_MSUP, I_H, I_D, I_G, I_DT, I_MACH = 0, 1, 2, 3, 4, 5, 6
+N_PAR = 7
+
+# S: the state; step()'s st = S[0:4] = (q1, q2, q1', q2')
+S_Q1, S_Q2, S_V1, S_V2 = 0, 1, 2, 3
+S_N, S_T, S_F, S_N1, S_N2, S_W1, S_W2, S_EIN = 4, 5, 6, 7, 8, 9, 10, 11
+S_PHASE, S_TIP, S_SV1, S_SV2, S_DEM, S_ERR = 12, 13, 14, 15, 16, 17
+N_S = 18
+ERR_TIPPED = 1.0          # S[S_ERR]: the friction couple exceeded the resisting moment (the pad tips)
+
+N_VALUES = 16             # len(mechanics.flat.COLUMNS)
 
 O_DQ1, O_DQ2, O_F, O_EIN, O_W1, O_W2, O_FTOP, O_APAD = 0, 1, 2, 3, 4, 5, 6, 7
 N_OUT = 8
@@ -119,3 +135,64 @@ def step(par, st, dt, ag, c1, c2, machine, u1, ud1, out, w):
     out[O_W1] = c1 * abs(x1) + a1
     out[O_W2] = c2 * abs(x2) + a2
     out[O_FTOP] = f_top
+
+
+def resisting_moment(C, N_top):
+    """N D + m g D / 2 about the trailing bottom corner (N m)."""
+    return N_top * C[I_D] + C[I_MPAD] * C[I_G] * C[I_D] / 2.0
+
+
+def ground(C, U, XG, n):
+    """The ground (lower plate) position at step n: -u in the machine, else the record's."""
+    if C[I_MACH] != 0.0:
+        return -U[n]
+    return XG[n]
+
+
+def advance(C, S, A, U, UD, mu1, mu2, out, w):
+    """Step S[S_N] -> S[S_N] + 1 with mu1 (lower face), mu2 (upper face): A
+    the ground acceleration per step; U, UD the machine's programme per grid
+    point (read only in the machine). out, w: step()'s scratch (out holds
+    the step's increments after it: the friction work of the faces
+    out[O_W1], out[O_W2]). Returns ERR_TIPPED when the dynamic tipping ratio
+    |f_top H - m a H / 2| / (N D + m g D / 2) exceeds 1 (also in S[S_ERR];
+    the state is the step's), else 0."""
+    n = int(S[S_N])
+    dt = C[I_DT]
+    ag = A[n]
+    c1 = mu1 * S[S_N1]
+    c2 = mu2 * S[S_N2]
+    if C[I_MACH] != 0.0:
+        step(C, S, dt, ag, c1, c2, 1, U[n + 1], UD[n + 1], out, w)
+        S[S_F] = out[O_F]
+    else:
+        step(C, S, dt, ag, c1, c2, 0, 0.0, 0.0, out, w)
+        # the bearing's force on the superstructure, against u: the top face's friction
+        S[S_F] = out[O_FTOP]
+    S[S_W1] += out[O_W1]
+    S[S_W2] += out[O_W2]
+    S[S_EIN] += out[O_EIN]
+    H = C[I_H]
+    demand = abs(H * out[O_FTOP] - 0.5 * H * C[I_MPAD] * out[O_APAD])
+    S[S_TIP] = demand / resisting_moment(C, S[S_N2])
+    S[S_DEM] = demand
+    dq1, dq2 = out[O_DQ1], out[O_DQ2]
+    S[S_PHASE] = SLIP if (dq1 != 0.0 or dq2 != 0.0) else STICK
+    S[S_SV1] = abs(dq1) / dt
+    S[S_SV2] = abs(dq2) / dt
+    S[S_N] = n + 1
+    S[S_T] = (n + 1) * dt
+    if S[S_TIP] > 1.0:
+        S[S_ERR] = ERR_TIPPED
+        return ERR_TIPPED
+    return 0.0
+
+
+def values(C, S, xg, row):
+    """The row of mechanics.flat.COLUMNS into row (xg: the ground position now)."""
+    row[0], row[1], row[2], row[3] = S[S_T], xg, S[S_Q1] + S[S_Q2], S[S_V1] + S[S_V2]
+    row[4], row[5], row[6], row[7], row[8] = S[S_F], S[S_Q1], S[S_Q2], S[S_N1], S[S_N2]
+    row[9], row[10], row[11], row[12] = S[S_W1], S[S_W2], S[S_PHASE], S[S_EIN]
+    row[13] = kinetic(C, S[S_V1], S[S_V2])
+    row[14] = 0.0
+    row[15] = S[S_TIP]

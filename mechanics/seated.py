@@ -14,8 +14,10 @@ gravity is evaluated by the discrete gradient sin(theta_m) sinc(dtheta / 2),
 so that the potential energy change of a step is exact. Second order while
 sliding, first order at stick-slip transitions.
 
-The step of SeatedStepper is mechanics/seated_kernel.py (kernel module,
-written once); SeatedTestMachine's imposed-displacement step is below.
+Both steps are mechanics/seated_kernel.py (kernel module, written once):
+SeatedStepper's ``step``, SeatedTestMachine's imposed-displacement
+``machine_step`` (the one the compiled engine calls,
+mechanics/dev_seated_machine.py).
 
 Energies are those of the ground frame (relative energy formulation):
 E_input is the work of the ground acceleration's d'Alembert forces through
@@ -25,9 +27,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .geometry import DeviceGeometry
 from . import seated_kernel as K
-from .ground_motion import float_array
+from .ground_motion import as_float64, float_array
 
 from .protocol import TwoInterfaces
 from .phases import PHASES, SLIP, STICK, TILT, MechanicsFailure  # noqa: F401
@@ -100,22 +104,6 @@ class _SeatedBase(TwoInterfaces):
     E_in = property(lambda self: self.E_input, lambda self, v: setattr(self, "E_input", v))
     phase = property(lambda self: self.mode, lambda self, v: setattr(self, "mode", v))
 
-    def save(self):
-        return (self.n, self.t, self.theta, self.theta_dot, self.F, self.N1, self.N2,
-                self.W1, self.W2, self.E_input, self.mode, self.slip_v1, self.slip_v2)
-
-    def restore(self, snap) -> None:
-        (self.n, self.t, self.theta, self.theta_dot, self.F, self.N1, self.N2,
-         self.W1, self.W2, self.E_input, self.mode, self.slip_v1, self.slip_v2) = snap
-
-    def values(self) -> tuple:
-        th, L = self.theta, self._L
-        return (self.t, self.xg(), L * math.sin(th), L * math.cos(th) * self.theta_dot,
-                self.F, L * (1.0 - math.cos(th)), th, self._R1 * th, self._R2 * th,
-                self.N1, self.N2, self.W1, self.W2, self.mode, self.E_input,
-                0.5 * self._I * self.theta_dot ** 2,
-                self._S * self._g * (1.0 - math.cos(th)))
-
 
 def _slot(i: int, kind=float):
     """A SeatedStepper attribute that is slot i of its state vector S."""
@@ -124,39 +112,31 @@ def _slot(i: int, kind=float):
     return property(lambda self: kind(self.S[i]), lambda self, v: self.S.__setitem__(i, kind(v)))
 
 
-class SeatedStepper(_SeatedBase):
-    """Seated DFP/SFP under an imposed ground motion (mechanics.ground_motion.GroundMotion).
-
-    The step is mechanics/seated_kernel.py (written once); the state is the
-    list ``S`` it reads and writes, the attributes are views of its slots."""
+class _SeatedState(_SeatedBase):
+    """A seated stepper whose state is the list ``S`` of mechanics/seated_kernel.py
+    (the attributes are views of its slots) and whose constants are the list ``C``."""
 
     n, t, theta, theta_dot = _slot(K.SN, int), _slot(K.ST), _slot(K.TH), _slot(K.THD)
     F, N1, N2, W1, W2 = _slot(K.SF), _slot(K.N1), _slot(K.N2), _slot(K.W1), _slot(K.W2)
     E_input, mode = _slot(K.EIN), _slot(K.MODE, int)
     slip_v1, slip_v2 = _slot(K.SV1), _slot(K.SV2)
 
-    def __init__(self, geom: DeviceGeometry, ground, iterations: int = 3):
+    def __init__(self, geom: DeviceGeometry, dt: float, n_steps: int):
         self.S = [0.0] * K.N_STATE
-        super().__init__(geom, ground.dt, ground.n_steps)
-        self.ground = ground
-        self._a_step = float_array(ground.a_step)  # plain floats, 8 bytes each
-        self._xg = ground.d
-        self._iters = iterations
-        self.C = C = [0.0] * K.N_CONST
+        super().__init__(geom, dt, n_steps)
+        self._row = [0.0] * K.N_VALUES
+
+    def constants(self, iterations: int = 0) -> list:
+        """The kernel's constants C (a list) from the stepper's floats."""
+        C = [0.0] * K.N_CONST
         C[K.CDT], C[K.CI], C[K.CS], C[K.CL] = self.dt, self._I, self._S, self._L
         C[K.CM], C[K.Cm], C[K.CRHO], C[K.CG] = self._M, self._m, self._rho, self._g
         C[K.CR1], C[K.CR2], C[K.CITER], C[K.TWO] = self._R1, self._R2, iterations, 2.0
-        self._row = [0.0] * K.N_VALUES
-
-    def xg(self) -> float:
-        return float(self._xg[self.n])
-
-    def step(self, mu1: float, mu2: float) -> tuple[float, float]:
-        return K.step(self.C, self.S, self._a_step, mu1, mu2)
+        return C
 
     def values(self) -> tuple:
         out = self._row
-        K.values(self.C, self.S, float(self._xg[int(self.S[K.SN])]), out)
+        K.values(self.C, self.S, self.xg(), out)
         out[13] = int(out[13])
         return tuple(out)
 
@@ -168,7 +148,28 @@ class SeatedStepper(_SeatedBase):
         self.S[:] = snap
 
 
-class SeatedTestMachine(_SeatedBase):
+class SeatedStepper(_SeatedState):
+    """Seated DFP/SFP under an imposed ground motion (mechanics.ground_motion.GroundMotion).
+
+    The step is mechanics/seated_kernel.py (written once); the state is the
+    list ``S`` it reads and writes, the attributes are views of its slots."""
+
+    def __init__(self, geom: DeviceGeometry, ground, iterations: int = 3):
+        super().__init__(geom, ground.dt, ground.n_steps)
+        self.ground = ground
+        self._a_step = float_array(ground.a_step)  # plain floats, 8 bytes each
+        self._xg = ground.d
+        self._iters = iterations
+        self.C = self.constants(iterations)
+
+    def xg(self) -> float:
+        return float(self._xg[self.n])
+
+    def step(self, mu1: float, mu2: float) -> tuple[float, float]:
+        return K.step(self.C, self.S, self._a_step, mu1, mu2)
+
+
+class SeatedTestMachine(_SeatedState):
     """Seated DFP/SFP in a bearing-test machine: the relative displacement
     u(t) is imposed (mechanics.ground_motion.DisplacementProgramme), the
     superstructure is held horizontally and rides up and down under its
@@ -201,12 +202,16 @@ class SeatedTestMachine(_SeatedBase):
         self._u = float_array(programme.u)
         self._ud = float_array(programme.ud)
         self._udd = float_array(programme.udd)
-        # grid points where the machine has stopped the bearing: the step that
-        # reaches the first of them ends with the stopping impulse (below)
+        # grid points where the machine has stopped the bearing (SM[i] = 1, the
+        # programme's smooth branch there in UDS, UDDS): the step that reaches the
+        # first of them ends with the stopping impulse (seated_kernel.machine_step)
         uds = programme.ud if programme.ud_smooth is None else programme.ud_smooth
         udds = programme.udd if programme.udd_smooth is None else programme.udd_smooth
-        self._smooth = {i: (float(a), float(b)) for i, (a, b) in
-                        enumerate(zip(uds, udds)) if a != programme.ud[i] or b != programme.udd[i]}
+        self._sm = float_array((np.asarray(uds, dtype=float) != np.asarray(programme.ud, dtype=float))
+                               | (np.asarray(udds, dtype=float) != np.asarray(programme.udd, dtype=float)))
+        self._uds, self._udds = float_array(uds), float_array(udds)
+        self.C = C = self.constants()
+        C[K.CSIN], C[K.CMV] = self._Sin, self._Mv
         self.theta = math.asin(self._u[0] / self._L)
         self.theta_dot = self._ud[0] / (self._L * math.cos(self.theta))
         # the machine launches the programme with u'(0) != 0: that energy is input
@@ -215,57 +220,25 @@ class SeatedTestMachine(_SeatedBase):
     def xg(self) -> float:
         return -self._u[self.n]
 
-    def _state_at(self, i: int, mu1: float, mu2: float, sgn: float, smooth=None):
-        """theta, theta', F, N1, N2 at grid point i (u'' known); ``smooth`` =
-        (u', u'') of the programme's smooth branch instead of the grid values."""
-        L, I, S, g, M, m, rho = self._L, self._I, self._S, self._g, self._M, self._m, self._rho
-        u, ud, udd = self._u[i], self._ud[i], self._udd[i]
-        if smooth is not None:
-            ud, udd = smooth
-        th = math.asin(u / L)
-        c, s = math.cos(th), math.sin(th)
-        thd = ud / (L * c)
-        thdd = (udd + L * s * thd * thd) / (L * c)
-        N2_0 = M * (g * c + self._Mv * (udd * s + L * thd * thd))
-        N1_0 = N2_0 + m * (g * c + udd * s + rho * thd * thd)
-        cap0 = mu1 * N1_0 * self._R1 + mu2 * N2_0 * self._R2
-        k = mu1 * self._R1 + mu2 * self._R2
-        A = I * thdd - self._Sin * udd * c + S * g * s
-        F = (A + sgn * cap0) / (L * c - sgn * s * k)
-        return th, thd, thdd, F, N1_0 + F * s, N2_0 + F * s, c
-
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
-        i0, i1 = self.n, self.n + 1
-        th0 = self.theta
-        th1 = math.asin(self._u[i1] / self._L)
-        dth = th1 - th0
-        sgn = 1.0 if dth > 0 else (-1.0 if dth < 0 else 0.0)
-        # friction work with the normal forces averaged over the step
-        _, _, _, Fa, N1a, N2a, ca = self._state_at(i0, mu1, mu2, sgn)
-        th, thd, thdd, F, N1, N2, c = self._state_at(i1, mu1, mu2, sgn)
-        adth = abs(dth)
-        dW1 = mu1 * 0.5 * (N1a + N1) * self._R1 * adth
-        dW2 = mu2 * 0.5 * (N2a + N2) * self._R2 * adth
-        # ground-frame input: the restraint's generalised force plus the
-        # d'Alembert force of the moving lower plate (trapezoidal in theta)
-        Q0 = (Fa * self._L + self._Sin * self._udd[i0]) * ca
-        stop = self._smooth.get(i1) if i0 not in self._smooth else None
-        if stop is None:
-            Q1 = (F * self._L + self._Sin * self._udd[i1]) * c
-            self.E_input += 0.5 * (Q0 + Q1) * dth
-        else:
-            # the machine stops the bearing inside this step: the smooth
-            # branch's input up to the stop, then the stopping impulse, whose
-            # work is the kinetic energy it removes (at fixed position)
-            _, thd_s, _, F_s, _, _, _ = self._state_at(i1, mu1, mu2, sgn, stop)
-            Q1 = (F_s * self._L + self._Sin * stop[1]) * c
-            self.E_input += 0.5 * (Q0 + Q1) * dth + 0.5 * self._I * (thd * thd - thd_s * thd_s)
-        self.theta, self.theta_dot, self.F, self.N1, self.N2 = th, thd, F, N1, N2
-        self.W1 += dW1
-        self.W2 += dW2
-        self.mode = SLIP if dth != 0.0 else STICK
-        self.slip_v1 = self._R1 * adth / self.dt
-        self.slip_v2 = self._R2 * adth / self.dt
-        self.n = i1
-        self.t = i1 * self.dt
-        return dW1, dW2
+        return K.machine_step(self.C, self.S, self._u, self._ud, self._udd, self._sm, self._uds, self._udds,
+                              mu1, mu2)
+
+    # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
+    engine_device = "fpd.mechanics.dev_seated_machine"
+
+    def engine_state(self):
+        """(C, S, L, X) as the engine reads them: float64 copies of the
+        constants and state, the programme (u, u', u'', the stop marks and
+        the smooth branch's u', u'' per grid point), no scratch."""
+        f = (lambda x: np.asarray(x, dtype=float))
+        L = tuple(as_float64(x) for x in (self._u, self._ud, self._udd, self._sm, self._uds, self._udds))
+        return f(self.C), f(self.S), L, (np.zeros(1),)
+
+    def engine_pull(self, S) -> None:
+        """The state into the engine's copy (before a chunk)."""
+        S[:] = self.S
+
+    def engine_push(self, S, n: int) -> None:
+        """The engine's copy back (after a chunk; the step count is in S)."""
+        self.S[:] = S.tolist()

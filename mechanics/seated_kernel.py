@@ -1,7 +1,9 @@
 """The seated reference step (model.md section 2), written once (kernel
 module, fpd/kernels.py): a Moreau-type scheme on the one DOF theta; the
 derivation is in mechanics/seated.py's docstring. SeatedStepper holds the
-state vector S and the constants C these functions read.
+state vector S and the constants C these functions read; SeatedTestMachine
+the same, stepped by ``machine_step`` (the imposed displacement), which the
+compiled engine calls too (mechanics/dev_seated_machine.py).
 """
 from __future__ import annotations
 
@@ -16,7 +18,9 @@ SN, ST, TH, THD, SF, N1, N2, W1, W2, EIN, MODE, SV1, SV2 = range(13)
 N_STATE = 13
 # C: constants
 CDT, CI, CS, CL, CM, Cm, CRHO, CG, CR1, CR2, CITER, TWO = range(12)
-N_CONST = 12
+# the test machine's: the inertial S (S less M L with the vertical load held) and the riding mass's factor
+CSIN, CMV = 12, 13
+N_CONST = 14
 N_VALUES = 17             # len(seated.SEATED_COLUMNS)
 
 
@@ -71,6 +75,70 @@ def step(C, S, A, mu1, mu2):
     S[SV2] = R2 * adth / dt
     S[SN] = n + 1
     S[ST] = (n + 1) * dt
+    return dW1, dW2
+
+
+def machine_point(C, u, ud, udd, mu1, mu2, sgn):
+    """The test machine's state at a grid point of the programme (u, u', u''),
+    slip sense sgn: theta, theta', theta'', the restraint's force F and the
+    normal forces (its axial share F sin(theta) included), cos(theta).
+
+        F L cos(theta) = I theta'' - S_in u'' cos(theta) + S g sin(theta) + cap sgn(theta')
+    """
+    L, I, S_, g, M, m, rho = C[CL], C[CI], C[CS], C[CG], C[CM], C[Cm], C[CRHO]
+    th = math.asin(u / L)
+    c, s = math.cos(th), math.sin(th)
+    thd = ud / (L * c)
+    thdd = (udd + L * s * thd * thd) / (L * c)
+    N2_0 = M * (g * c + C[CMV] * (udd * s + L * thd * thd))
+    N1_0 = N2_0 + m * (g * c + udd * s + rho * thd * thd)
+    cap0 = mu1 * N1_0 * C[CR1] + mu2 * N2_0 * C[CR2]
+    k = mu1 * C[CR1] + mu2 * C[CR2]
+    A = I * thdd - C[CSIN] * udd * c + S_ * g * s
+    F = (A + sgn * cap0) / (L * c - sgn * s * k)
+    return th, thd, thdd, F, N1_0 + F * s, N2_0 + F * s, c
+
+
+def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, mu1, mu2):
+    """One step of the test machine (grid point n -> n + 1 of the programme
+    U, UD, UDD: u, u', u''); SM[i] != 0 where the machine has stopped the
+    bearing, with (UDS[i], UDDS[i]) the programme's smooth branch there: the
+    step that reaches the first of them ends with the stopping impulse.
+    Returns the friction work (J) of the lower and upper interface, with the
+    normal forces averaged over the step."""
+    L, Sin, dt = C[CL], C[CSIN], C[CDT]
+    i0 = int(S[SN])
+    i1 = i0 + 1
+    th0 = S[TH]
+    th1 = math.asin(U[i1] / L)
+    dth = th1 - th0
+    sgn = 1.0 if dth > 0 else (-1.0 if dth < 0 else 0.0)
+    _, _, _, Fa, N1a, N2a, ca = machine_point(C, U[i0], UD[i0], UDD[i0], mu1, mu2, sgn)
+    th, thd, _, F, N1_, N2_, c = machine_point(C, U[i1], UD[i1], UDD[i1], mu1, mu2, sgn)
+    adth = abs(dth)
+    dW1 = mu1 * 0.5 * (N1a + N1_) * C[CR1] * adth
+    dW2 = mu2 * 0.5 * (N2a + N2_) * C[CR2] * adth
+    # ground-frame input: the restraint's generalised force plus the
+    # d'Alembert force of the moving lower plate (trapezoidal in theta)
+    Q0 = (Fa * L + Sin * UDD[i0]) * ca
+    if SM[i1] != 0.0 and SM[i0] == 0.0:
+        # the machine stops the bearing inside this step: the smooth branch's
+        # input up to the stop, then the stopping impulse, whose work is the
+        # kinetic energy it removes (at fixed position)
+        _, thd_s, _, F_s, _, _, _ = machine_point(C, U[i1], UDS[i1], UDDS[i1], mu1, mu2, sgn)
+        Q1 = (F_s * L + Sin * UDDS[i1]) * c
+        S[EIN] += 0.5 * (Q0 + Q1) * dth + 0.5 * C[CI] * (thd * thd - thd_s * thd_s)
+    else:
+        Q1 = (F * L + Sin * UDD[i1]) * c
+        S[EIN] += 0.5 * (Q0 + Q1) * dth
+    S[TH], S[THD], S[SF], S[N1], S[N2] = th, thd, F, N1_, N2_
+    S[W1] += dW1
+    S[W2] += dW2
+    S[MODE] = SLIP if dth != 0.0 else STICK
+    S[SV1] = C[CR1] * adth / dt
+    S[SV2] = C[CR2] * adth / dt
+    S[SN] = i1
+    S[ST] = i1 * dt
     return dW1, dW2
 
 

@@ -124,5 +124,7 @@ def test_the_kernel_modules_are_kernels():
     import importlib
     for name in ("fpd.mechanics.friction_kernel", "fpd.mechanics.two_phase_kernel", "fpd.mechanics.seated_kernel",
                  "fpd.thermal.lumped_kernel", "fpd.thermal.column_kernel", "fpd.coupling.engine_kernel",
-                 "fpd.mechanics.dev_two_phase", "fpd.mechanics.dev_bidirectional", "fpd.mechanics.dev_tfp"):
+                 "fpd.mechanics.dev_two_phase", "fpd.mechanics.dev_bidirectional", "fpd.mechanics.dev_tfp",
+                 "fpd.mechanics.flat_kernel", "fpd.mechanics.dev_flat", "fpd.mechanics.dev_seated_machine",
+                 "fpd.mechanics.dev_orbit_machine"):
         assert kernels.is_kernel_module(importlib.import_module(name)), name
