@@ -28,6 +28,14 @@ of the imposed sine (t in [k T, (k+1) T], T = 1 / frequency):
   rows: how far each cycle heats the surfaces, beside the loop quantities
   that the heating changes.
 
+An orbit of the bidirectional test machine (circle, figure-eight, a sine
+in a direction) is measured in the plane: ``EDC_J`` is the closed integral
+of F . du = F_x du_x + F_y du_y; ``d_pos_m`` is the largest |u| of the cycle
+and ``F_pos_N`` the |F| there (``d_neg_m``, ``F_neg_N`` their opposites, so
+K_eff = |F| / |u| at the orbit's widest point); ``mu_eff`` and ``Q_d_N``
+divide EDC by the path slid in the cycle, sum of |du| (a sine's path is
+4 d_max: the formulas above), W times it and itself.
+
 ``CycleMeter`` takes the rows block by block (the streamed history of ``fpd
 run`` hands it every block it writes), so the numbers are those of every
 recorded row whatever the length of the run, and equal those computed from
@@ -59,6 +67,10 @@ class CycleMeter:
     def __init__(self, columns, period_s: float, cycles: int, vertical_load_N: float):
         cols = list(columns)
         self.jt, self.ju, self.jF = cols.index("t_s"), cols.index("u_m"), cols.index("F_N")
+        # an orbit in the plane (the bidirectional machine): F . du, |u| and the path slid
+        self.plane = all(c in cols for c in ("ux_m", "uy_m", "Fx_N", "Fy_N"))
+        if self.plane:
+            self.jxy = [cols.index(c) for c in ("ux_m", "uy_m", "Fx_N", "Fy_N")]
         self.jv = cols.index("v_mps") if "v_mps" in cols else None
         # the interfaces' temperature columns (T1_C ... T4_C, those the run has)
         self.temps = [(i, cols.index(f"T{i}_C")) for i in range(1, 5) if f"T{i}_C" in cols]
@@ -72,6 +84,7 @@ class CycleMeter:
         self.Tpk = np.full((self.n, len(self.temps)), -np.inf)
         self.Tsum = np.zeros((self.n, len(self.temps)))
         self.rows = np.zeros(self.n, dtype=int)
+        self.path = np.zeros(self.n)
         self.seen = np.zeros(self.n, dtype=bool)
         self.closed = np.zeros(self.n, dtype=bool)     # a row at or past the cycle's end was seen
         self.prev = None                                 # the last row of the previous block
@@ -88,9 +101,17 @@ class CycleMeter:
         t, u, F = rows[:, self.jt], rows[:, self.ju], rows[:, self.jF]
         if len(rows) > 1:
             seg = self._cycle(0.5 * (t[1:] + t[:-1]))
-            area = 0.5 * (F[1:] + F[:-1]) * np.diff(u)
+            if self.plane:
+                ux, uy, Fx, Fy = (rows[:, j] for j in self.jxy)
+                dx, dy = np.diff(ux), np.diff(uy)
+                area = 0.5 * (Fx[1:] + Fx[:-1]) * dx + 0.5 * (Fy[1:] + Fy[:-1]) * dy
+                step = np.hypot(dx, dy)
+            else:
+                area = 0.5 * (F[1:] + F[:-1]) * np.diff(u)
+                step = np.abs(np.diff(u))
             ok = seg >= 0
             np.add.at(self.edc, seg[ok], area[ok])
+            np.add.at(self.path, seg[ok], step[ok])
         new = block
         kt = self._cycle(new[:, self.jt])
         ends = np.floor(new[:, self.jt] / self.T * (1.0 + 1e-12)).astype(int)     # cycles whose end was reached
@@ -105,7 +126,9 @@ class CycleMeter:
             i, j = int(np.argmax(uu)), int(np.argmin(uu))
             if uu[i] > self.dpos[k]:
                 self.dpos[k], self.Fpos[k] = uu[i], new[sel, self.jF][i]
-            if uu[j] < self.dneg[k]:
+                if self.plane:                # the orbit: its widest point, both ways
+                    self.dneg[k], self.Fneg[k] = -uu[i], -new[sel, self.jF][i]
+            if not self.plane and uu[j] < self.dneg[k]:
                 self.dneg[k], self.Fneg[k] = uu[j], new[sel, self.jF][j]
             if self.jv is not None:
                 self.vpk[k] = max(self.vpk[k], float(np.max(np.abs(new[sel, self.jv]))))
@@ -125,13 +148,15 @@ class CycleMeter:
             dmax = 0.5 * (self.dpos[k] - self.dneg[k])
             K = (self.Fpos[k] - self.Fneg[k]) / (self.dpos[k] - self.dneg[k]) if dmax > 0 else math.nan
             edc = float(self.edc[k])
+            # the path slid: 4 d_max for a sine (the loop formulas), sum |du| for an orbit
+            slid = float(self.path[k]) if self.plane else 4.0 * dmax
             c = {"cycle": k + 1, "t_start_s": k * self.T, "t_end_s": (k + 1) * self.T,
                  "d_pos_m": float(self.dpos[k]), "d_neg_m": float(self.dneg[k]),
                  "F_pos_N": float(self.Fpos[k]), "F_neg_N": float(self.Fneg[k]), "d_max_m": float(dmax),
                  "v_peak_mps": float(self.vpk[k]) if self.jv is not None else math.nan,
                  "EDC_J": edc, "K_eff_N_m": float(K),
-                 "mu_eff": edc / (4.0 * self.W * dmax) if dmax > 0 and self.W > 0 else math.nan,
-                 "Q_d_N": edc / (4.0 * dmax) if dmax > 0 else math.nan,
+                 "mu_eff": edc / (self.W * slid) if slid > 0 and self.W > 0 else math.nan,
+                 "Q_d_N": edc / slid if slid > 0 else math.nan,
                  "xi_eff": edc / (2.0 * math.pi * K * dmax * dmax) if dmax > 0 and K > 0 else math.nan}
             for m, (i, _) in enumerate(self.temps):
                 c[f"T{i}_peak_C"] = float(self.Tpk[k, m])

@@ -140,3 +140,33 @@ def test_reference_states_what_the_runs_do(lab):
     raw.pop("mechanics", None)
     assert api.load_scene(raw)["mechanics"]["model"] == "two-phase"
     assert "TFP\": triple friction pendulum" in text and "two-phase model by default" in text
+
+
+def test_orbit_cycles_are_measured_in_the_plane(tmp_path):
+    """The bidirectional machine's circle (radius 0.25 m, constant mu = 0.05,
+    no heat): each revolution's EDC is the closed integral of F . du, equal
+    to the closed form (2 pi A / L)(mu W1 R1 + mu W2 R2) / cos(theta) within
+    0.1 %; d_max the radius, mu_eff = EDC / (W 2 pi A) and K_eff = |F| / |u|
+    finite and positive (they read |u| and |F|: K_eff was 1e19, mu_eff < 0)."""
+    import csv
+    import math
+    from fpd.frontends import api
+    from fpd.mechanics.geometry import G_ACC
+    out = tmp_path / "o"
+    r = api.run("lab-sine", out, loading={"waveform": "circle"}, friction={"mu_ref": 0.05, "use_temperature": False},
+                thermal={"model": "none"}, output={"plots": False})
+    assert r.ok
+    rows = list(csv.DictReader(open(out / "cycles.csv")))
+    sc = r.scene
+    dev, A = sc["device"], sc["loading"]["amplitude_m"]
+    L = dev["R1"] + dev["R2"] - dev["pad_height"]
+    W2 = sc["superstructure"]["mass"] * G_ACC
+    W1 = W2 + dev["pad_mass"] * G_ACC
+    closed = 2 * math.pi * A * 0.05 * (W1 * dev["R1"] + W2 * dev["R2"]) / L / math.sqrt(1 - (A / L) ** 2)
+    assert len(rows) == sc["loading"]["cycles"]
+    for c in rows:
+        edc = float(c["EDC_J"])
+        assert abs(edc / closed - 1) < 1e-3, (edc, closed)
+        assert float(c["d_max_m"]) == pytest.approx(A, rel=1e-9)
+        assert float(c["mu_eff"]) == pytest.approx(edc / (W2 * 2 * math.pi * A), rel=2e-3)
+        assert 0 < float(c["K_eff_N_m"]) < 1e8 and 0 < float(c["xi_eff"]) < 1
