@@ -55,7 +55,15 @@ class PadOverturned(MechanicsFailure):
     """The rocking pad passed the angle where gravity stops restoring it."""
 
 
-def _failure(flag, t):
+class LiftOff(MechanicsFailure):
+    """g + a_z <= 0: the superstructure would leave the bearing (flight is not modelled)."""
+
+
+def _failure(flag, t, az=0.0):
+    if flag == K.FLAG_LIFTOFF:
+        return LiftOff(f"lift-off at t = {t:.6g} s: the vertical ground acceleration {az:.6g} m/s2 makes "
+                       f"g + a_z <= 0, the superstructure would leave the bearing (flight is not modelled: "
+                       f"docs/model.md 10)")
     if flag == K.FLAG_OVERTURN:
         return PadOverturned(f"pad overturned at t = {t:.6g} s (rocking in the plane of the trial)")
     return PadRocks(f"the stuck pad rocks on its rim at t = {t:.6g} s (Eq. 7)")
@@ -341,7 +349,7 @@ class BidirectionalStepper(_Base):
         flag = self._K.step(self.C, S, self._ax[self.n], self._ay[self.n] if self._ay is not None else 0.0,
                             self._az[self.n] if self._az is not None else 0.0, self.dt, mu1, mu2)
         if flag != K.FLAG_OK:
-            raise _failure(flag, self.n * self.dt)
+            raise _failure(flag, self.n * self.dt, float(S[K.S_AZ]))
         self.n += 1
         return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)
 
@@ -356,7 +364,8 @@ class BidirectionalStepper(_Base):
         done = self._K.run_steps(self.C, self.S, AX, AY, AZ, self.dt, mu1, mu2, self.n, n1, out)
         self.n += done
         if self.n < n1:
-            raise _failure(K.FLAG_OVERTURN, self.n * self.dt)
+            flag = K.FLAG_LIFTOFF if self.C[K.C_G] + self.S[K.S_AZ] <= 0.0 else K.FLAG_OVERTURN
+            raise _failure(flag, self.n * self.dt, float(self.S[K.S_AZ]))
         return out
 
 

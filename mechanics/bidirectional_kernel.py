@@ -85,6 +85,7 @@ N_S = 42
 
 STICK, SLIP, TILT = 0, 1, 2
 FLAG_OK, FLAG_ROCKING, FLAG_OVERTURN = 0, 1, 2
+FLAG_LIFTOFF = 3        # g + a_z <= 0: the superstructure would leave the bearing (not modelled)
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 50
@@ -632,6 +633,8 @@ def step(C, S, ax, ay, az, h, mu1, mu2):
     the moving parts over the step: F = -((M + m) a + S (w_h(end) - w_h(start)) / h)."""
     gv = C[C_G] + az
     S[S_AZ] = az
+    if not gv > 0.0:
+        return FLAG_LIFTOFF
     px0, py0 = momentum(C, S)
     S[S_DS1] = S[S_DS2] = S[S_DPHI] = 0.0
     S[S_BETA2] = 0.0

@@ -229,3 +229,15 @@ def test_sfp_under_horizontal_and_vertical_harmonics_matches_a_scipy_ode():
     assert abs(u / u_ode - 1) < 5e-3, (u, u_ode)
     assert abs(W / W_ode - 1) < 5e-3, (W, W_ode)
     assert abs(u0 / u - 1) > 0.1 and abs(W0 / W - 1) > 0.03, (u0, u, W0, W)
+
+
+def test_lift_off_stops_the_run_in_one_line(tmp_path):
+    """A vertical pulse below -g: the seated model cannot hold the superstructure
+    down; the run stops at the step where g + a_z <= 0 (status failed, the history
+    so far kept, finite), compiled or not, instead of pulling the pendulum up."""
+    z = tmp_path / "pulse.txt"
+    z.write_text("# [g]\n0 0.0\n1.0 0.0\n1.001 -1.5\n1.2 -1.5\n1.201 0.0\n3.0 0.0\n")
+    r = simulate(build(scn.load("ferndale-3c", ["solver.duration=3", "loading.channels=[1, 2]",
+                                                f'loading.file_z="{z}"', "loading.baseline=false"])))
+    assert r.status != "ok" and "lift-off at t = 1.0" in r.message and "\n" not in r.message
+    assert np.all(np.isfinite(r.data)) and 0.99 < r["t_s"][-1] < 1.01
