@@ -241,3 +241,29 @@ def test_lift_off_stops_the_run_in_one_line(tmp_path):
                                                 f'loading.file_z="{z}"', "loading.baseline=false"])))
     assert r.status != "ok" and "lift-off at t = 1.0" in r.message and "\n" not in r.message
     assert np.all(np.isfinite(r.data)) and 0.99 < r["t_s"][-1] < 1.01
+
+
+def test_the_pad_rocking_threshold_scales_with_g_plus_az():
+    """Eq. (7) with the vertical field: the horizontal ground acceleration at which
+    a stuck pad (mu high) starts to rock, found by bisection on one step from
+    rest, is (2a/h') (g + a_z)-proportional: a_z = -0.4 g lowers it to 0.6 of
+    its value without vertical motion (26.39 m/s2 for this pad)."""
+    from fpd.mechanics import bidirectional_kernel as K
+    gx = harmonic_ground_motion(0.1, 1.0, 1, 1e-3)
+
+    def rocks(ax, az):
+        st = BidirectionalStepper(GEOM, gx, planar=True, jit=False)
+        S = list(st.S)
+        K.step(st.C, S, ax, 0.0, az, 1e-3, 5.0, 5.0)
+        return S[K.S_ROCK] != 0.0
+
+    def threshold(az):
+        lo, hi = 0.0, 60.0
+        for _ in range(60):
+            m = 0.5 * (lo + hi)
+            lo, hi = (lo, m) if rocks(m, az) else (m, hi)
+        return hi
+
+    c0, c1 = threshold(0.0), threshold(-0.4 * G_ACC)
+    assert 20.0 < c0 < 40.0
+    assert c1 / c0 == pytest.approx(0.6, rel=1e-9)
