@@ -22,6 +22,9 @@ CASES = [
     ("DFP default (fe1d)", "default", []),
     ("DFP default, lumped", "default", ["thermal.model=lumped"]),
     ("DFP bidirectional (fe1d)", "impvall-bidirectional", []),
+    # the vertical component's cost: the same record with two, then three components
+    ("DFP Ferndale x, y (lumped)", "ferndale-3c", ["loading.channels=[1, 2]"]),
+    ("DFP Ferndale x, y, z (lumped)", "ferndale-3c", []),
     ("TFP two-phase (fe1d)", "tfp-elcentro", ["thermal.model=fe1d"]),
     ("TFP seated, lumped", "tfp-elcentro", ["mechanics.model=seated", "thermal.model=lumped"]),
     ("flat machine (flat-lab)", "flat-lab", []),

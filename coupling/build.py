@@ -66,7 +66,7 @@ def loading_of(scene: Scene, dt: float):
         from fpd.schema.scene import check_steps
         check_steps(scene.path, dt, duration or float(rec.t[-1]))
         gm = gmod.ground_motion_from_samples(
-            ld.get("record", ld.get("file", rec.name)), rec.t, rec.a_g * G_ACC * factor, dt, duration,
+            _name(ld, 0) or rec.name, rec.t, rec.a_g * G_ACC * factor, dt, duration,
             baseline=ld["baseline"])
         gm.record = rec
         return gm
@@ -88,7 +88,21 @@ def _read_record(ld: dict):
         from fpd.mechanics import p695
         comp = "a" if ld["component"] == "pair" else ld["component"]      # a pair: a on x
         return p695.read(ld["record_set"], ld["record_id"], comp, ld["normalize"])
-    return gmod.read_record(ld["path"], ld.get("units"), ld.get("dt"))
+    return gmod.read_record(ld["path"], ld.get("units"), ld.get("dt"), _channel(ld, 0))
+
+
+def _name(ld: dict, i: int, key: str = "file"):
+    """The name a component is reported by: the packaged record's or the file's,
+    with its channel for a three-channel record."""
+    base = ld.get("record", ld.get(key))
+    ch = _channel(ld, i)
+    return f"{base} channel {ch}" if (base and ch) else base
+
+
+def _channel(ld: dict, i: int):
+    """Channel i (0 x, 1 y, 2 z) of a three-channel record (loading.channels), or None."""
+    ch = ld.get("channels")
+    return int(ch[i]) if ch and ch[i] else None
 
 
 def _read_record_y(ld: dict):
@@ -98,7 +112,53 @@ def _read_record_y(ld: dict):
     if "record_set" in ld:
         from fpd.mechanics import p695
         return p695.read(ld["record_set"], ld["record_id"], "b", ld["normalize"])
-    return gmod.read_record(ld["path_y"], ld.get("units"), ld.get("dt"))
+    return gmod.read_record(ld["path_y"], ld.get("units"), ld.get("dt"), _channel(ld, 1))
+
+
+def _read_record_z(ld: dict):
+    """The vertical component: the V2 record's vertical channel, or loading.file_z
+    (any format the reader takes; a V2 file: its vertical channel)."""
+    from fpd.mechanics import ground_motion as gmod
+    if ld.get("file_z") is None:
+        return gmod.read_record(ld["path_z"], ld.get("units"), ld.get("dt"), _channel(ld, 2))
+    text = gmod._read_text(ld["path_z"])
+    if gmod.is_v2(text):
+        chans = gmod.parse_v2(text, ld["path_z"])
+        _hor, ver = gmod.v2_roles(chans, ld["path_z"])
+        return gmod.read_record(ld["path_z"], channel=ver)
+    return gmod.read_record(ld["path_z"], ld.get("units"), ld.get("dt"))
+
+
+def vertical_loading_of(scene: Scene, dt: float, gx):
+    """The vertical ground motion (up) on the solver grid, or None (model.md 10).
+    Treated as the y component of a pair is: read on its own sampling, scaled by
+    loading.scale (and the x record's target_pga_g factor), baseline-corrected
+    and integrated exactly onto the solver grid; the x record (or
+    solver.duration) sets the length, after a shorter vertical record ends the
+    ground stops accelerating vertically."""
+    from fpd.mechanics import ground_motion as gmod
+
+    ld = scene["loading"]
+    if ld["kind"] != "record" or not ld.get("path_z"):
+        return None
+    key = "file_z" if ld.get("file_z") is not None else ("record" if "record" in ld else "file")
+    try:
+        rec = _read_record_z(ld)
+    except gmod.RecordError as exc:
+        raise SceneError(f"{exc} (loading.{key})") from None
+    duration = scene["solver"].get("duration")
+    length = duration if duration is not None else float(gx.t[-1])
+    factor = ld["scale"] * (_target_factor(ld, gx.record) if hasattr(gx, "record") else 1.0)
+    gz = gmod.ground_motion_from_samples(ld.get("file_z", _name(ld, 2)), rec.t, rec.a_g * G_ACC * factor, dt, length,
+                                         baseline=ld["baseline"])
+    gz.record = rec
+    return gz
+
+
+def _record_info(g, ld, gx) -> dict:
+    return {"name": g.name, "points": len(g.record.t), "dt_s": g.record.dt, "pga_g": g.record.pga_g,
+            "scale": ld["scale"], "scaled_pga_g": g.record.pga_g * ld["scale"] * _target_factor(ld, gx.record),
+            "baseline_b1_mps2": g.baseline[0], "baseline_b2_mps3": g.baseline[1]}
 
 
 def _target_factor(ld: dict, rec) -> float:
@@ -191,8 +251,11 @@ def build(scene: Scene) -> Simulation:
         # one DFP/SFP stepper: a planar ground motion is the 3D stepper's with the
         # y component absent (signed planar columns), both models, both schemes
         from fpd.mechanics.bidirectional import BidirectionalStepper
+        gz = vertical_loading_of(scene, dt, loading)
         mech = BidirectionalStepper(geom, loading, None, normal_force=scene["mechanics"]["normal_force"],
-                                    model=model, planar=True, rim=rim_of(scene))
+                                    model=model, planar=True, rim=rim_of(scene), gz=gz)
+        if gz is not None:
+            info["record_z"] = _record_info(gz, ld, loading)
     if hasattr(loading, "record"):
         info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
                           "pga_g": loading.record.pga_g, "scale": ld["scale"],
@@ -237,7 +300,7 @@ def bidirectional_loading_of(scene: Scene, dt: float):
         length = duration if duration is not None else float(gx.t[-1])
         # the pair scaled as one: target_pga_g's factor is the x record's (the pair keeps its proportions)
         factor = ld["scale"] * (_target_factor(ld, gx.record) if hasattr(gx, "record") else 1.0)
-        gy = gmod.ground_motion_from_samples(ld.get("record", ld.get("file_y", rec.name)), rec.t, rec.a_g * G_ACC * factor,
+        gy = gmod.ground_motion_from_samples(_name(ld, 1, "file_y") or rec.name, rec.t, rec.a_g * G_ACC * factor,
                                              dt, length, baseline=ld["baseline"])
         gy.record = rec
     else:
@@ -278,10 +341,11 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
     else:
         gx, gy = loading
         model = "seated" if scene["mechanics"]["model"] == "seated" else "two-phase"
+        gz = vertical_loading_of(scene, dt, gx)
         mech = BidirectionalStepper(geom, gx, gy, normal_force=scene["mechanics"]["normal_force"], model=model,
-                                    rim=rim_of(scene))
+                                    rim=rim_of(scene), gz=gz)
         n_steps = gx.n_steps
-        for comp, g in (("record", gx), ("record_y", gy)):
+        for comp, g in (("record", gx), ("record_y", gy), ("record_z", gz)):
             if g is not None and hasattr(g, "record"):
                 info[comp] = {"name": g.name, "points": len(g.record.t), "dt_s": g.record.dt,
                               "pga_g": g.record.pga_g, "scale": ld["scale"],

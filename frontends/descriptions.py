@@ -158,6 +158,23 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
                                   "components). The x record sets the length; after a shorter y record the "
                                   "ground stops accelerating in y (docs/bidirectional.md, section 4)."),
+    "loading.record.file_z": ("", "DFP, SFP: a record file of the vertical ground acceleration, positive up (path "
+                                  "relative to the scene file, any format of file; a CSMIP V2 file: its vertical "
+                                  "channel), scaled by scale (and the x record's target_pga_g factor) and "
+                                  "baseline-corrected like x. Treated as the y component of a pair is: read on "
+                                  "its own sampling and integrated onto the solver grid; the x record (or "
+                                  "solver.duration) sets the length, after a shorter vertical record the ground "
+                                  "stops accelerating vertically. Every normal force, friction cap, the heat, the "
+                                  "pad's rocking check and the ledger see g + a_z (docs/model.md 10). Refused on "
+                                  "the TFP and the flat bearing (not yet for these devices) and when the record's "
+                                  "channels already give z."),
+    "loading.record.channels": ("", "A three-channel CSMIP V2 record (record = \"ferndale-2022\", or a .v2 file): "
+                                    "the channels to run, by number; horizontal channels go on x then y in the "
+                                    "order given, the vertical one on z. Default: all three in file order ([1, 2, "
+                                    "3] for ferndale-2022: 180 deg on x, 90 deg on y, up on z); [1, 3] runs x and "
+                                    "the vertical in the plane, [1, 2] the horizontal pair alone. A V2 file must "
+                                    "carry exactly two horizontal channels (\"<azimuth> Deg\") and one vertical "
+                                    "(\"Up\"); otherwise it is refused naming what it has."),
     "loading.record.angle_deg": ("deg", "DFP, SFP: turns the ground-motion pair (x towards y) by this angle before the "
                                         "run; non-zero with a single component makes the run bidirectional "
                                         "(the record along the turned direction)."),
@@ -368,6 +385,8 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim2": ("", "TFP: 1 when S2 is at its rim (|s2_m| >= d2), else 0."),
     "rim3": ("", "TFP: 1 when S3 is at its rim (|s3_m| >= d3), else 0."),
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
+    "az_mps2": ("m/s2", "Vertical ground acceleration, up (the step's mean, the field is g + az_mps2): a run with a "
+                        "vertical record only (loading.file_z, or a three-channel record's vertical channel)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
                          "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N)."),
@@ -550,6 +569,15 @@ SUMMARY: dict[str, tuple[str, str]] = {
                                    "the pair is scaled as one and keeps its proportions)."),
     "record_y.baseline_b1_mps2": ("m/s2", "Bidirectional record: b1 of the y record's baseline correction."),
     "record_y.baseline_b2_mps3": ("m/s3", "Bidirectional record: b2 of the y record's baseline correction."),
+    "record_z.name": ("", "Vertical record (loading.file_z, or the three-channel record and its channel)."),
+    "record_z.points": ("", "Vertical record: samples."),
+    "record_z.dt_s": ("s", "Vertical record: sampling interval."),
+    "record_z.pga_g": ("g", "Vertical record: peak vertical ground acceleration (unscaled)."),
+    "record_z.scale": ("", "Vertical record: loading.scale applied."),
+    "record_z.scaled_pga_g": ("g", "Vertical record: peak vertical acceleration as run: pga_g x scale x the x "
+                                   "record's loading.target_pga_g factor."),
+    "record_z.baseline_b1_mps2": ("m/s2", "Vertical record: b1 of its baseline correction."),
+    "record_z.baseline_b2_mps3": ("m/s3", "Vertical record: b2 of its baseline correction."),
     "bidirectional.normal_force": ("", 'Bidirectional stepper: the normal-force scheme that ran ("midpoint", '
                                        '"start"; the bidirectional test machine: "seated", step-averaged normal '
                                        'forces).'),

@@ -87,6 +87,7 @@ COLUMN_SOURCES = (
     "fpd.mechanics.seated:SEATED_COLUMNS",
     "fpd.mechanics.two_phase:COLUMNS",
     "fpd.mechanics.bidirectional:COLUMNS",
+    "fpd.mechanics.bidirectional:VERTICAL_COLUMNS",
     "fpd.mechanics.tfp:COLUMNS",
     "fpd.mechanics.tfp:TWO_PHASE_COLUMNS",
     "fpd.mechanics.flat:COLUMNS",
@@ -302,6 +303,9 @@ def generate() -> str:
     out.append("### `[loading]`\n")
     out.append("`kind` picks the keys. Packaged records (`record = ...`): "
                + ", ".join(f"`\"{r}\"` ({f})" for r, f in scn.RECORDS.items())
+               + "; the pairs " + ", ".join(f"`\"{r}\"` ({f[0]}, {f[1]})" for r, f in scn.RECORD_PAIRS.items())
+               + "; three channels (CSMIP V2, `channels`) "
+               + ", ".join(f"`\"{r}\"` ({f})" for r, f in scn.RECORDS_3C.items())
                + "; their provenance is in scenes/records/README.md.\n")
     out += key_table([k for k in keys if k[1] == "loading.kind"])
     out.append("")

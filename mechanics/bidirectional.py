@@ -41,6 +41,8 @@ COLUMNS = (
     "slip1_m", "slip2_m", "c1x_m", "c1y_m", "c2x_m", "c2y_m",
 ) + RIM_COLUMNS
 NORMAL_FORCE = ("midpoint", "start")
+# a loading with a vertical component (model.md 10): the step's vertical ground acceleration
+VERTICAL_COLUMNS = ("az_mps2",)
 PLANAR_COLUMNS = PLANAR_COLUMNS + RIM_COLUMNS
 SEATED_COLUMNS = SEATED_COLUMNS + RIM_COLUMNS
 
@@ -53,7 +55,15 @@ class PadOverturned(MechanicsFailure):
     """The rocking pad passed the angle where gravity stops restoring it."""
 
 
-def _failure(flag, t):
+class LiftOff(MechanicsFailure):
+    """g + a_z <= 0: the superstructure would leave the bearing (flight is not modelled)."""
+
+
+def _failure(flag, t, az=0.0):
+    if flag == K.FLAG_LIFTOFF:
+        return LiftOff(f"lift-off at t = {t:.6g} s: the vertical ground acceleration {az:.6g} m/s2 makes "
+                       f"g + a_z <= 0, the superstructure would leave the bearing (flight is not modelled: "
+                       f"docs/model.md 10)")
     if flag == K.FLAG_OVERTURN:
         return PadOverturned(f"pad overturned at t = {t:.6g} s (rocking in the plane of the trial)")
     return PadRocks(f"the stuck pad rocks on its rim at t = {t:.6g} s (Eq. 7)")
@@ -145,7 +155,7 @@ class _Base(TwoInterfaces):
         Ek, Ep = _pure.energies(C, S)
         self.S[K.S_EIN] = Ek + Ep           # an initial state is energy put in before t = 0
         self.S[K.S_N1], self.S[K.S_N2] = _pure.normal_forces(C, nx, ny, nz, S[K.S_WX], S[K.S_WY], S[K.S_WZ],
-                                                            0.0, 0.0)
+                                                            0.0, 0.0, C[K.C_G])
         w = math.sqrt(wx * wx + wy * wy + S[K.S_WZ] ** 2)
         self.S[K.S_SV1], self.S[K.S_SV2] = C[K.C_R1] * w, C[K.C_R2] * w
 
@@ -240,12 +250,12 @@ class _Base(TwoInterfaces):
             self.S[i] = x
 
     def values(self) -> tuple:
-        out = [0.0] * K.N_VALUES
+        out = [0.0] * max(K.N_VALUES, len(self.columns))
         xg, yg = self.ground_position()
         _pure.values(self.C, [float(x) for x in self.S] if self.compiled else self.S,
                      self.n * self.dt, xg, yg, out)
+        out = out[:len(self.columns)]
         if self.C[K.C_PLANAR] != K.PLANAR_NONE:          # the planar columns: phase (and diagonal) as ints
-            out = out[:len(self.columns)]
             codes = (13,) if self.C[K.C_PLANAR] == K.PLANAR_SEATED else (14, 22)
             for j in codes:          # a non-finite code stays as it is: the loop reports it
                 out[j] = int(out[j]) if math.isfinite(out[j]) else out[j]
@@ -264,18 +274,21 @@ class BidirectionalStepper(_Base):
     """Two-phase DFP stepper in 3D under a two-component ground motion.
 
     ``gx``, ``gy``: GroundMotion of the x and y components on the same grid
-    (gy None: unidirectional along x). ``normal_force``: "midpoint" or
+    (gy None: unidirectional along x); ``gz``: the vertical component (up;
+    None: none), every normal force sees g + a_z (model.md 10). ``normal_force``: "midpoint" or
     "start". ``model``: "two-phase" or "seated" (the spherical pendulum of
     model.md 2 in 3D: no re-seating phase; the SFP always). ``jit``: use the
     compiled kernel (None: when numba is loaded)."""
 
     def __init__(self, geom: DeviceGeometry, gx, gy=None, normal_force: str = "midpoint",
                  jit: bool | None = None, model: str = "two-phase", planar: bool = False,
-                 rim: tuple | None = None):
+                 rim: tuple | None = None, gz=None):
         if normal_force not in NORMAL_FORCE:
             raise ValueError(f"normal_force = {normal_force!r}: must be one of {NORMAL_FORCE}")
         if gy is not None and (gy.n_steps != gx.n_steps or gy.dt != gx.dt):
             raise ValueError("the two ground-motion components must share the time grid")
+        if gz is not None and (gz.n_steps != gx.n_steps or gz.dt != gx.dt):
+            raise ValueError("the vertical ground motion must share the horizontal one's time grid")
         if planar and gy is not None:
             raise ValueError("a planar run has no y component")
         self.ground, self.ground_y = gx, gy
@@ -295,6 +308,12 @@ class BidirectionalStepper(_Base):
         self._ay = float_array(gy.a_step) if gy is not None else (None if planar else float_array(np.zeros(gx.n_steps)))
         self._xg = gx.d
         self._yg = gy.d if gy is not None else None
+        self.ground_z = gz
+        self._az = None
+        if gz is not None:
+            self._az = float_array(gz.a_step)
+            self.C[K.C_VERT] = 1.0
+            self.columns = tuple(self.columns) + VERTICAL_COLUMNS
 
     def ground_position(self):
         return (float(self._xg[self.n]), float(self._yg[self.n]) if self._yg is not None else 0.0)
@@ -313,7 +332,8 @@ class BidirectionalStepper(_Base):
         yg = as_float64(self._yg) if self._yg is not None else xg     # (read only with a y component)
         ax = as_float64(self._ax)
         ay = as_float64(self._ay) if self._ay is not None else ax      # (a planar run reads no ay: dev_bidirectional)
-        return self.C, self.S, (ax, ay, xg, yg), (np.zeros(1),)
+        az = as_float64(self._az) if self._az is not None else ax      # (read only with C_VERT)
+        return self.C, self.S, (ax, ay, xg, yg, az), (np.zeros(1),)
 
     def engine_pull(self, S) -> None:
         """Nothing to copy: the engine steps the stepper's own state."""
@@ -327,9 +347,9 @@ class BidirectionalStepper(_Base):
         S = self.S
         W1, W2 = S[K.S_W1], S[K.S_W2]
         flag = self._K.step(self.C, S, self._ax[self.n], self._ay[self.n] if self._ay is not None else 0.0,
-                            self.dt, mu1, mu2)
+                            self._az[self.n] if self._az is not None else 0.0, self.dt, mu1, mu2)
         if flag != K.FLAG_OK:
-            raise _failure(flag, self.n * self.dt)
+            raise _failure(flag, self.n * self.dt, float(S[K.S_AZ]))
         self.n += 1
         return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)
 
@@ -340,11 +360,12 @@ class BidirectionalStepper(_Base):
         out = np.zeros((n1 - self.n, 3))
         AX = np.asarray(self._ax)
         AY = np.asarray(self._ay) if self._ay is not None else np.zeros(len(AX))
-        C, S = (self.C, self.S) if self.compiled else (self.C, self.S)
-        done = self._K.run_steps(C, S, AX, AY, self.dt, mu1, mu2, self.n, n1, out)
+        AZ = np.asarray(self._az) if self._az is not None else np.zeros(len(AX))
+        done = self._K.run_steps(self.C, self.S, AX, AY, AZ, self.dt, mu1, mu2, self.n, n1, out)
         self.n += done
         if self.n < n1:
-            raise _failure(K.FLAG_OVERTURN, self.n * self.dt)
+            flag = K.FLAG_LIFTOFF if self.C[K.C_G] + self.S[K.S_AZ] <= 0.0 else K.FLAG_OVERTURN
+            raise _failure(flag, self.n * self.dt, float(self.S[K.S_AZ]))
         return out
 
 

@@ -62,7 +62,9 @@ C_PLANAR = 28
 # the rim (docs/model.md 9): the axis's largest tilt, min(d1 / R1, d2 / R2) (0: no rim), the
 # restitution of an impact, and which surfaces bound it (1.0 each: the limiting one, or both)
 C_THMAX, C_REST, C_RIM1, C_RIM2 = 29, 30, 31, 32
-N_C = 33
+# 1: the loading has a vertical component (the column az_mps2 follows the others)
+C_VERT = 33
+N_C = 34
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -78,10 +80,12 @@ S_DIRX = 36            # x component of the direction of the last slide (the pla
 # the rim: kinetic and potential energy taken by impacts and contact (J), the impulse of
 # the step's impact (N s), the impacts' count, at the rim at the end of the last step
 S_ERIM, S_JRIM, S_NRIM, S_ATRIM = 37, 38, 39, 40
-N_S = 41
+S_AZ = 41              # the vertical ground acceleration of the last step (m/s2, up)
+N_S = 42
 
 STICK, SLIP, TILT = 0, 1, 2
 FLAG_OK, FLAG_ROCKING, FLAG_OVERTURN = 0, 1, 2
+FLAG_LIFTOFF = 3        # g + a_z <= 0: the superstructure would leave the bearing (not modelled)
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 50
@@ -113,13 +117,14 @@ def tangent_basis(nx, ny, nz):
     return (1.0 - nx * nx * k, -nx * ny * k, nx), (-nx * ny * k, 1.0 - ny * ny * k, ny)
 
 
-def normal_forces(C, nx, ny, nz, wx, wy, wz, ax, ay):
+def normal_forces(C, nx, ny, nz, wx, wy, wz, ax, ay, gv):
     """Seated normal forces (N1, N2) at axis n, axis rate w, ground acceleration
-    (ax, ay): model.md 2 with the axial component of gravity and of the
-    d'Alembert force, g_axis = -(a . n_h + g n_z), and the centripetal terms
+    (ax, ay) and vertical field gv = g + a_z: model.md 2 with the axial
+    component of gravity and of the d'Alembert force, g_axis = -(a . n_h +
+    gv n_z), and the centripetal terms
     of the superstructure (radius L) and pad centroid (radius rho). Clipped at
     zero (no tension across a contact)."""
-    g_axis = -(ax * nx + ay * ny + C[C_G] * nz)
+    g_axis = -(ax * nx + ay * ny + gv * nz)
     w2 = wx * wx + wy * wy + wz * wz
     N2 = C[C_M] * (g_axis + C[C_L] * w2)
     N1 = N2 + C[C_MP] * (g_axis + C[C_RHO] * w2)
@@ -132,15 +137,15 @@ def normal_forces(C, nx, ny, nz, wx, wy, wz, ax, ay):
     return N1, N2
 
 
-def drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay):
+def drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay, gv):
     """Tangential driving force (generalised, per unit I times I) of gravity
     and the ground's d'Alembert force for an increment of angle d along the
-    unit tangent e: the discrete gradient of V = f . n, f = S (ax, ay, g), on
+    unit tangent e: the discrete gradient of V = f . n, f = S (ax, ay, gv), on
     the great circle through n along e (its work over the increment is exactly
     V(start) - V(end)); the component normal to the plane pi is the exact
     -f . b (constant along the arc). Returns the 3-vector."""
     S = C[C_S]
-    fx, fy, fz = S * ax, S * ay, S * C[C_G]
+    fx, fy, fz = S * ax, S * ay, S * gv
     bx, by, bz = ny * ez - nz * ey, nz * ex - nx * ez, nx * ey - ny * ex
     fn = fx * nx + fy * ny + fz * nz
     fe = fx * ex + fy * ey + fz * ez
@@ -150,10 +155,10 @@ def drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay):
     return De * ex - fb * bx, De * ey - fb * by, De * ez - fb * bz
 
 
-def _free_direction(C, nx, ny, nz, ax, ay):
+def _free_direction(C, nx, ny, nz, ax, ay, gv):
     """Unit direction of the tangential drive at n (from rest), or (0, 0, 0)."""
     S = C[C_S]
-    fx, fy, fz = S * ax, S * ay, S * C[C_G]
+    fx, fy, fz = S * ax, S * ay, S * gv
     fn = fx * nx + fy * ny + fz * nz
     dx, dy, dz = -(fx - fn * nx), -(fy - fn * ny), -(fz - fn * nz)
     m = math.sqrt(dx * dx + dy * dy + dz * dz)
@@ -162,21 +167,20 @@ def _free_direction(C, nx, ny, nz, ax, ay):
     return dx / m, dy / m, dz / m
 
 
-def rocking_starts(C, nx, ny, nz, ex, ey, ez, ax, ay):
+def rocking_starts(C, nx, ny, nz, ex, ey, ez, ax, ay, gv):
     """Rocking check of Eq. (7) in the plane pi through the axis and the unit
     tangent e: does the stuck pad, pivoting on its rim point trailing e (the
     planar A-C chain in pi), get a rotation acceleration opening the gap?
-    Moments about the pivot of the field per unit mass F = -(ax, ay, g) on the
+    Moments about the pivot of the field per unit mass F = -(ax, ay, gv) on the
     chain's first moments (Xb along e, Zb along the axis, up): Xb F_up - Zb F_e.
     Checked for e and -e (the B-D chain)."""
-    g = C[C_G]
-    F_e = -(ax * ex + ay * ey + g * ez)
-    F_up = ax * nx + ay * ny + g * nz      # F . (-n)
+    F_e = -(ax * ex + ay * ey + gv * ez)
+    F_up = ax * nx + ay * ny + gv * nz      # F . (-n)
     Xb, Zb = C[C_XB], C[C_ZB]
     return Xb * F_up - Zb * F_e > 0.0 or Xb * F_up + Zb * F_e > 0.0
 
 
-def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, h, cap0, mu1, mu2):
+def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, gv, h, cap0, mu1, mu2):
     """Time tau in (0, h] at which friction at the cap, opposing the velocity
     w0 along its own direction, brings the rate to zero; the cap is frozen
     ("start") or at the sub-step's midpoint ("midpoint"). Returns
@@ -198,9 +202,9 @@ def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, h, cap0, mu1, mu2):
             q = 0.5 * d
             c, s = math.cos(q), math.sin(q)
             N1, N2 = normal_forces(C, c * nx + s * ex, c * ny + s * ey, c * nz + s * ez,
-                                   0.5 * wx, 0.5 * wy, 0.5 * wz, ax, ay)
+                                   0.5 * wx, 0.5 * wy, 0.5 * wz, ax, ay, gv)
             cap = mu1 * N1 * C[C_R1] + mu2 * N2 * C[C_R2]
-        dx, dy, dz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay)
+        dx, dy, dz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay, gv)
         De = dx * ex + dy * ey + dz * ez
         px, py, pz = dx - De * ex, dy - De * ey, dz - De * ez
         plane = math.sqrt(px * px + py * py + pz * pz) <= 1e-9 * (cap + abs(De))
@@ -214,7 +218,7 @@ def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, h, cap0, mu1, mu2):
     return tau, 0.5 * tau * w, ex, ey, ez, N1, N2, plane
 
 
-def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
+def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, gv, f1, f2):
     """Phases 1 and 2 of a sliding (part-)step in the plane pi: C2 moved by
     L d along the unit tangent e at n_n with rate v1 (tangent at n_n) at the
     end; re-seat by the rotation atan(d) about the normal of pi; friction work
@@ -259,7 +263,7 @@ def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
         vp = ve * (C[C_ITRANS] * c + C[C_J]) / I
         S[S_ERES] += 0.5 * I * (ve * ve - vp * vp)
         ve = vp
-    S[S_EIN] -= C[C_S] * (ax * dnx + ay * dny)
+    S[S_EIN] -= C[C_S] * (ax * dnx + ay * dny + (gv - C[C_G]) * dnz)
     S[S_NX], S[S_NY], S[S_NZ] = n1x, n1y, n1z
     wx, wy, wz = ve * e1x + vb * bx, ve * e1y + vb * by, ve * e1z + vb * bz
     # keep w tangent to round-off at the new axis
@@ -267,21 +271,21 @@ def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, f1, f2):
     S[S_WX], S[S_WY], S[S_WZ] = wx - wn * n1x, wy - wn * n1y, wz - wn * n1z
 
 
-def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, mu1, mu2, middir):
+def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, middir):
     """The stick trial's fixed point on the step increment D (a tangent
     vector at n): returns (v1, D, lam, N1, N2, arrest). ``middir``: friction
     along the mid-step velocity (the midpoint scheme while moving), else along
     the end velocity (radial return of the free trial velocity)."""
     I, R1, R2 = C[C_I], C[C_R1], C[C_R2]
     mid = C[C_MID] != 0.0
-    N1, N2 = normal_forces(C, nx, ny, nz, w0x, w0y, w0z, ax, ay)
+    N1, N2 = normal_forces(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv)
     cap = mu1 * N1 * R1 + mu2 * N2 * R2
     hI = h / I
     Dx, Dy, Dz = h * w0x, h * w0y, h * w0z
     v1x, v1y, v1z = w0x, w0y, w0z
     lam = 0.0
     arrest = False
-    fx0, fy0, fz0 = _free_direction(C, nx, ny, nz, ax, ay)
+    fx0, fy0, fz0 = _free_direction(C, nx, ny, nz, ax, ay, gv)
     for _ in range(FIXED_POINT_ITERS):
         d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
         if d > 0.0:
@@ -295,9 +299,9 @@ def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, mu1, mu2, middir):
             q = 0.5 * d
             c, s = math.cos(q), math.sin(q)
             N1, N2 = normal_forces(C, c * nx + s * ex, c * ny + s * ey, c * nz + s * ez,
-                                   0.5 * (w0x + v1x), 0.5 * (w0y + v1y), 0.5 * (w0z + v1z), ax, ay)
+                                   0.5 * (w0x + v1x), 0.5 * (w0y + v1y), 0.5 * (w0z + v1z), ax, ay, gv)
             cap = mu1 * N1 * R1 + mu2 * N2 * R2
-        gx, gy, gz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay)
+        gx, gy, gz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay, gv)
         vfx, vfy, vfz = w0x + hI * gx, w0y + hI * gy, w0z + hI * gz
         if middir:
             # friction along the mid-step velocity x = w0 + v1: x + h cap x/|x| / I
@@ -355,23 +359,25 @@ def smallest_positive_root(c2, c1, c0, default):
     return best
 
 
-def _plane_fields(C, S, ax, ay):
+def _plane_fields(C, S, ax, ay, gv):
     """Field per unit mass in the rocking plane (components along e and along
-    the pad axis up, -n): the whole (gravity and ground) and the ground's part."""
+    the pad axis up, -n): the whole (gravity and ground, gv = g + a_z) and the
+    ground's part (its work is input; gravity's is the potential)."""
     g = C[C_G]
+    az = gv - g
     ex, ey, ez = S[S_EX], S[S_EY], S[S_EZ]
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
-    ge, gu = -(ax * ex + ay * ey), ax * nx + ay * ny
+    ge, gu = -(ax * ex + ay * ey + az * ez), ax * nx + ay * ny + az * nz
     return ge - g * ez, gu + g * nz, ge, gu
 
 
-def _chain_forces(C, S, ax, ay):
+def _chain_forces(C, S, ax, ay, gv):
     """Normal forces of the rocking chain at the pivot (N1) and at the top
     corner (N2) from the accelerations of Eq. (7) and each body's momentum
     balance, in the plane (the planar _chain_normal_forces); Ff1, Ff2 the
     tangential forces the pinned joints carry. The field's component across
     the plane is taken by the pivot."""
-    Fe, Fu, _ge, _gu = _plane_fields(C, S, ax, ay)
+    Fe, Fu, _ge, _gu = _plane_fields(C, S, ax, ay, gv)
     b, w = S[S_BETA], S[S_BETAD]
     c, s = math.cos(b), math.sin(b)
     Xr, Zr = c * C[C_XB] - s * C[C_ZB], s * C[C_XB] + c * C[C_ZB]
@@ -390,14 +396,14 @@ def _chain_forces(C, S, ax, ay):
     S[S_FF2] = FMe * C[C_N2Z] - FMu * C[C_N2X]
 
 
-def _tilt(C, S, ax, ay, h):
+def _tilt(C, S, ax, ay, gv, h):
     """The rocking chain of Eq. (7) in its plane over a (part-)step of length
     h (the planar _tilt_step: discrete gradient, so the step's work equals the
     potential's change); on landing (beta back to 0) the impact projects the
     chain's velocity onto the seated tangent e (kinetic-energy metric, the
     loss in E_reseat) and the rest of the step is seated, without rocking.
     Returns (time used, flag)."""
-    Fe, Fu, ge, gu = _plane_fields(C, S, ax, ay)
+    Fe, Fu, ge, gu = _plane_fields(C, S, ax, ay, gv)
     IP, Xb, Zb = C[C_IP], C[C_XB], C[C_ZB]
     b0, w0 = S[S_BETA], S[S_BETAD]
     db, w1 = rocking_increment(b0, w0, h, IP, Xb, Zb, Fe, Fu)
@@ -416,7 +422,7 @@ def _tilt(C, S, ax, ay, h):
         S[S_BETA], S[S_BETAD] = b1, w1
         S[S_BETA1] = b1
         S[S_TILT] = b1
-        _chain_forces(C, S, ax, ay)
+        _chain_forces(C, S, ax, ay, gv)
         return h, FLAG_OK
     # landing inside the step: the time from the same discrete gradient (end point 0 known)
     mid = 0.5 * b0
@@ -451,20 +457,20 @@ def momentum(C, S):
     return C[C_S] * S[S_WX], C[C_S] * S[S_WY]
 
 
-def _part(C, S, ax, ay, h, mu1, mu2):
+def _part(C, S, ax, ay, gv, h, mu1, mu2):
     """One seated (part-)step of length h: stick trial, then slide or stick.
     Returns (time used, flag): less than h at an arrest inside the step."""
     if S[S_ROCK] != 0.0:
-        return _tilt(C, S, ax, ay, h)
+        return _tilt(C, S, ax, ay, gv, h)
     R1, R2 = C[C_R1], C[C_R2]
     mid = C[C_MID] != 0.0
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     w0x, w0y, w0z = S[S_WX], S[S_WY], S[S_WZ]
     moving = w0x != 0.0 or w0y != 0.0 or w0z != 0.0
     v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
-        C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, mu1, mu2, mid and moving)
+        C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, mid and moving)
     if moving and (arrest or v1x * w0x + v1y * w0y + v1z * w0z <= 0.0):
-        tau, d, ex, ey, ez, N1a, N2a, plane = _arrest(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, cap, mu1, mu2)
+        tau, d, ex, ey, ez, N1a, N2a, plane = _arrest(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, cap, mu1, mu2)
         if not plane or (mid and not tau < h):
             # the velocity turns in the plane (a drive across its line) rather
             # than passing through rest on it: no split (it would drop the
@@ -472,14 +478,14 @@ def _part(C, S, ax, ay, h, mu1, mu2):
             # the Moreau step: it sticks exactly if the drive is inside the disk)
             if mid:
                 v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
-                    C, nx, ny, nz, w0x, w0y, w0z, ax, ay, h, mu1, mu2, False)
+                    C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, False)
         else:
             if mid:
                 N1, N2 = N1a, N2a
             S[S_N1], S[S_N2] = N1, N2
             f1, f2 = mu1 * N1 * R1, mu2 * N2 * R2
             S[S_FF1], S[S_FF2] = f1 / C[C_L], f2 / C[C_L]
-            _slide(C, S, d, ex, ey, ez, 0.0, 0.0, 0.0, ax, ay, f1, f2)
+            _slide(C, S, d, ex, ey, ez, 0.0, 0.0, 0.0, ax, ay, gv, f1, f2)
             S[S_MODE] = STICK
             S[S_SV1] = S[S_SV2] = 0.0
             return tau, FLAG_OK
@@ -491,7 +497,7 @@ def _part(C, S, ax, ay, h, mu1, mu2):
         if moving:                 # from a moving state (2D, no split): it slid by D first
             d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
             if d > 0.0:
-                _slide(C, S, d, Dx / d, Dy / d, Dz / d, 0.0, 0.0, 0.0, ax, ay, f1, f2)
+                _slide(C, S, d, Dx / d, Dy / d, Dz / d, 0.0, 0.0, 0.0, ax, ay, gv, f1, f2)
             S[S_WX] = S[S_WY] = S[S_WZ] = 0.0
         S[S_MODE] = STICK
         S[S_SV1] = S[S_SV2] = 0.0
@@ -500,11 +506,10 @@ def _part(C, S, ax, ay, h, mu1, mu2):
         if not moving and S[S_NOROCK] == 0.0:
             # the stuck pad's rocking check (from rest, as the planar stepper), in
             # the plane of the trial: the chain pivots on the rim point trailing e
-            ex, ey, ez = _free_direction(C, nx, ny, nz, ax, ay)
+            ex, ey, ez = _free_direction(C, nx, ny, nz, ax, ay, gv)
             if ex != 0.0 or ey != 0.0 or ez != 0.0:
-                g = C[C_G]
-                Fe = -(ax * ex + ay * ey + g * ez)
-                Fu = ax * nx + ay * ny + g * nz
+                Fe = -(ax * ex + ay * ey + gv * ez)
+                Fu = ax * nx + ay * ny + gv * nz
                 sgn = 0.0
                 if C[C_XB] * Fu - C[C_ZB] * Fe > 0.0:
                     sgn = 1.0
@@ -513,10 +518,10 @@ def _part(C, S, ax, ay, h, mu1, mu2):
                 if sgn != 0.0:
                     S[S_ROCK], S[S_BETA], S[S_BETAD] = 1.0, 0.0, 0.0
                     S[S_EX], S[S_EY], S[S_EZ] = sgn * ex, sgn * ey, sgn * ez
-                    return _tilt(C, S, ax, ay, h)
+                    return _tilt(C, S, ax, ay, gv, h)
         return h, FLAG_OK
     d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
-    _slide(C, S, d, Dx / d, Dy / d, Dz / d, v1x, v1y, v1z, ax, ay, f1, f2)
+    _slide(C, S, d, Dx / d, Dy / d, Dz / d, v1x, v1y, v1z, ax, ay, gv, f1, f2)
     S[S_MODE] = SLIP
     w = math.sqrt(S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ])
     S[S_SV1], S[S_SV2] = R1 * w, R2 * w
@@ -528,7 +533,7 @@ SUBSTEP_TAU = 0.02            # s: turning time scale below which the midpoint s
 SUBSTEPS_MAX = 2000
 
 
-def _event_substep(C, S, ax, ay, h, rem, h_min, mu1, mu2):
+def _event_substep(C, S, ax, ay, gv, h, rem, h_min, mu1, mu2):
     """Length of the next sub-step of the midpoint scheme.
 
     Near an event where the velocity passes close to zero (a stop, or in 2D
@@ -544,10 +549,10 @@ def _event_substep(C, S, ax, ay, h, rem, h_min, mu1, mu2):
     if w == 0.0:
         return rem
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
-    N1, N2 = normal_forces(C, nx, ny, nz, wx, wy, wz, ax, ay)
+    N1, N2 = normal_forces(C, nx, ny, nz, wx, wy, wz, ax, ay, gv)
     cap = mu1 * N1 * C[C_R1] + mu2 * N2 * C[C_R2]
     Sm = C[C_S]
-    fx, fy, fz = Sm * ax, Sm * ay, Sm * C[C_G]
+    fx, fy, fz = Sm * ax, Sm * ay, Sm * gv
     fn = fx * nx + fy * ny + fz * nz
     tx, ty, tz = fx - fn * nx, fy - fn * ny, fz - fn * nz
     acc = (cap + math.sqrt(tx * tx + ty * ty + tz * tz)) / C[C_I]
@@ -562,7 +567,7 @@ def _event_substep(C, S, ax, ay, h, rem, h_min, mu1, mu2):
     return hs
 
 
-def rim(C, S):
+def rim(C, S, gv):
     """Keep the axis inside the rim's cone (tilt <= C[C_THMAX]) after a
     (part-)step: an axis past it is put back on it along its meridian, and
     the velocity's outward component there is reversed times the restitution
@@ -597,7 +602,7 @@ def rim(C, S):
         # potential (Ep0 - Ep1); the rim hands back e of that rate, inwards, so the
         # impact takes (1 - e^2) of the kinetic energy normal to the rim
         I = C[C_I]
-        ek = 0.5 * I * wr * wr + (Ep0 - Ep1)
+        ek = 0.5 * I * wr * wr + (Ep0 - Ep1) * (gv / C[C_G])     # the height in the field g + a_z
         w_rim = 0.0
         if ek > 0.0:
             w_rim = math.sqrt(2.0 * ek / I)
@@ -619,11 +624,17 @@ def rim(C, S):
     return jx, jy
 
 
-def step(C, S, ax, ay, h, mu1, mu2):
-    """One step of length h under the step-mean ground acceleration (ax, ay)
-    with mu1, mu2 held. Returns a flag (FLAG_OK, FLAG_ROCKING). Sets the
+def step(C, S, ax, ay, az, h, mu1, mu2):
+    """One step of length h under the step-mean ground acceleration (ax, ay,
+    az) (az up, 0 without a vertical record) with mu1, mu2 held: every
+    normal force, friction cap, rocking check and drive sees the vertical
+    field gv = g + az (model.md 10). Returns a flag (FLAG_OK, FLAG_ROCKING). Sets the
     force the bearing transmits to the ground, from the momentum balance of
     the moving parts over the step: F = -((M + m) a + S (w_h(end) - w_h(start)) / h)."""
+    gv = C[C_G] + az
+    S[S_AZ] = az
+    if not gv > 0.0:
+        return FLAG_LIFTOFF
     px0, py0 = momentum(C, S)
     S[S_DS1] = S[S_DS2] = S[S_DPHI] = 0.0
     S[S_BETA2] = 0.0
@@ -638,11 +649,11 @@ def step(C, S, ax, ay, h, mu1, mu2):
     for _ in range(SUBSTEPS_MAX):
         hs = rem
         if C[C_MID] != 0.0:
-            hs = _event_substep(C, S, ax, ay, h, rem, h_min, mu1, mu2)
-        used, flag = _part(C, S, ax, ay, hs, mu1, mu2)
+            hs = _event_substep(C, S, ax, ay, gv, h, rem, h_min, mu1, mu2)
+        used, flag = _part(C, S, ax, ay, gv, hs, mu1, mu2)
         if flag != FLAG_OK:
             break
-        dx, dy = rim(C, S)
+        dx, dy = rim(C, S, gv)
         jx, jy = jx + dx, jy + dy
         rem = rem - used
         if not rem > 0.0:
@@ -696,13 +707,13 @@ def rocking_offsets(C, S):
             w * (-ru * ex - re * nx), w * (-ru * ey - re * ny))
 
 
-def run_steps(C, S, AX, AY, h, mu1, mu2, n0, n1, out):
+def run_steps(C, S, AX, AY, AZ, h, mu1, mu2, n0, n1, out):
     """Steps n0..n1-1 with constant friction (mechanics-only runs, studies,
     benchmarks): out[k] = (ux, uy, W1 + W2) after each step. Returns the
     number of steps done (fewer on a flag)."""
     L = C[C_L]
     for n in range(n0, n1):
-        flag = step(C, S, AX[n], AY[n], h, mu1, mu2)
+        flag = step(C, S, AX[n], AY[n], AZ[n], h, mu1, mu2)
         k = n - n0
         dx, dy, _dz, _vx, _vy = rocking_offsets(C, S)
         out[k, 0] = L * S[S_NX] + dx
@@ -826,6 +837,8 @@ def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
 # -- outputs (the class's values() and the compiled loop's rows) ----------------------
 
 N_VALUES = 44           # len(mechanics.bidirectional.COLUMNS)
+N_PLANAR, N_SEATED = 35, 21   # the planar two-phase and seated columns (rim's included)
+N_VERTICAL = 1                # the columns of a vertical loading: az_mps2
 
 
 def rim_values(C, S, out, j):
@@ -897,9 +910,21 @@ def values_planar(C, S, t, xg, out):
     rim_values(C, S, out, 31)
 
 
+def n_base(C):
+    """How many columns precede the vertical loading's."""
+    if C[C_PLANAR] == PLANAR_SEATED:
+        return N_SEATED
+    if C[C_PLANAR] == PLANAR_TWO_PHASE:
+        return N_PLANAR
+    return N_VALUES
+
+
 def values(C, S, t, xg, yg, out):
     """The row of mechanics.bidirectional.COLUMNS into out[0:N_VALUES]
-    (a planar run's: values_planar)."""
+    (a planar run's: values_planar), then with a vertical loading
+    VERTICAL_COLUMNS."""
+    if C[C_VERT] != 0.0:
+        out[n_base(C)] = S[S_AZ]
     if C[C_PLANAR] != PLANAR_NONE:
         values_planar(C, S, t, xg, out)
         return

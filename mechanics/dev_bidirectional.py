@@ -1,8 +1,9 @@
 """The 3D DFP/SFP stepper (both horizontal directions, mechanics/bidirectional.py)
 as the coupled engine sees it: the device interface of mechanics/dev_two_phase.py.
 
-L = (ax, ay, xg, yg): the ground acceleration per step and the ground
-position per step; footprint centres in 2D (bidirectional_kernel.centres).
+L = (ax, ay, xg, yg, az): the ground acceleration per step and the ground
+position per step, the vertical ground acceleration per step (read only
+when C[C_VERT]: otherwise a stand-in, and the field is g); footprint centres in 2D (bidirectional_kernel.centres).
 """
 from fpd.mechanics import bidirectional_kernel as bk
 
@@ -33,7 +34,10 @@ def step(C, S, L, X, n, dt, mu, dW):
     ay = 0.0
     if C[bk.C_PLANAR] == bk.PLANAR_NONE:     # a planar run has no y component
         ay = L[1][n - 1]
-    flag = bk.step(C, S, L[0][n - 1], ay, dt, mu[0], mu[1])
+    az = 0.0
+    if C[bk.C_VERT] != 0.0:
+        az = L[4][n - 1]
+    flag = bk.step(C, S, L[0][n - 1], ay, az, dt, mu[0], mu[1])
     dW[0] = S[bk.S_W1] - w1
     dW[1] = S[bk.S_W2] - w2
     return flag

@@ -281,6 +281,119 @@ def parse_samples(text: str, path="<record>", dt: float = 0.0, units: str = "g")
     return Record(name=str(path), t=np.arange(len(aa)) * dt, a_g=aa, source=" / ".join(header))
 
 
+# -- CESMD / CSMIP Volume 2: three channels in one file ---------------------------------
+
+V2_UNITS = {"cm/sec2": 1.0 / (100.0 * G_ACC), "cm/s2": 1.0 / (100.0 * G_ACC), "g": 1.0}
+
+
+def is_v2(text: str) -> bool:
+    """A CESMD / CSMIP Volume 2 file: its first line names a corrected
+    accelerogram and a block is headed "points of accel data"."""
+    first = text.lstrip().split("\n", 1)[0].lower()
+    return "accelerogram" in first and "points of accel data" in text
+
+
+def v2_direction(label: str):
+    """'h' (a horizontal channel, "<azimuth> Deg"), 'up' (vertical up: "Up",
+    "Vert", "Vertical"), 'down' (vertical, positive down), or None."""
+    import re
+    low = label.strip().lower()
+    if re.fullmatch(r"\d+(\.\d*)?\s*deg(rees?)?", low):
+        return "h"
+    if low in ("up", "vert", "vertical", "z"):
+        return "up"
+    if low == "down":
+        return "down"
+    return None
+
+
+def parse_v2(text: str, path="<record>") -> list:
+    """The channels of a CSMIP Volume 2 file, in file order: a list of
+    (number, label, Record with acceleration in g, up positive for a vertical
+    channel). Each channel block: a "Chan  k: <label>" line, then the block
+    headed "N points of accel data equally spaced at DT sec, in cm/sec2."
+    with N values in 8 fields of 10 characters per line (the velocity and
+    displacement blocks that follow are not read)."""
+    import re
+    lines = text.splitlines()
+    chans = []
+    cur = None
+    j = 0
+    head = re.compile(r"^\s*(\d+)\s+points of accel data equally spaced at\s+(" + _NUM + r")\s+sec,\s*in\s+([^\s.(]+)",
+                      re.IGNORECASE)
+    while j < len(lines):
+        line = lines[j]
+        m = re.match(r"^\s*Chan\s+(\d+)\s*:\s*(.*?)\s*$", line)
+        if m and cur is None:
+            cur = (int(m.group(1)), m.group(2).strip())
+        h = head.match(line)
+        if h:
+            if cur is None:
+                raise RecordError(path, "an accel data block before any 'Chan  k: <name>' line", j + 1)
+            npts, dt, units = int(h.group(1)), float(h.group(2)), h.group(3).lower().rstrip(".,")
+            if units not in V2_UNITS:
+                raise RecordError(path, f"channel {cur[0]} ({cur[1]}): units '{units}' (CSMIP V2 accelerations "
+                                  "are read in cm/sec2 or g)", j + 1)
+            if npts < 2 or not dt > 0.0:
+                raise RecordError(path, f"channel {cur[0]}: {npts} points at {dt:g} s (need >= 2 points, DT > 0)",
+                                  j + 1)
+            vals = []
+            k = j + 1
+            while len(vals) < npts and k < len(lines):
+                row = lines[k].rstrip()
+                for i in range(0, len(row), 10):
+                    tok = row[i:i + 10].strip()
+                    if tok:
+                        try:
+                            x = float(tok)
+                        except ValueError:
+                            raise RecordError(path, f"channel {cur[0]}: '{tok}' is not a number", k + 1) from None
+                        if not np.isfinite(x):
+                            raise RecordError(path, f"channel {cur[0]}: non-finite value '{tok}'", k + 1)
+                        vals.append(x)
+                k += 1
+            if len(vals) < npts:
+                raise RecordError(path, f"channel {cur[0]}: header says {npts} points but {len(vals)} values follow",
+                                  j + 1)
+            a = np.asarray(vals[:npts]) * V2_UNITS[units]
+            if v2_direction(cur[1]) == "down":
+                a = -a
+            chans.append((cur[0], cur[1], Record(name=f"{path} channel {cur[0]} ({cur[1]})",
+                                                 t=np.arange(npts) * dt, a_g=a, source=lines[0].strip())))
+            cur = None
+            j = k
+            continue
+        j += 1
+    return chans
+
+
+def v2_roles(chans, path="<record>") -> tuple:
+    """(horizontal channel numbers in file order, the vertical one) of a
+    three-channel V2 file; RecordError naming what was found otherwise."""
+    found = ", ".join(f"{n}: '{lab}'" for n, lab, _ in chans) or "none"
+    unknown = [(n, lab) for n, lab, _ in chans if v2_direction(lab) is None]
+    if unknown:
+        raise RecordError(path, f"CSMIP V2 channel name{'s' if len(unknown) > 1 else ''} not known: "
+                          + ", ".join(f"{n}: '{lab}'" for n, lab in unknown)
+                          + " (a horizontal channel is '<azimuth> Deg', the vertical 'Up')")
+    hor = [n for n, lab, _ in chans if v2_direction(lab) == "h"]
+    ver = [n for n, lab, _ in chans if v2_direction(lab) in ("up", "down")]
+    if len(chans) != 3 or len(hor) != 2 or len(ver) != 1:
+        raise RecordError(path, f"a CSMIP V2 record must carry three channels (horizontal, horizontal, up); "
+                          f"found {len(chans)}: {found}")
+    return tuple(hor), ver[0]
+
+
+def read_v2(path) -> list:
+    """parse_v2 of a file, checked: exactly two horizontal channels and one vertical."""
+    text = _read_text(path)
+    if not is_v2(text):
+        raise RecordError(path, "not a CSMIP Volume 2 file (no 'points of accel data' block)")
+    chans = parse_v2(text, path)
+    v2_roles(chans, path)
+    return chans
+
+
 def _is_float(x: str) -> bool:
     try:
         float(x)
@@ -289,14 +402,26 @@ def _is_float(x: str) -> bool:
         return False
 
 
-def read_record(path, units: str | None = None, dt: float | None = None) -> Record:
+def read_record(path, units: str | None = None, dt: float | None = None, channel: int | None = None) -> Record:
     """Read a record file, format guessed from its content (docs/reference.md,
     loading.file):
     a PEER .AT2 (its header gives DT); with ``dt`` (loading.dt), acceleration
     samples without times, any number per line; else two columns (time,
-    acceleration). The checks go in the order a reader would want them: the
-    file's shape first (what it is, what it needs), then the units."""
+    acceleration); a CSMIP V2 file (three channels): channel ``channel``
+    (None: its first horizontal one). The checks go in the order a reader
+    would want them: the file's shape first (what it is, what it needs),
+    then the units."""
     text = _read_text(path)
+    if is_v2(text):
+        if dt is not None:
+            raise RecordError(path, "a CSMIP V2 file gives its own DT in each channel's header; remove loading.dt")
+        chans = parse_v2(text, path)
+        hor, ver = v2_roles(chans, path)
+        pick = channel if channel is not None else hor[0]
+        for n, _lab, rec in chans:
+            if n == pick:
+                return rec
+        raise RecordError(path, f"no channel {pick} (channels " + ", ".join(str(n) for n, _l, _r in chans) + ")")
     if guess_format(text) == "at2":
         if dt is not None:
             raise RecordError(path, "a PEER .AT2 file gives its own DT in its header; remove loading.dt")

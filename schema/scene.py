@@ -25,6 +25,10 @@ RECORDS = {
 RECORD_PAIRS = {
     "impvall-1979-e11": ("IMPVALL_H-E11140.txt", "IMPVALL_H-E11230.txt"),
 }
+# packaged three-component records (CSMIP V2: horizontal, horizontal, up in one file; model.md 10)
+RECORDS_3C = {
+    "ferndale-2022": "FERNDALE2022_CE89486.v2",
+}
 
 
 class SceneError(ValueError):
@@ -136,6 +140,8 @@ LOADING_KEYS = {
                "units": (("g", "m/s2"), None, None), "baseline": ("bool", True, None),
                # bidirectional (model.md 8): the y component, and the pair turned by angle_deg (x towards y)
                "file_y": ("str", None, None), "angle_deg": ("float", 0.0, None),
+               # the vertical component (model.md 10), and the channels of a three-channel CSMIP V2 file
+               "file_z": ("str", None, None), "channels": ("floats", None, None),
                # FEMA P695 record sets (mechanics/p695.py; fpd sweep expands a set into its components)
                "record_set": (("p695-far-field", "p695-near-field-pulse", "p695-near-field-no-pulse"), None, None),
                "record_id": ("int", None, _atleast(1)), "component": (("a", "b", "pair"), None, None),
@@ -425,8 +431,12 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
     res["kind"] = kind
     if kind == "record":
         has_r, has_f = "record" in res, "file" in res
-        names = ", ".join(f'"{r}"' for r in list(RECORDS) + list(RECORD_PAIRS))
+        names = ", ".join(f'"{r}"' for r in list(RECORDS) + list(RECORD_PAIRS) + list(RECORDS_3C))
         if "record_set" in res and not has_r and not has_f:
+            for key in ("file_z", "channels"):
+                if key in res:
+                    ctx.fail(f"loading.{key}", res[key], "is not available with loading.record_set in this version "
+                             "(the FEMA P695 sets have no vertical components)")
             if "file_y" in res:
                 ctx.fail("loading.file_y", res["file_y"], 'must not be given with loading.record_set (both '
                          'components of a set record: loading.component = "pair")')
@@ -448,6 +458,8 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
                 fx, fy = RECORD_PAIRS[res["record"]]
                 res["path"] = str(SCENES_DIR / "records" / fx)
                 res["path_y"] = str(SCENES_DIR / "records" / fy)
+            elif res["record"] in RECORDS_3C:
+                res["path"] = str(SCENES_DIR / "records" / RECORDS_3C[res["record"]])
             elif res["record"] not in RECORDS:
                 ctx.fail("loading.record", res["record"], f"must be one of {names} (or give loading.file)")
             else:
@@ -456,9 +468,57 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
             res["path"] = _record_path(ctx, "loading.file", res["file"], scene_dir)
         if "file_y" in res:
             res["path_y"] = _record_path(ctx, "loading.file_y", res["file_y"], scene_dir)
+        _channels(ctx, res)
+        if "file_z" in res:
+            if "path_z" in res:
+                ctx.fail("loading.file_z", res["file_z"], "must not be given when the record's channels include its "
+                         "vertical one (leave it out of loading.channels to take file_z)")
+            res["path_z"] = _record_path(ctx, "loading.file_z", res["file_z"], scene_dir)
         if res["angle_deg"] != 0.0 and "path_y" not in res:
             res["path_y"] = None          # one component turned in the plane: bidirectional too
     return res
+
+
+def _channels(ctx: _Ctx, res: dict) -> None:
+    """A three-channel CSMIP V2 record (packaged or loading.file): loading.channels
+    picks its channels by number, horizontals on x then y in the order given, the
+    vertical on z; default all three in file order (the first horizontal on x).
+    Sets res["channels"] ([x, y or 0, z or 0]), path_y and path_z (the same file)."""
+    from fpd.mechanics import ground_motion as gmod
+
+    key = "loading.record" if "record" in res else "loading.file"
+    try:
+        text = gmod._read_text(res["path"])
+    except gmod.RecordError as exc:
+        ctx.fail(key, res.get("record", res.get("file")), str(exc))
+    if not gmod.is_v2(text):
+        if "channels" in res:
+            ctx.fail("loading.channels", res["channels"], "applies to a three-channel CSMIP V2 record only "
+                     f'({", ".join(f"{chr(34)}{r}{chr(34)}" for r in RECORDS_3C)} or a .v2 file)')
+        return
+    try:
+        chans = gmod.parse_v2(text, res["path"])
+        hor, ver = gmod.v2_roles(chans, res["path"])
+    except gmod.RecordError as exc:
+        ctx.fail(key, res.get("record", res.get("file")), str(exc))
+    labels = {n: lab for n, lab, _ in chans}
+    pick = res.get("channels", list(hor) + [ver])
+    if not all(float(c).is_integer() and int(c) in labels for c in pick) or len(set(pick)) != len(pick):
+        ctx.fail("loading.channels", pick, "must be distinct channel numbers of the record: "
+                 + ", ".join(f"{n} ({lab})" for n, lab in labels.items()))
+    pick = [int(c) for c in pick]
+    h = [c for c in pick if c in hor]
+    v = [c for c in pick if c == ver]
+    if not h:
+        ctx.fail("loading.channels", pick, f"must name a horizontal channel ({hor[0]} or {hor[1]}): the run needs x")
+    if len(h) == 2 and "file_y" in res:
+        ctx.fail("loading.file_y", res["file_y"], "must not be given when loading.channels names two horizontal "
+                 "channels (the record gives y)")
+    res["channels"] = [h[0], h[1] if len(h) == 2 else 0, v[0] if v else 0]
+    if len(h) == 2:
+        res["path_y"] = res["path"]
+    if v:
+        res["path_z"] = res["path"]
 
 
 def _record_path(ctx: _Ctx, key: str, given: str, scene_dir: Path) -> str:
@@ -1005,7 +1065,7 @@ def to_toml(scene: Scene) -> str:
                 lines += [f"{k} = {_toml_value(v)}" for k, v in body[side].items()]
             continue
         lines.append(f"\n[{table}]")
-        lines += [f"{k} = {_toml_value(v)}" for k, v in body.items() if k not in ("path", "path_y")]
+        lines += [f"{k} = {_toml_value(v)}" for k, v in body.items() if k not in ("path", "path_y", "path_z")]
     return "\n".join(lines) + "\n"
 
 
@@ -1058,6 +1118,15 @@ def planar_only(ctx, data, device: str) -> None:
     ld, mech = data["loading"], data["mechanics"]
     why = f"the {device} is planar in this version (bidirectional motion: a DFP or an SFP)"
     if ld["kind"] == "record":
+        # the vertical ground motion (model.md 10): the DFP and the SFP only
+        vwhy = (f"not yet for this device: the {device}'s stepper has no vertical ground motion "
+                "(a DFP or an SFP takes it)")
+        if ld.get("file_z") is not None:
+            ctx.fail("loading.file_z", ld["file_z"], vwhy)
+        if ld.get("channels") is not None and (ld["channels"][1] or ld["channels"][2]):
+            ch = [c for c in ld["channels"] if c]
+            what = vwhy if ld["channels"][2] else why
+            ctx.fail("loading.channels", ch, f"must name one horizontal channel ([{ch[0]}]): {what}")
         if ld.get("file_y") is not None:
             ctx.fail("loading.file_y", ld["file_y"], f"is not allowed: {why}")
         if ld.get("component") == "pair":

