@@ -57,7 +57,7 @@ class Stats:
         # (input first, then every term it goes into: kinetic, potential, the friction
         # work of each interface, the re-seating and rim losses where the device has them)
         terms = ("E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J")
-        extra = [c for c in ("W3_J", "W4_J", "E_reseat_J", "E_rim_J") if c in self.columns]
+        extra = [c for c in ("W3_J", "W4_J", "E_reseat_J", "E_rim_J", "E_land_J") if c in self.columns]
         self._ledger_cols = ([self.columns.index(c) for c in (*terms, *extra)]
                              if all(c in self.columns for c in terms) else None)
         self.ledger_worst = self.input_worst = 0.0

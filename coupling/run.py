@@ -174,7 +174,8 @@ def _columns(sim: Simulation):
     return cols, order
 
 
-LEDGER = ("E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J", "W3_J", "W4_J", "E_reseat_J", "E_rim_J")
+LEDGER = ("E_input_J", "E_kin_J", "E_pot_J", "W1_J", "W2_J", "W3_J", "W4_J", "E_reseat_J", "E_rim_J",
+          "E_land_J")
 
 
 class StepTracker:

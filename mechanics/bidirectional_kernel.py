@@ -81,14 +81,19 @@ S_DIRX = 36            # x component of the direction of the last slide (the pla
 # the step's impact (N s), the impacts' count, at the rim at the end of the last step
 S_ERIM, S_JRIM, S_NRIM, S_ATRIM = 37, 38, 39, 40
 S_AZ = 41              # the vertical ground acceleration of the last step (m/s2, up)
-N_S = 42
+# lift-off (model.md 10): in flight (1.0), the moving assembly's height above its seated
+# position and its rate (relative to the ground), the landings' loss (J), the lift-offs'
+# count, the time spent in flight (s)
+S_FLY, S_ZF, S_ZFD, S_ELAND, S_NLIFT, S_TFLY = 42, 43, 44, 45, 46, 47
+N_S = 48
 
 STICK, SLIP, TILT = 0, 1, 2
 FLAG_OK, FLAG_ROCKING, FLAG_OVERTURN = 0, 1, 2
-FLAG_LIFTOFF = 3        # g + a_z <= 0: the superstructure would leave the bearing (not modelled)
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 50
+# a landing this close to the step's end (relative to h) ends the step: no seated remainder
+FLIGHT_REST = 1e-12
 
 
 
@@ -628,13 +633,74 @@ def step(C, S, ax, ay, az, h, mu1, mu2):
     """One step of length h under the step-mean ground acceleration (ax, ay,
     az) (az up, 0 without a vertical record) with mu1, mu2 held: every
     normal force, friction cap, rocking check and drive sees the vertical
-    field gv = g + az (model.md 10). Returns a flag (FLAG_OK, FLAG_ROCKING). Sets the
-    force the bearing transmits to the ground, from the momentum balance of
-    the moving parts over the step: F = -((M + m) a + S (w_h(end) - w_h(start)) / h)."""
+    field gv = g + az (model.md 10). Returns a flag (FLAG_OK, FLAG_ROCKING).
+    When gv < 0 the moving assembly leaves the lower plate (lift-off) and
+    flies until it lands (``_flight``); a step that lands finishes seated.
+    Sets the force the bearing transmits to the ground, from the momentum
+    balance of the moving parts over the step: F = -((M + m) a + S (w_h(end)
+    - w_h(start)) / h) seated, zero in flight."""
     gv = C[C_G] + az
     S[S_AZ] = az
-    if not gv > 0.0:
-        return FLAG_LIFTOFF
+    if S[S_FLY] == 0.0 and not gv < 0.0:
+        return _seated(C, S, ax, ay, gv, h, mu1, mu2)
+    tau = _flight(C, S, gv, h)
+    rem = h - tau
+    if S[S_FLY] != 0.0 or not rem > FLIGHT_REST * h:
+        return FLAG_OK
+    if gv < 0.0:                   # landed while the field still lifts: off again
+        _flight(C, S, gv, rem)
+        return FLAG_OK
+    flag = _seated(C, S, ax, ay, gv, rem, mu1, mu2)
+    # the force over the whole step: the bearing carries nothing before the landing
+    S[S_FX] = S[S_FX] * (rem / h)
+    S[S_FY] = S[S_FY] * (rem / h)
+    return flag
+
+
+def _flight(C, S, gv, h):
+    """Free flight of the moving assembly (superstructure and pad, rigidly,
+    the seated state n, w and the rocking chain suspended) over at most h:
+    its height z above the seated position relative to the ground obeys
+    z'' = -gv (exact for the step-mean gv). Takes off (z = z' = 0) when not
+    yet flying; lands when z comes back to 0 inside the step, with a plastic
+    impact (z' = 0; its kinetic energy (M + m) z'^2 / 2 into E_land). No
+    contact: normal forces, friction and slip zero, the force on the ground
+    zero. Returns the time flown (h, or the landing time)."""
+    Mt = C[C_M] + C[C_MP]
+    if S[S_FLY] == 0.0:
+        S[S_FLY] = 1.0
+        S[S_NLIFT] += 1.0
+        S[S_ZF] = S[S_ZFD] = 0.0
+    z0, v0 = S[S_ZF], S[S_ZFD]
+    S[S_DS1] = S[S_DS2] = S[S_DPHI] = 0.0
+    S[S_BETA2] = 0.0
+    S[S_NOROCK] = S[S_LANDED] = 0.0
+    S[S_JRIM] = 0.0
+    S[S_N1] = S[S_N2] = S[S_FF1] = S[S_FF2] = 0.0
+    S[S_SV1] = S[S_SV2] = 0.0
+    S[S_FX] = S[S_FY] = 0.0
+    # the landing: the first time z(t) = z0 + v0 t - gv t^2 / 2 returns to 0
+    tau = smallest_positive_root(-0.5 * gv, v0, z0, 2.0 * h)
+    landed = tau <= h
+    if not landed:
+        tau = h
+    z1 = z0 + tau * (v0 - 0.5 * gv * tau)
+    v1 = v0 - gv * tau
+    if landed:
+        z1 = 0.0
+    # the vertical d'Alembert force's work through the rise (gravity's is the potential)
+    S[S_EIN] -= Mt * (gv - C[C_G]) * (z1 - z0)
+    S[S_TFLY] += tau
+    S[S_ZF], S[S_ZFD] = z1, v1
+    if landed:
+        S[S_ELAND] += 0.5 * Mt * v1 * v1
+        S[S_ZFD] = 0.0
+        S[S_FLY] = 0.0
+    return tau
+
+
+def _seated(C, S, ax, ay, gv, h, mu1, mu2):
+    """The seated (part-)step of length h (``step``)."""
     px0, py0 = momentum(C, S)
     S[S_DS1] = S[S_DS2] = S[S_DPHI] = 0.0
     S[S_BETA2] = 0.0
@@ -676,7 +742,19 @@ def uplift_factor(nx, ny, nz):
 
 def energies(C, S):
     """(E_kin, E_pot): I |w|^2 / 2 and S g (1 - cos theta) seated; while
-    rocking I_P beta'^2 / 2, and the rise of the chain's first moment added."""
+    rocking I_P beta'^2 / 2, and the rise of the chain's first moment added;
+    in flight (model.md 10) the assembly's (M + m) z'^2 / 2 and (M + m) g z
+    added to the suspended seated state's."""
+    Ek, Ep = _seated_energies(C, S)
+    if S[S_ZF] != 0.0 or S[S_ZFD] != 0.0:
+        Mt = C[C_M] + C[C_MP]
+        Ek += 0.5 * Mt * S[S_ZFD] * S[S_ZFD]
+        Ep += Mt * C[C_G] * S[S_ZF]
+    return Ek, Ep
+
+
+def _seated_energies(C, S):
+    """energies() of the seated state (the rocking chain's included)."""
     Ep = C[C_S] * C[C_G] * uplift_factor(S[S_NX], S[S_NY], S[S_NZ])
     if S[S_ROCK] != 0.0:
         b = S[S_BETA]
@@ -838,7 +916,7 @@ def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
 
 N_VALUES = 44           # len(mechanics.bidirectional.COLUMNS)
 N_PLANAR, N_SEATED = 35, 21   # the planar two-phase and seated columns (rim's included)
-N_VERTICAL = 1                # the columns of a vertical loading: az_mps2
+N_VERTICAL = 5                # the columns of a vertical loading: az_mps2, lift_m, n_lift, t_flight_s, E_land_J
 
 
 def rim_values(C, S, out, j):
@@ -883,6 +961,8 @@ def values_planar(C, S, t, xg, out):
     dx, dy, dz, rvx, rvy = rocking_offsets(C, S)
     u, v = L * nx + dx, L * S[S_WX] + rvx
     z = L * uplift_factor(nx, ny, nz) + dz
+    if S[S_ZF] != 0.0:
+        z += S[S_ZF]
     sg = planar_sign(S)
     R1, R2 = C[C_R1], C[C_R2]
     if C[C_PLANAR] == PLANAR_SEATED:
@@ -924,7 +1004,8 @@ def values(C, S, t, xg, yg, out):
     (a planar run's: values_planar), then with a vertical loading
     VERTICAL_COLUMNS."""
     if C[C_VERT] != 0.0:
-        out[n_base(C)] = S[S_AZ]
+        j = n_base(C)
+        out[j], out[j + 1], out[j + 2], out[j + 3], out[j + 4] = S[S_AZ], S[S_ZF], S[S_NLIFT], S[S_TFLY], S[S_ELAND]
     if C[C_PLANAR] != PLANAR_NONE:
         values_planar(C, S, t, xg, out)
         return
@@ -938,7 +1019,10 @@ def values(C, S, t, xg, yg, out):
     out[0], out[1], out[2], out[3], out[4], out[5] = t, xg, yg, ux, uy, hypot(ux, uy)
     out[6], out[7], out[8] = vx, vy, hypot(vx, vy)
     out[9], out[10], out[11] = S[S_FX], S[S_FY], hypot(S[S_FX], S[S_FY])
-    out[12], out[13], out[14], out[15] = L * uplift_factor(nx, ny, nz) + dz, th, math.atan2(ny, nx), S[S_BETA1]
+    z = L * uplift_factor(nx, ny, nz) + dz
+    if S[S_ZF] != 0.0:
+        z += S[S_ZF]
+    out[12], out[13], out[14], out[15] = z, th, math.atan2(ny, nx), S[S_BETA1]
     out[16], out[17], out[18], out[19] = C[C_R1] * th, C[C_R2] * th, S[S_N1], S[S_N2]
     out[20], out[21], out[22] = S[S_W1], S[S_W2], S[S_MODE]
     out[23], out[24], out[25], out[26] = S[S_EIN], Ek, Ep, S[S_ERES]

@@ -212,6 +212,14 @@ def rim_summary(d: dict, st) -> dict:
             "rim_impacts": {side: c["impacts"] for side, c in cap.items()}}
 
 
+def lift_summary(st) -> dict:
+    """Lift-off under a vertical record (docs/model.md 10): how many times the
+    moving assembly left the lower plate, the time it spent in flight, the
+    highest it rose above its seated position, and the landings' loss."""
+    return {"count": int(round(st.final("n_lift"))), "flight_time_s": _f(st.final("t_flight_s")),
+            "peak_lift_m": _f(st.peak("lift_m")), "landing_loss_J": _f(st.final("E_land_J"))}
+
+
 def summary(scene: Scene, result, sim) -> dict:
     d = scene.data
     if d["device"]["kind"] == "TFP":
@@ -241,6 +249,9 @@ def summary(scene: Scene, result, sim) -> dict:
         if "E_rim_J" in result:
             out += st.final("E_rim_J")
             s.update(rim_summary(d, st))
+        if "E_land_J" in result:
+            out += st.final("E_land_J")
+            s["lift_off"] = lift_summary(st)
         s["input_work_J"] = _f(e_in)
         # the largest residual over the recorded history, relative to the largest input
         # (a ledger that closes only at the end would hide what went wrong on the way)

@@ -135,7 +135,7 @@ def measure(case: Case) -> dict:
             if c in r:
                 w = w + r[c]
         out = r["E_kin_J"] + r["E_pot_J"] + w
-        for c in ("E_reseat_J", "E_rim_J"):
+        for c in ("E_reseat_J", "E_rim_J", "E_land_J"):
             if c in r:
                 out = out + r[c]
         scale = max(float(np.max(np.abs(e_in))), abs(float(w[-1])), 1e-300)
