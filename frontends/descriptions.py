@@ -387,6 +387,14 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
     "az_mps2": ("m/s2", "Vertical ground acceleration, up (the step's mean, the field is g + az_mps2): a run with a "
                         "vertical record only (loading.file_z, or a three-channel record's vertical channel)."),
+    "lift_m": ("m", "DFP / SFP under a vertical record: height of the moving assembly (superstructure and pad) "
+                    "above its seated position, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
+                    "and flies until it lands (docs/model.md 10); z_m includes it."),
+    "n_lift": ("", "DFP / SFP under a vertical record: lift-offs so far."),
+    "t_flight_s": ("s", "DFP / SFP under a vertical record: time spent in flight so far (no contact: normal "
+                        "forces, friction, heat and the force on the ground are 0)."),
+    "E_land_J": ("J", "DFP / SFP under a vertical record: cumulative energy taken by the landings after a "
+                      "lift-off (plastic: the assembly's vertical kinetic energy (M + m) z'^2 / 2 at touch-down)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
                          "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N)."),
@@ -397,9 +405,10 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "n_rim4": ("", "TFP: rim impacts on S4 so far."),
     "E_input_J": ("J", "Cumulative work of the ground (or machine) on the device: "
                        "E_input_J = E_kin_J + E_pot_J + W1_J + W2_J + E_rim_J [+ E_reseat_J] (a TFP: "
-                       "+ W3_J + W4_J)."),
-    "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground."),
-    "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad; a TFP: and the slider plates; "
+                       "+ W3_J + W4_J; under a vertical record: + E_land_J)."),
+    "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground (in flight: the seated "
+                     "motion's, suspended, and the flight's (M + m) z'^2 / 2)."),
+    "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad, in flight + (M + m) g lift_m; a TFP: and the slider plates; "
                      "the flat bearing: 0)."),
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
@@ -489,6 +498,13 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
     "rim_loss_J": ("J", "Energy taken by the rims (final E_rim_J)."),
+    "lift_off.count": ("", "DFP / SFP under a vertical record: number of lift-offs (final n_lift)."),
+    "lift_off.flight_time_s": ("s", "DFP / SFP under a vertical record: total time in flight (final "
+                                    "t_flight_s)."),
+    "lift_off.peak_lift_m": ("m", "DFP / SFP under a vertical record: the highest the moving assembly rose "
+                                  "above its seated position (peak lift_m)."),
+    "lift_off.landing_loss_J": ("J", "DFP / SFP under a vertical record: energy taken by the landings (final "
+                                     "E_land_J)."),
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
     "rim_impacts.lower": ("", "DFP / SFP: number of rim impacts on the lower surface (final n_rim1)."),
     "rim_impacts.upper": ("", "DFP: number of rim impacts on the upper surface (final n_rim2)."),

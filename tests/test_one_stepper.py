@@ -33,6 +33,8 @@ model = "seated"
 model = "none"
 """
 
+PULSE = Path(__file__).resolve().parent / "data" / "pulse_z.txt"   # -1.5 g from 1.001 to 1.2 s
+
 
 def _compiled():
     """Load numba (when there) so that mechanics-only runs take the compiled engine."""
@@ -111,6 +113,9 @@ def test_planar_columns_are_signed():
     ("impvall-bidirectional", ["solver.duration=4"]),
     ("ferndale-3c", ["solver.duration=36"]),
     ("ferndale-3c", ["solver.duration=36", "loading.channels=[1, 3]", "mechanics.model=seated"]),
+    # a vertical pulse below -g: lift-off, flight and landing
+    ("ferndale-3c", ["solver.duration=3", "loading.channels=[1, 2]", "loading.baseline=false",
+                     f'loading.file_z="{PULSE}"']),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
     ("flat-lab", []),
     ("flat-lab", ["thermal.model=lumped"]),
