@@ -40,6 +40,11 @@ unchanged). Second order in smooth sliding (with sub-steps at events where
 the velocity passes near zero). Projections are kept for real landings from
 rocking: a stuck pad that tips (Eq. 7) rocks in the plane of the trial on
 its trailing rim point, and its landing is an impact (both schemes).
+
+Lift-off (model.md 10): when the step's g + a_z < 0 the moving assembly
+leaves the lower plate; its height z above the seated position flies
+(z'' = -(g + a_z), exact per step) with the seated state suspended, lands
+plastically (E_land) and the rest of the step is seated.
 docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
