@@ -316,8 +316,8 @@ def run(scene: SceneLike = None, out: str | os.PathLike | None = None, *, force:
     try:
         vtk = hottest = None
         if sc["output"]["vtk_every"] > 0:
-            from fpd.outputs.vtk_output import series_class         # as fpd run: the TFP's, the 3D, the planar
-            vtk = series_class(sc, sim)(folder.subdir("vtk"), sim)
+            from fpd.outputs.vtk_output import VTKSeries        # the device's drawing: its stepper names it
+            vtk = VTKSeries(folder.subdir("vtk"), sim)
         if sc["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
             from fpd.outputs.hottest import HottestFields
             hottest = vtk.hottest if vtk else HottestFields.of(sim)   # two plates or the TFP's four parts

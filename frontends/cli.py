@@ -248,8 +248,8 @@ def cmd_run(args) -> int:
         progress = not args.quiet and sys.stderr.isatty()
         vtk = None
         if scene["output"]["vtk_every"] > 0:
-            from fpd.outputs.vtk_output import series_class        # the TFP's, a bidirectional run's 3D, the planar
-            vtk = series_class(scene, sim)(folder.subdir("vtk"), sim)
+            from fpd.outputs.vtk_output import VTKSeries        # the device's drawing: its stepper names it
+            vtk = VTKSeries(folder.subdir("vtk"), sim)
         hottest = None
         if scene["output"]["plots"] and any(p is not None and p.field() is not None for p in sim.plates):
             from fpd.outputs.hottest import HottestFields

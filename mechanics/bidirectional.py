@@ -109,7 +109,7 @@ class _Base(TwoInterfaces):
             return (float(c[0]), float(c[2]))
         return ((float(c[0]), float(c[1])), (float(c[2]), float(c[3])))
 
-    # the planar run's pad, as the planar stepper names it (outputs/vtk_output.pad_pose)
+    # the planar run's pad, as the planar stepper names it (outputs/device_drawings.pad_pose)
     @property
     def mode(self) -> int:
         return int(self.S[K.S_MODE])

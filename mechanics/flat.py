@@ -92,6 +92,7 @@ class FlatStepper(TwoInterfaces):
     slots, the constants the list ``C``."""
 
     columns = COLUMNS
+    drawing = None            # no VTK drawing (output.vtk_every is refused for the flat bearing)
     n, t, F = _slot(K.S_N, int), _slot(K.S_T), _slot(K.S_F)
     N1, N2, W1, W2, E_in = _slot(K.S_N1), _slot(K.S_N2), _slot(K.S_W1), _slot(K.S_W2), _slot(K.S_EIN)
     phase, tip = _slot(K.S_PHASE, int), _slot(K.S_TIP)

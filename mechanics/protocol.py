@@ -4,6 +4,7 @@ protocol"), for the steppers with two interfaces written with named slots
 reads, whatever the device.
 
     n_interfaces            1, 2 or 4
+    drawing                 the device's VTK drawing (outputs/device_drawings.py), by name
     N, slip_v               per interface: normal force (N), sliding speed (m/s)
     footprints()            per interface: footprint centre on its plate (m; a pair (x, y) when two_d)
     step(*mu) -> dW         one step with mu_i held; friction work per interface (J)
@@ -18,6 +19,13 @@ class TwoInterfaces:
     n_interfaces = 2
     two_d = False             # footprint centres are pairs (x, y) (bidirectional steppers)
     engine_device = None      # the kernel module the compiled engine binds (coupling/engine_kernel.py)
+
+    @property
+    def drawing(self) -> str:
+        """How the VTK series draws the device (a name of
+        outputs/device_drawings.DRAWINGS): in the x-z plane, or in 3D when
+        the motion has both directions."""
+        return "spatial" if self.two_d else "planar"
 
     @property
     def N(self) -> tuple:

@@ -214,6 +214,7 @@ class TFPStepper:
     compiled engine (coupling/engine_kernel.py with mechanics/dev_tfp.py) runs the same source."""
 
     n_interfaces = 4
+    drawing = "tfp"           # the VTK drawing (outputs/device_drawings.py)
 
     def __init__(self, geom: TFPGeometry, loading, kernel=None, model: str = "seated"):
         import numpy as np

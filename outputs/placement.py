@@ -33,8 +33,13 @@ x the direction of motion, z up, y = 0 its plane:
 The footprint centre in plate-local x is s1 (lower) and -s2 (upper) in the
 run loop (coupling/run.py), with the plates' x along the world x; that is
 what makes a placed field's hot spot sit under the pad.
+
+The TFP's four parts (``place_part_field``) are each wrapped onto their own
+sliding surface S1..S4 (``surface_centres``), at that body's pose.
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -103,4 +108,61 @@ def place_field(side: str, fld, geom, params, vals: dict):
             world = _wrap(q, (apex[0], 0.0, apex[1] - geom.R2), geom.R2, up=True)
         else:
             world = np.column_stack((apex[0] + q[:, 0], q[:, 1], apex[1] + q[:, 2]))
+    return world, cells, T
+
+
+# -- the TFP's four parts ------------------------------------------------------------
+def _e(x):
+    return np.array([-math.sin(x), math.cos(x)])
+
+
+def surface_centres(g, xg: float, phi: float, alpha: float):
+    """Centres (x, z) of S1..S4 at the pose (xg, phi, alpha)."""
+    C1 = np.array([xg, g.R1])
+    C2 = C1 - g.l1 * _e(phi)
+    C3 = C2 - g.Li * _e(phi + alpha)
+    C4 = C3 - g.l4 * _e(phi)
+    return C1, C2, C3, C4
+
+
+def place_part_field(i: int, fld, g, params, vals: dict):
+    """(points, cells, T) of part i's field (0..3: lower plate, lower slider,
+    upper slider, upper plate; plate-local coordinates, as above)
+    in the device's coordinates at the frame whose CSV values are ``vals``.
+
+    Part i carries surface S(i+1), a sphere of radius R about the centre C
+    of surface_centres; the part's body turns by phi (the slider plates) or
+    not (the outer plates). A plate-local point at arc (x, y) from the
+    part's apex and depth d goes, in the body's frame, to C + (R + d) n, n at
+    polar angle hypot(x, y) / R from the apex direction (down from C for the
+    concave-up S1 and S2, the steel below; up for S3 and S4, the steel
+    above), then turns with the body: the footprint the loop gives the
+    thermal model (+s1, +s2 on the lower parts, -s3, -s4 on the upper ones)
+    lands where the pad or the slider touches that surface."""
+    points, cells, T = fld
+    T = np.asarray(T, dtype=float)
+    k = i + 1
+    if params.source == "fixed-point":
+        cx = params.radius_m
+    else:
+        cx = vals.get(f"s{k}_m", 0.0) * (1.0 if i < 2 else -1.0)
+    q = local_points(points, cx)
+    if params.model == "axisym":
+        q, cells = mirror_section(q, cells)
+        T = np.concatenate((T, T))
+    phi, alpha = float(vals.get("phi_rad", 0.0)), float(vals.get("alpha_rad", 0.0))
+    C = surface_centres(g, float(vals.get("xg_m", 0.0)), phi, alpha)[i]
+    R = (g.R1, g.R2, g.R3, g.R4)[i]
+    turn = phi if i in (1, 2) else 0.0
+    x, y, d = q[:, 0], q[:, 1], q[:, 2]
+    rho = np.hypot(x, y)
+    ang = rho / R
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ux = np.where(rho > 0, x / rho, 0.0)
+        uy = np.where(rho > 0, y / rho, 0.0)
+    r = R + d
+    bx = r * np.sin(ang) * ux
+    bz = (-1.0 if i < 2 else 1.0) * r * np.cos(ang)
+    c, s = math.cos(turn), math.sin(turn)
+    world = np.column_stack((C[0] + c * bx - s * bz, r * np.sin(ang) * uy, C[1] + s * bx + c * bz))
     return world, cells, T

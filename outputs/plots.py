@@ -1,8 +1,9 @@
-"""PNG plots of a run (matplotlib, imported only when plots are asked for).
+"""The figures of a DFP / SFP run (and the ones a bidirectional run shares
+with it; matplotlib, imported only when plots are asked for).
 
 Each figure is built by a function of the run's columns and its scene that
-returns a ``matplotlib.figure.Figure`` (``figures``: name -> builder); ``fpd
-run`` saves them in plots/ (``make_plots``) and ``Result.plot()`` hands them
+returns a ``matplotlib.figure.Figure`` (outputs/figures.py: which device
+draws which); ``fpd run`` saves them in plots/ (``make_plots``) and ``Result.plot()`` hands them
 to the caller. The figures are drawn on matplotlib's Agg canvas without
 pyplot (nothing registered, nothing to close), with fixed margins in inches
 (no layout pass that draws the figure twice), and each line is drawn through
@@ -161,24 +162,3 @@ def friction(result, scene):
     ax.legend()
     ax.grid(alpha=0.3)
     return fig
-
-
-def figures(result, scene) -> dict:
-    """name (the PNG's stem) -> a function of no arguments that builds that
-    figure of this run, in the order ``fpd run`` writes them."""
-    from . import plots_bidirectional as bd
-    out = {}
-    two_d = "uy_m" in result
-    if "u_m" in result:
-        if two_d:                             # bidirectional runs (model.md 8): the x and y loops
-            out["hysteresis"] = lambda: bd.loops(result, scene)
-        else:
-            out["hysteresis"] = lambda: hysteresis(result, scene)
-        out["response"] = lambda: response(result, scene)
-    if two_d:
-        out.update(bd.figures(result, scene))
-    if "T1_C" in result:
-        out["temperature"] = lambda: temperature(result, scene)
-    if "mu1" in result:
-        out["friction"] = lambda: friction(result, scene)
-    return out

@@ -45,26 +45,18 @@ def loops(result, scene):
     return fig
 
 
-def figures(result, scene) -> dict:
-    """The bidirectional run's own figures (name -> builder): the displacement
-    and force orbits and the heat along the footprint path."""
-    title = scene.name
-    out = {}
+def orbit(result, scene):
+    """The displacement orbit u_y against u_x, with the peak resultant's circle."""
+    ux, uy = 1e3 * result["ux_m"], 1e3 * result["uy_m"]
+    return _orbit(ux, uy, "u_x (mm)", "u_y (mm)", f"{scene.name}: displacement orbit",
+                  circle=float(np.max(np.hypot(ux, uy))))
 
-    def orbit():
-        ux, uy = 1e3 * result["ux_m"], 1e3 * result["uy_m"]
-        return _orbit(ux, uy, "u_x (mm)", "u_y (mm)", f"{title}: displacement orbit",
-                      circle=float(np.max(np.hypot(ux, uy))))
 
-    def force_orbit():
-        Fx, Fy = 1e-3 * result["Fx_N"], 1e-3 * result["Fy_N"]
-        return _orbit(Fx, Fy, "F_x (kN)", "F_y (kN)", f"{title}: force orbit",
-                      circle=float(np.max(np.hypot(Fx, Fy))))
-
-    out["orbit"], out["force_orbit"] = orbit, force_orbit
-    if "c1x_m" in result and len(result["t_s"]) > 2:
-        out["heat_path"] = lambda: heat_path(result, scene)
-    return out
+def force_orbit(result, scene):
+    """The force orbit F_y against F_x, with the peak resultant's circle."""
+    Fx, Fy = 1e-3 * result["Fx_N"], 1e-3 * result["Fy_N"]
+    return _orbit(Fx, Fy, "F_x (kN)", "F_y (kN)", f"{scene.name}: force orbit",
+                  circle=float(np.max(np.hypot(Fx, Fy))))
 
 
 def _top_per_cell(x, y, q, cell: float):

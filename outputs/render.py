@@ -7,7 +7,7 @@ whole animation, with its colour bar; pad and superstructure, which carry no
 temperature, in grey), the time and the friction coefficients in the title.
 The device is read from the series itself: four bodies (a DFP, an SFP: lower
 plate, pad, upper plate, superstructure; mu1, mu2, T1, T2) or six (a TFP,
-outputs/tfp_vtk.py: lower plate, lower slider plate, pad, upper slider plate,
+outputs/device_drawings.py: lower plate, lower slider plate, pad, upper slider plate,
 upper plate, superstructure; mu1..mu4, T1..T4 of the surfaces S1..S4, as the
 TFP's timeseries columns name them). A flat-bearing run writes no VTK: its
 folder is refused in one line.
@@ -45,7 +45,7 @@ class Layout:
 
 DFP_LAYOUT = Layout("DFP", BODY_NAMES, GREYS, {0: "lower", 2: "upper"}, ((0, "1"), (2, "2")),
                     "pad and superstructure")
-# outputs/tfp_vtk.py's BODIES order; T_C, mu of body 0, 1, 3, 4 are S1..S4's
+# outputs/device_drawings.TFPDrawing's BODIES order; T_C, mu of body 0, 1, 3, 4 are S1..S4's
 TFP_LAYOUT = Layout("TFP", ("lower plate", "lower slider plate", "pad", "upper slider plate", "upper plate",
                             "superstructure"),
                     ("#9a9a9a", "#b3b3b3", "#c8c8c8", "#b3b3b3", "#9a9a9a", "#d9d9d9"),

@@ -111,13 +111,3 @@ def friction(result, scene):
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
     return fig
-
-
-def figures(result, scene) -> dict:
-    """name -> builder of the TFP run's figures."""
-    out = {"hysteresis": lambda: hysteresis(result, scene), "response": lambda: response(result, scene)}
-    if "T1_C" in result:
-        out["temperature"] = lambda: temperature(result, scene)
-    out["friction"] = lambda: friction(result, scene)
-    return out
-

@@ -1,18 +1,18 @@
 """What a run's VTK series costs, known before any of it is written, and the
 grid an fe3d plate's frames are written on.
 
-A series class (outputs/vtk_output.py, vtk_bidirectional.py, tfp_vtk.py)
-builds its first frame in memory as *entries*: ``[(series name, parts)]``,
-parts ``[(part name or None, points, cells, point_data, cell_data)]``.
-``check_budget`` estimates one frame's bytes with meshes/vtk.frame_size (the
-temperatures at their uncompressed size, since a hot frame compresses worse
-than the cold first one; the geometry at the first frame's compressed size
-plus 10 %), multiplies by the number of frames the run writes (1 + steps //
-output.vtk_every) and refuses, in one line with the estimate and the ways to
-lower it, a series over ``output.vtk_max_GB`` (GB = 1e9 bytes), before the
-first file exists. Every frame of a series has the same arrays of the same
-lengths (only the points move and the fields change), so the estimate of
-one frame is the estimate of each.
+The run's series (outputs/vtk_output.py) builds its first frame in memory as
+*entries*: ``[(series name, parts)]``, parts ``[(part name or None, points,
+cells, point_data, cell_data)]``. ``check_budget`` estimates one frame's
+bytes with meshes/vtk.frame_size (the temperatures at their uncompressed
+size, since a hot frame compresses worse than the cold first one; the
+geometry at the first frame's compressed size plus 10 %), multiplies by the
+number of frames the run writes (1 + steps // output.vtk_every) and refuses,
+in one line with the estimate and the ways to lower it, a series over
+``output.vtk_max_GB`` (GB = 1e9 bytes), before the first file exists. Every
+frame of a series has the same arrays of the same lengths (only the points
+move and the fields change), so the estimate of one frame is the estimate of
+each.
 
 ``output.vtk_fe3d`` chooses an fe3d plate's output grid (``FieldView``):
 

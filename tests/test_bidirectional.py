@@ -357,7 +357,7 @@ def test_sine_test_machine_in_a_direction_is_the_planar_one_turned():
 def test_vtk_device_3d_pad_sits_on_both_spheres():
     """The 3D device drawing: the pad cylinder's bottom face centre is on the
     lower sphere (C1 + R1 n), its top face centre on the upper one (|p - C2| = R2)."""
-    from fpd.outputs.vtk_bidirectional import device_3d
+    from fpd.outputs.device_drawings import device_3d
     from fpd.thermal.params import PlateParams
     pp = PlateParams(a_contact_m=DEVICE.a)
     L = DEVICE.L

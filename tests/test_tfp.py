@@ -287,7 +287,7 @@ def test_tfp_vtk_five_bodies(tmp_path):
     """vtk/device.pvd: six polygons per frame (five bodies and the superstructure),
     the pad seated on both slider plates (its apexes on S2 and S3)."""
     meshio = pytest.importorskip("meshio")
-    from fpd.outputs.tfp_vtk import tfp_polygons
+    from fpd.outputs.device_drawings import tfp_polygons
     from fpd.thermal.params import PlateParams
     out = tmp_path / "r"
     p = _run_cli(["run", "tfp-lab", "--out", str(out), "--quiet", "--set", "loading.cycles=0.5",

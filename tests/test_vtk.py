@@ -84,7 +84,7 @@ def test_device_series_matches_timeseries(run_dir):
 
 
 def test_seated_dfp_polygons_touch_both_surfaces():
-    from fpd.outputs.vtk_output import device_polygons, pad_pose
+    from fpd.outputs.device_drawings import device_polygons, pad_pose
     from fpd.mechanics.geometry import DeviceGeometry
     from fpd.thermal.params import PlateParams
 
@@ -104,7 +104,7 @@ def test_seated_dfp_polygons_touch_both_surfaces():
 
 
 def test_tilting_pad_rotates_about_its_pivot_corner():
-    from fpd.outputs.vtk_output import pad_pose
+    from fpd.outputs.device_drawings import pad_pose
     from fpd.mechanics.geometry import DeviceGeometry
 
     g = DeviceGeometry("DFP", 2.2, 2.2, 0.10, 0.25, 30.0, 1e5)
