@@ -173,3 +173,20 @@ def test_tfp_machine_refuses_the_programme(tmp_path):
     assert r.returncode != 0 and len(r.stderr.strip().splitlines()) == 1
     assert "not yet for this device" in r.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_sweep_hashes_the_series_by_content(tmp_path):
+    """A sweep member's hash (its cache key) follows the series file's content
+    (a member re-run when the file changes); the file is shipped to a worker
+    with the scene."""
+    from fpd.schema import scene as scn
+    from fpd.studies import sweep
+    f = tmp_path / "n.txt"
+    over = ['loading.vertical="series"', f'loading.vertical_file="{f}"']
+    f.write_text("0 6e6\n10 6e6\n")
+    h1 = sweep.member_hash(scn.load("lab-sine", over), "all")
+    f.write_text("0 7e6\n10 7e6\n")
+    h2 = sweep.member_hash(scn.load("lab-sine", over), "all")
+    f.write_text("0 6e6\n10 6e6\n")
+    assert h1 != h2 and sweep.member_hash(scn.load("lab-sine", over), "all") == h1
+    assert sweep._file_roles(scn.load("lab-sine", over).data) == {"loading.path_vertical": str(f)}
