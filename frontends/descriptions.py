@@ -606,9 +606,8 @@ SUMMARY: dict[str, tuple[str, str]] = {
                                      "one complete cycle: the definitions of the per-cycle quantities, as text."),
     "test_machine.vertical_load_N": ("N", "Test machine: the test's vertical load W = M g (superstructure.mass "
                                           "times g): the constant load, or the mean of an axial-load sine."),
-    "test_machine.axial_programme": ("", "Test machine: the axial-load programme (loading.vertical), the fields "
-                                         "below."),
-    "test_machine.axial_programme.kind": ("", 'loading.vertical: "constant", "riding-mass", "sine" or "series".'),
+    "test_machine.axial_programme.kind": ("", 'Test machine: the axial-load programme, loading.vertical: '
+                                              '"constant", "riding-mass", "sine" or "series" (its fields below).'),
     "test_machine.axial_programme.mean_N": ("N", "A sine's mean load, W = M g."),
     "test_machine.axial_programme.amplitude_N": ("N", "A sine's amplitude N_a (loading.vertical_amplitude_N, or "
                                                       "the ratio times W)."),
