@@ -246,7 +246,12 @@ def build(scene: Scene) -> Simulation:
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
         from fpd.mechanics.seated import SeatedTestMachine
-        mech = SeatedTestMachine(geom, loading, ld["vertical"])
+        from fpd.mechanics.axial import AxialError, programme_of
+        try:
+            axial = programme_of(ld, geom.mass * geom.g)
+        except AxialError as exc:
+            raise SceneError(f"{exc} (loading.vertical_file)") from None
+        mech = SeatedTestMachine(geom, loading, ld["vertical"], axial if axial.varying else None)
     else:
         # one DFP/SFP stepper: a planar ground motion is the 3D stepper's with the
         # y component absent (signed planar columns), both models, both schemes

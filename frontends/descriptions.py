@@ -204,7 +204,27 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'turned sine) runs the bidirectional machine, which carries the '
                                           'riding mass: "riding-mass" (the default there; "constant" is refused). '
                                           'The TFP and the flat bearing refuse the key (their machine passes '
-                                          'the superstructure\'s weight and inertia down the stack).'),
+                                          'the superstructure\'s weight and inertia down the stack). '
+                                          '"sine", "series": an axial-load programme N(t) held in force control '
+                                          '(as "constant" with N(t) for M g in the normal forces, friction caps, '
+                                          'heat, the restoring moment and the ledger; docs/test_machine.md, '
+                                          '"Axial-load programme"): a sine about W, or a file of (t, N) rows; '
+                                          'the planar machine only ("not yet for an orbit").'),
+    "loading.displacement.vertical_amplitude_N": ("N", 'vertical = "sine": the amplitude N_a of '
+                                                       'N(t) = W + N_a sin(2 pi f_v t + phase), below W (the '
+                                                       'bearing stays in compression). Exactly one of this and '
+                                                       'vertical_amplitude_ratio.'),
+    "loading.displacement.vertical_amplitude_ratio": ("", 'vertical = "sine": the amplitude as a share of the '
+                                                           'weight, N_a = ratio W (below 1).'),
+    "loading.displacement.vertical_frequency_Hz": ("Hz", 'vertical = "sine": the axial load\'s frequency f_v '
+                                                          '(> 0; required).'),
+    "loading.displacement.vertical_phase_deg": ("deg", 'vertical = "sine": the phase of the axial load\'s sine '
+                                                        'at t = 0 (default 0: N(0) = W, rising).'),
+    "loading.displacement.vertical_file": ("", 'vertical = "series": a text file of (time s, load N) rows, two '
+                                               'numbers a line (whitespace or a comma; # comments), times '
+                                               'increasing, loads > 0, covering the run from t = 0; linear '
+                                               'between the rows (the solver grid takes the interpolated load). '
+                                               'Relative paths: from the scene file\'s folder.'),
     "loading.pulse.shape": ("", '"step": the ground velocity jumps to velocity_mps at t0_s and stays; "cosine": '
                                 'one-sided fling V/2 (1 - cos(2 pi tau / Tp)) for one period; "sine": '
                                 'forward-directivity cycle V sin(2 pi tau / Tp).'),
@@ -601,7 +621,15 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "test_machine.definitions": ("", "Test machine (loading.kind = \"displacement\", a DFP or SFP sine), at least "
                                      "one complete cycle: the definitions of the per-cycle quantities, as text."),
     "test_machine.vertical_load_N": ("N", "Test machine: the test's vertical load W = M g (superstructure.mass "
-                                          "times g), the W of mu_eff."),
+                                          "times g): the constant load, or the mean of an axial-load sine."),
+    "test_machine.axial_programme.kind": ("", 'Test machine: the axial-load programme, loading.vertical: '
+                                              '"constant", "riding-mass", "sine" or "series" (its fields below).'),
+    "test_machine.axial_programme.mean_N": ("N", "A sine's mean load, W = M g."),
+    "test_machine.axial_programme.amplitude_N": ("N", "A sine's amplitude N_a (loading.vertical_amplitude_N, or "
+                                                      "the ratio times W)."),
+    "test_machine.axial_programme.frequency_Hz": ("Hz", "A sine's frequency (loading.vertical_frequency_Hz)."),
+    "test_machine.axial_programme.phase_deg": ("deg", "A sine's phase at t = 0 (loading.vertical_phase_deg)."),
+    "test_machine.axial_programme.file": ("", "A series' file (its resolved path, loading.vertical_file)."),
     "test_machine.amplitude_m": ("m", "Test machine: the programme's amplitude A (loading.amplitude_m)."),
     "test_machine.frequency_Hz": ("Hz", "Test machine: the programme's frequency f (loading.frequency_Hz)."),
     "test_machine.programme_peak_velocity_mps": ("m/s", "Test machine: the programme's peak velocity 2 pi f A."),
@@ -623,10 +651,15 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "test_machine.cycles[].EDC_J": ("J", "Energy dissipated per cycle: the loop area, the closed integral of "
                                          "F du over the cycle (trapezoidal over the recorded rows)."),
     "test_machine.cycles[].K_eff_N_m": ("N/m", "Effective (secant) stiffness (F+ - F-) / (d+ - d-)."),
-    "test_machine.cycles[].mu_eff": ("", "Effective friction EDC / (4 W d_max): the friction coefficient of the "
-                                         "rigid-plastic loop of the same area."),
+    "test_machine.cycles[].N_mean_N": ("N", "The cycle's mean axial load: W = M g when the machine holds it "
+                                            "constant (or the mass rides), else the time mean of the axial-load "
+                                            "programme N(t) over the cycle (trapezoidal over the recorded rows' "
+                                            "times)."),
+    "test_machine.cycles[].mu_eff": ("", "Effective friction EDC / (4 N_mean d_max): the friction coefficient of "
+                                         "the rigid-plastic loop of the same area under the cycle's mean axial "
+                                         "load (W when it is constant)."),
     "test_machine.cycles[].Q_d_N": ("N", "Characteristic strength EDC / (4 d_max) (AASHTO, yield displacement "
-                                         "0), = mu_eff W."),
+                                         "0), = mu_eff N_mean."),
     "test_machine.cycles[].xi_eff": ("", "Effective damping EDC / (2 pi K_eff d_max^2)."),
     "test_machine.cycles[].EDC_change_rel": ("", "EDC_J against the first cycle's: EDC_k / EDC_1 - 1."),
     "test_machine.cycles[].K_eff_change_rel": ("", "K_eff_N_m against the first cycle's: K_k / K_1 - 1."),

@@ -184,18 +184,25 @@ class SeatedTestMachine(_SeatedState):
     no inertia, only its weight, so I and the inertial S lose M L^2 and M L and
     N2 = M g cos(theta) + F sin(theta); "riding-mass" - the superstructure mass
     M rides up and down under its weight (its vertical inertia adds to the
-    normal forces: M (g cos + u'' sin + L theta'^2)).
+    normal forces: M (g cos + u'' sin + L theta'^2)); "sine", "series" - an
+    axial-load programme N(t) held in force control (``axial``, a
+    mechanics.axial.AxialProgramme): as "constant" with M g replaced by N(t)
+    in the normal forces and the restoring moment N L sin(theta); the
+    vertical actuator's work beyond the weight's is input to the ledger.
     """
 
-    VERTICAL = ("constant", "riding-mass")
+    VERTICAL = ("constant", "riding-mass", "sine", "series")
 
-    def __init__(self, geom: DeviceGeometry, programme, vertical: str = "constant"):
+    def __init__(self, geom: DeviceGeometry, programme, vertical: str = "constant", axial=None):
         super().__init__(geom, programme.dt, programme.n_steps)
         if vertical not in self.VERTICAL:
             raise ValueError(f"vertical must be one of {self.VERTICAL}, got {vertical!r}")
+        if (vertical in ("sine", "series")) != (axial is not None and axial.varying):
+            raise ValueError(f"vertical = {vertical!r} needs its axial-load programme (and only it)")
         self.vertical = vertical
+        self.axial = axial
         self._Sin, self._Mv = self._S, 1.0           # inertial S and the riding mass's inertia factor
-        if vertical == "constant":
+        if vertical != "riding-mass":
             self._I = self._I - self._M * self._L ** 2
             self._Sin, self._Mv = self._S - self._M * self._L, 0.0
         self.prog = programme
@@ -210,6 +217,13 @@ class SeatedTestMachine(_SeatedState):
         self._sm = float_array((np.asarray(uds, dtype=float) != np.asarray(programme.ud, dtype=float))
                                | (np.asarray(udds, dtype=float) != np.asarray(programme.udd, dtype=float)))
         self._uds, self._udds = float_array(uds), float_array(udds)
+        # the axial-load programme per grid point over M (g throughout when held at M g)
+        if axial is not None and axial.varying:
+            self._gv = float_array(axial.at(np.asarray(programme.t, dtype=float)) / self._M)
+        else:
+            self._gv = float_array(np.full(len(programme.t), self._g))
+        self.N2 = self._M * self._gv[0]
+        self.N1 = self.N2 + self._m * self._g
         self.C = C = self.constants()
         C[K.CSIN], C[K.CMV] = self._Sin, self._Mv
         self.theta = math.asin(self._u[0] / self._L)
@@ -222,7 +236,7 @@ class SeatedTestMachine(_SeatedState):
 
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         return K.machine_step(self.C, self.S, self._u, self._ud, self._udd, self._sm, self._uds, self._udds,
-                              mu1, mu2)
+                              self._gv, mu1, mu2)
 
     # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
     engine_device = "fpd.mechanics.dev_seated_machine"
@@ -230,9 +244,10 @@ class SeatedTestMachine(_SeatedState):
     def engine_state(self):
         """(C, S, L, X) as the engine reads them: float64 copies of the
         constants and state, the programme (u, u', u'', the stop marks and
-        the smooth branch's u', u'' per grid point), no scratch."""
+        the smooth branch's u', u'' per grid point, the axial load over M), no scratch."""
         f = (lambda x: np.asarray(x, dtype=float))
-        L = tuple(as_float64(x) for x in (self._u, self._ud, self._udd, self._sm, self._uds, self._udds))
+        L = tuple(as_float64(x) for x in (self._u, self._ud, self._udd, self._sm, self._uds, self._udds,
+                                          self._gv))
         return f(self.C), f(self.S), L, (np.zeros(1),)
 
     def engine_pull(self, S) -> None:

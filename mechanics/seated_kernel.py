@@ -78,34 +78,42 @@ def step(C, S, A, mu1, mu2):
     return dW1, dW2
 
 
-def machine_point(C, u, ud, udd, mu1, mu2, sgn):
+def machine_point(C, u, ud, udd, gv, mu1, mu2, sgn):
     """The test machine's state at a grid point of the programme (u, u', u''),
     slip sense sgn: theta, theta', theta'', the restraint's force F and the
     normal forces (its axial share F sin(theta) included), cos(theta).
+    gv = N / M: the axial load the machine holds there over the superstructure
+    mass (g with the load held at M g or riding).
 
-        F L cos(theta) = I theta'' - S_in u'' cos(theta) + S g sin(theta) + cap sgn(theta')
+        F L cos(theta) = I theta'' - S_in u'' cos(theta) + S g sin(theta)
+                         + M L (gv - g) sin(theta) + cap sgn(theta')
     """
     L, I, S_, g, M, m, rho = C[CL], C[CI], C[CS], C[CG], C[CM], C[Cm], C[CRHO]
     th = math.asin(u / L)
     c, s = math.cos(th), math.sin(th)
     thd = ud / (L * c)
     thdd = (udd + L * s * thd * thd) / (L * c)
-    N2_0 = M * (g * c + C[CMV] * (udd * s + L * thd * thd))
+    N2_0 = M * (gv * c + C[CMV] * (udd * s + L * thd * thd))
     N1_0 = N2_0 + m * (g * c + udd * s + rho * thd * thd)
     cap0 = mu1 * N1_0 * C[CR1] + mu2 * N2_0 * C[CR2]
     k = mu1 * C[CR1] + mu2 * C[CR2]
-    A = I * thdd - C[CSIN] * udd * c + S_ * g * s
+    A = I * thdd - C[CSIN] * udd * c + S_ * g * s + M * L * (gv - g) * s
     F = (A + sgn * cap0) / (L * c - sgn * s * k)
     return th, thd, thdd, F, N1_0 + F * s, N2_0 + F * s, c
 
 
-def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, mu1, mu2):
+def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, GV, mu1, mu2):
     """One step of the test machine (grid point n -> n + 1 of the programme
     U, UD, UDD: u, u', u''); SM[i] != 0 where the machine has stopped the
     bearing, with (UDS[i], UDDS[i]) the programme's smooth branch there: the
     step that reaches the first of them ends with the stopping impulse.
+    GV[i] = N / M, the axial-load programme (mechanics/axial.py) per grid point.
     Returns the friction work (J) of the lower and upper interface, with the
-    normal forces averaged over the step."""
+    normal forces averaged over the step.
+
+    The ledger's input is the horizontal restraint's work plus the vertical
+    actuator's beyond the weight's, -(N - M g) dz with dz = L sin(theta) dtheta
+    (trapezoidal): E_pot keeps the weight's S g (1 - cos theta)."""
     L, Sin, dt = C[CL], C[CSIN], C[CDT]
     i0 = int(S[SN])
     i1 = i0 + 1
@@ -113,8 +121,8 @@ def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, mu1, mu2):
     th1 = math.asin(U[i1] / L)
     dth = th1 - th0
     sgn = 1.0 if dth > 0 else (-1.0 if dth < 0 else 0.0)
-    _, _, _, Fa, N1a, N2a, ca = machine_point(C, U[i0], UD[i0], UDD[i0], mu1, mu2, sgn)
-    th, thd, _, F, N1_, N2_, c = machine_point(C, U[i1], UD[i1], UDD[i1], mu1, mu2, sgn)
+    _, _, _, Fa, N1a, N2a, ca = machine_point(C, U[i0], UD[i0], UDD[i0], GV[i0], mu1, mu2, sgn)
+    th, thd, _, F, N1_, N2_, c = machine_point(C, U[i1], UD[i1], UDD[i1], GV[i1], mu1, mu2, sgn)
     adth = abs(dth)
     dW1 = mu1 * 0.5 * (N1a + N1_) * C[CR1] * adth
     dW2 = mu2 * 0.5 * (N2a + N2_) * C[CR2] * adth
@@ -125,12 +133,15 @@ def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, mu1, mu2):
         # the machine stops the bearing inside this step: the smooth branch's
         # input up to the stop, then the stopping impulse, whose work is the
         # kinetic energy it removes (at fixed position)
-        _, thd_s, _, F_s, _, _, _ = machine_point(C, U[i1], UDS[i1], UDDS[i1], mu1, mu2, sgn)
+        _, thd_s, _, F_s, _, _, _ = machine_point(C, U[i1], UDS[i1], UDDS[i1], GV[i1], mu1, mu2, sgn)
         Q1 = (F_s * L + Sin * UDDS[i1]) * c
         S[EIN] += 0.5 * (Q0 + Q1) * dth + 0.5 * C[CI] * (thd * thd - thd_s * thd_s)
     else:
         Q1 = (F * L + Sin * UDD[i1]) * c
         S[EIN] += 0.5 * (Q0 + Q1) * dth
+    # the vertical actuator's work beyond the weight's (zero with the load held at M g)
+    ML, g = C[CM] * L, C[CG]
+    S[EIN] -= 0.5 * (ML * (GV[i0] - g) * math.sin(th0) + ML * (GV[i1] - g) * math.sin(th)) * dth
     S[TH], S[THD], S[SF], S[N1], S[N2] = th, thd, F, N1_, N2_
     S[W1] += dW1
     S[W2] += dW2

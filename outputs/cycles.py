@@ -12,8 +12,11 @@ of the imposed sine (t in [k T, (k+1) T], T = 1 / frequency):
 - ``K_eff_N_m`` = (F+ - F-) / (d+ - d-): the effective (secant) stiffness,
   the AASHTO form (|F+| + |F-|) / (|d+| + |d-|) when the signs alternate;
 - ``d_max_m`` = (d+ - d-) / 2: the cycle's displacement amplitude;
-- ``mu_eff`` = EDC / (4 W d_max): the friction coefficient of the
-  rigid-plastic loop of the same area under the vertical load W (a loop of
+- ``N_mean_N``: the cycle's mean axial load, the time mean of the machine's
+  axial-load programme N(t) over the cycle (mechanics/axial.py; W = M g when
+  the load is held constant);
+- ``mu_eff`` = EDC / (4 N_mean d_max): the friction coefficient of the
+  rigid-plastic loop of the same area under the vertical load N_mean (a loop of
   height mu W and half-width d_max has area 4 mu W d_max);
 - ``Q_d_N`` = EDC / (4 d_max): the characteristic strength of the bilinear
   loop of the same area with zero yield displacement (AASHTO:
@@ -51,7 +54,7 @@ import numpy as np
 
 KEYS = ("EDC_J", "K_eff_N_m", "mu_eff", "Q_d_N", "xi_eff")
 CSV_COLUMNS = ("cycle", "t_start_s", "t_end_s", "d_pos_m", "d_neg_m", "F_pos_N", "F_neg_N", "d_max_m",
-               "v_peak_mps", "EDC_J", "K_eff_N_m", "mu_eff", "Q_d_N", "xi_eff",
+               "v_peak_mps", "N_mean_N", "EDC_J", "K_eff_N_m", "mu_eff", "Q_d_N", "xi_eff",
                "EDC_change_rel", "K_eff_change_rel", "mu_eff_change_rel", "Q_d_change_rel",
                "xi_eff_change_rel")
 
@@ -60,11 +63,13 @@ class CycleMeter:
     """Per-cycle loop integrals over rows given in blocks (canonical columns).
 
     period_s, cycles: the programme's cycles (cycle k covers [k T, (k+1) T]);
-    vertical_load_N: W of mu_eff. A segment between two consecutive rows
+    vertical_load_N: W of mu_eff; axial: the axial-load programme
+    (mechanics.axial.AxialProgramme) when it varies, its time mean over each
+    cycle the cycle's N_mean (and mu_eff's load). A segment between two consecutive rows
     belongs to the cycle of its mid-time (so a row on a cycle boundary closes
     one cycle and opens the next); a row to the cycle of its time."""
 
-    def __init__(self, columns, period_s: float, cycles: int, vertical_load_N: float):
+    def __init__(self, columns, period_s: float, cycles: int, vertical_load_N: float, axial=None):
         cols = list(columns)
         self.jt, self.ju, self.jF = cols.index("t_s"), cols.index("u_m"), cols.index("F_N")
         # an orbit in the plane (the bidirectional machine): F . du, |u| and the path slid
@@ -85,6 +90,9 @@ class CycleMeter:
         self.Tsum = np.zeros((self.n, len(self.temps)))
         self.rows = np.zeros(self.n, dtype=int)
         self.path = np.zeros(self.n)
+        self.axial = axial if axial is not None and axial.varying else None
+        self.Nt = np.zeros(self.n)                       # integral of N dt over the cycle's segments
+        self.dur = np.zeros(self.n)                      # and their length
         self.seen = np.zeros(self.n, dtype=bool)
         self.closed = np.zeros(self.n, dtype=bool)     # a row at or past the cycle's end was seen
         self.prev = None                                 # the last row of the previous block
@@ -112,6 +120,10 @@ class CycleMeter:
             ok = seg >= 0
             np.add.at(self.edc, seg[ok], area[ok])
             np.add.at(self.path, seg[ok], step[ok])
+            if self.axial is not None:
+                N, dt = self.axial.at(t), np.diff(t)
+                np.add.at(self.Nt, seg[ok], (0.5 * (N[1:] + N[:-1]) * dt)[ok])
+                np.add.at(self.dur, seg[ok], dt[ok])
         new = block
         kt = self._cycle(new[:, self.jt])
         ends = np.floor(new[:, self.jt] / self.T * (1.0 + 1e-12)).astype(int)     # cycles whose end was reached
@@ -150,12 +162,13 @@ class CycleMeter:
             edc = float(self.edc[k])
             # the path slid: 4 d_max for a sine (the loop formulas), sum |du| for an orbit
             slid = float(self.path[k]) if self.plane else 4.0 * dmax
+            W = float(self.Nt[k] / self.dur[k]) if self.axial is not None and self.dur[k] > 0 else self.W
             c = {"cycle": k + 1, "t_start_s": k * self.T, "t_end_s": (k + 1) * self.T,
                  "d_pos_m": float(self.dpos[k]), "d_neg_m": float(self.dneg[k]),
                  "F_pos_N": float(self.Fpos[k]), "F_neg_N": float(self.Fneg[k]), "d_max_m": float(dmax),
                  "v_peak_mps": float(self.vpk[k]) if self.jv is not None else math.nan,
-                 "EDC_J": edc, "K_eff_N_m": float(K),
-                 "mu_eff": edc / (self.W * slid) if slid > 0 and self.W > 0 else math.nan,
+                 "N_mean_N": W, "EDC_J": edc, "K_eff_N_m": float(K),
+                 "mu_eff": edc / (W * slid) if slid > 0 and W > 0 else math.nan,
                  "Q_d_N": edc / slid if slid > 0 else math.nan,
                  "xi_eff": edc / (2.0 * math.pi * K * dmax * dmax) if dmax > 0 and K > 0 else math.nan}
             for m, (i, _) in enumerate(self.temps):
@@ -182,7 +195,17 @@ def meter_for(scene, columns) -> CycleMeter | None:
     ld = scene["loading"]
     if ld["kind"] != "displacement" or "F_N" not in columns or "u_m" not in columns:
         return None
-    return CycleMeter(columns, 1.0 / ld["frequency_Hz"], int(math.ceil(ld["cycles"] - 1e-9)), vertical_load(scene))
+    return CycleMeter(columns, 1.0 / ld["frequency_Hz"], int(math.ceil(ld["cycles"] - 1e-9)), vertical_load(scene),
+                      axial_of(scene))
+
+
+def axial_of(scene):
+    """The planar machine's axial-load programme when it varies (mechanics/axial.py), else None."""
+    ld = scene["loading"]
+    if ld.get("vertical") not in ("sine", "series"):
+        return None
+    from fpd.mechanics.axial import programme_of
+    return programme_of(ld, vertical_load(scene))
 
 
 def summary_block(meter: CycleMeter, scene) -> dict:
@@ -193,15 +216,30 @@ def summary_block(meter: CycleMeter, scene) -> dict:
     A, f = ld["amplitude_m"], ld["frequency_Hz"]
     return {
         "definitions": "EDC = loop area (closed integral of F du); K_eff = (F+ - F-)/(d+ - d-); "
-                       "d_max = (d+ - d-)/2; mu_eff = EDC/(4 W d_max); Q_d = EDC/(4 d_max); "
+                       "d_max = (d+ - d-)/2; N_mean = the cycle's mean axial load; "
+                       "mu_eff = EDC/(4 N_mean d_max); Q_d = EDC/(4 d_max); "
                        "xi_eff = EDC/(2 pi K_eff d_max^2); *_change_rel = value / first cycle's - 1 "
                        "(docs/test_machine.md)",
         "vertical_load_N": vertical_load(scene),
+        "axial_programme": _axial_block(ld, vertical_load(scene)),
         "amplitude_m": A, "frequency_Hz": f, "programme_peak_velocity_mps": 2.0 * math.pi * f * A,
         "peak_velocity_mps": max((c["v_peak_mps"] for c in cyc), default=math.nan),
         "machine_work_J": float(meter.edc.sum()),
         "cycles": cyc,
     }
+
+
+def _axial_block(ld: dict, W: float) -> dict:
+    """summary.json's test_machine.axial_programme: the axial load's programme."""
+    kind = ld.get("vertical", "constant")
+    out = {"kind": kind}
+    if kind == "sine":
+        from fpd.mechanics.axial import amplitude_of
+        out.update(mean_N=W, amplitude_N=amplitude_of(ld, W), frequency_Hz=ld["vertical_frequency_Hz"],
+                   phase_deg=ld.get("vertical_phase_deg") or 0.0)
+    elif kind == "series":
+        out["file"] = ld["path_vertical"]
+    return out
 
 
 # the per-interface temperature columns a cycle may have (those of the run's T<i>_C)
@@ -245,7 +283,7 @@ def cycles_figure(cycles: list[dict], title: str):
                          hgap=0.15, sharex=True)
     panels = (("EDC_J", 1e-3, "EDC (kJ)", "EDC_change_rel"),
               ("K_eff_N_m", 1e-3, "K_eff (kN/m)", "K_eff_change_rel"),
-              ("mu_eff", 1.0, "mu_eff = EDC / (4 W d_max)", "mu_eff_change_rel"))
+              ("mu_eff", 1.0, "mu_eff = EDC / (4 N_mean d_max)", "mu_eff_change_rel"))
     for a, (key, s, label, ch) in zip(ax, panels):
         y = [s * c[key] for c in cycles]
         a.plot(k, y, "o-", color="tab:blue")

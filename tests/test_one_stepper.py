@@ -125,12 +125,21 @@ def test_planar_columns_are_signed():
                   "thermal.model=lumped"]),
     ("lab-sine", ['loading.waveform="circle"']),
     ("lab-sine", ['loading.waveform="figure-eight"', "thermal.model=lumped", "solver.duration=4"]),
+    # the axial-load programme: a sine about W, and a (t, N) series with the stopping impulse
+    ("lab-sine", ['loading.vertical="sine"', "loading.vertical_amplitude_ratio=0.4",
+                  "loading.vertical_frequency_Hz=0.8", "loading.vertical_phase_deg=30"]),
+    ("lab-sine", ['loading.vertical="series"', 'loading.vertical_file="axial.txt"', "loading.cycles=2.9",
+                  "solver.duration=8", "thermal.model=lumped"]),
 ])
-def test_compiled_engine_equals_the_pure_path_bit_for_bit(monkeypatch, scene, over):
+def test_compiled_engine_equals_the_pure_path_bit_for_bit(monkeypatch, tmp_path, scene, over):
     """The compiled engine (numba) and the pure path (FPD_NO_JIT: the Python
     loop calling the same kernel modules unchanged) write the same history,
     bit for bit, for every device the engine runs."""
     pytest.importorskip("numba")
+    # the axial-load series of a case (6.3 MN +- 30 %, 8 s), found from the working folder
+    t = np.linspace(0.0, 8.0, 41)
+    np.savetxt(tmp_path / "axial.txt", np.column_stack([t, 6.3e6 * (1 + 0.3 * np.sin(1.7 * t) * np.cos(0.4 * t))]))
+    monkeypatch.chdir(tmp_path)
     from fpd import kernels
     if not kernels.available():
         pytest.skip("FPD_NO_JIT")

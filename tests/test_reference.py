@@ -141,6 +141,15 @@ def test_every_column_and_summary_field_is_in_the_reference(tmp_path, monkeypatc
     runs = [(name, {"solver": {"duration": 0.2}}) for name in ("impvall-bidirectional", "ferndale-3c", "tfp-lab",
                                                                "flat-lab")]
     runs.append(("lab-sine", {"solver": {"duration": 0.3}, "loading": {"frequency_Hz": 4.0, "cycles": 1.0}}))
+    # the test machine's axial-load programmes: a sine, a (t, N) series
+    series = tmp_path / "axial.txt"
+    series.write_text("0 6.0e6\n1 6.6e6\n")
+    runs.append(("lab-sine", {"solver": {"duration": 0.25}, "thermal": {"model": "lumped"},
+                              "loading": {"frequency_Hz": 4.0, "cycles": 1.0, "vertical": "sine",
+                                          "vertical_amplitude_ratio": 0.2, "vertical_frequency_Hz": 8.0}}))
+    runs.append(("lab-sine", {"solver": {"duration": 0.25}, "thermal": {"model": "lumped"},
+                              "loading": {"frequency_Hz": 4.0, "cycles": 1.0, "vertical": "series",
+                                          "vertical_file": str(series)}}))
     runs.append(("default", {"solver": {"duration": 0.02},
                              "thermal": {"model": "fe3d", "per_radius": 10, "nz": 4, "step_multiple": 5}}))
     for name, over in runs:
@@ -149,7 +158,9 @@ def test_every_column_and_summary_field_is_in_the_reference(tmp_path, monkeypatc
         for c in r.history:
             assert f"| `{c}` |" in text, f"{name}: column {c} is not in docs/reference.md"
         summaries.append(r.summary)
-    assert "test_machine" in summaries[-2] and summaries[-2]["test_machine"]["cycles"]
+    assert "test_machine" in summaries[-4] and summaries[-4]["test_machine"]["cycles"]
+    assert summaries[-3]["test_machine"]["axial_programme"]["kind"] == "sine"
+    assert summaries[-2]["test_machine"]["axial_programme"]["kind"] == "series"
     for c in cycles.CSV_COLUMNS:            # cycles.csv: the per-cycle fields
         assert f"test_machine.cycles[].{c}" in D.SUMMARY, f"cycles.csv column {c} is not described"
     # writing the results fails after the run (a full disk): what the summary then says
