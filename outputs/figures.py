@@ -7,16 +7,15 @@ directions; the first set that matches is taken, the DFP / SFP's matches
 every run) and its figures in the order ``fpd run`` writes them, each
 (name: the PNG's stem, when: the columns it needs or a test of the
 history, builder: a function of (result, scene) returning a Figure). A
-device that adds a figure set adds a line here; its figures live in a
-module of its own (outputs/tfp_plots.py, plots_bidirectional.py) or are
-shared (outputs/plots.py).
+device that adds a figure set adds a line here and its builders to
+outputs/plots.py (the figure builders of every device, shared or its own).
 """
 from __future__ import annotations
 
 import time
 from pathlib import Path
 
-from . import drawing, plots, plots_bidirectional as bd, tfp_plots
+from . import drawing, plots
 
 
 def _path_rows(result) -> bool:
@@ -26,17 +25,17 @@ def _path_rows(result) -> bool:
 
 FIGURE_SETS = (
     ("TFP", ("W4_J",), (
-        ("hysteresis", (), tfp_plots.hysteresis),       # each branch coloured by its regime
-        ("response", (), tfp_plots.response),
-        ("temperature", ("T1_C",), tfp_plots.temperature),
-        ("friction", (), tfp_plots.friction),
+        ("hysteresis", (), plots.tfp_hysteresis),       # each branch coloured by its regime
+        ("response", (), plots.tfp_response),
+        ("temperature", ("T1_C",), plots.tfp_temperature),
+        ("friction", (), plots.tfp_friction),
     )),
     ("DFP / SFP in both directions", ("uy_m",), (
-        ("hysteresis", ("u_m",), bd.loops),             # the x and the y loops
+        ("hysteresis", ("u_m",), plots.loops),             # the x and the y loops
         ("response", ("u_m",), plots.response),
-        ("orbit", (), bd.orbit),
-        ("force_orbit", (), bd.force_orbit),
-        ("heat_path", _path_rows, bd.heat_path),
+        ("orbit", (), plots.orbit),
+        ("force_orbit", (), plots.force_orbit),
+        ("heat_path", _path_rows, plots.heat_path),
         ("temperature", ("T1_C",), plots.temperature),
         ("friction", ("mu1",), plots.friction),
     )),
