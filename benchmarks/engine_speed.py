@@ -51,11 +51,17 @@ def main(argv=None):
     args = ap.parse_args(argv)
     sys.path.insert(0, args.root)
     import numba  # noqa: F401  (every case takes the compiled loop)
-    scn = _module("fpd.schema.scene", "fpd.schema.scene")
+    # an earlier layout first (--root): its scene module lived in the coupling package
+    scn = _module("fpd." + "coupling.scene", "fpd.schema.scene")
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate
     for name, scene, over in CASES:
         best = float("inf")
+        try:
+            scn.load(scene, over)
+        except Exception as exc:                    # a case another checkout does not have
+            print(f"{name:28s} n/a ({type(exc).__name__})", flush=True)
+            continue
         for _ in range(args.repeat + 1):            # the first run loads (or compiles) the kernels
             r = simulate(build(scn.load(scene, over)))
             assert r.status == "ok", r.message
