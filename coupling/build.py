@@ -177,6 +177,14 @@ def _target_factor(ld: dict, rec) -> float:
     return target / rec.pga_g
 
 
+def record_info(scene: Scene, loading) -> dict:
+    """summary.json's ``record`` of a loading read from a record (the TFP's and the flat bearing's)."""
+    ld = scene["loading"]
+    return {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
+            "pga_g": loading.record.pga_g, "scale": ld["scale"],
+            "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
+
+
 def rim_of(scene: Scene) -> tuple:
     """(d1, d2, restitution) of a DFP / SFP (d2 None for the SFP)."""
     dev = scene["device"]
@@ -385,10 +393,7 @@ def build_tfp(scene: Scene) -> Simulation:
     laws = tuple(make_law(scene.friction(s)) for s in TFP_SURFACES)
     info = {"device": "TFP", "capacity_m": geom.capacity}
     if hasattr(loading, "record"):
-        ld = scene["loading"]
-        info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
-                          "pga_g": loading.record.pga_g, "scale": ld["scale"],
-                          "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
+        info["record"] = record_info(scene, loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made
@@ -410,10 +415,7 @@ def build_flat(scene: Scene) -> Simulation:
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
     info = {"device": "flat", "mu_tip_closed_form": geom.mu_tip()}
     if hasattr(loading, "record"):
-        ld = scene["loading"]
-        info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
-                          "pga_g": loading.record.pga_g, "scale": ld["scale"],
-                          "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
+        info["record"] = record_info(scene, loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made

@@ -9,27 +9,10 @@ arrays; the lower plate moves by -u); X unused; footprint centres in 2D
 (bidirectional_kernel.machine_step, values).
 """
 from fpd.mechanics import bidirectional_kernel as bk
+# the 3D stepper's state, so its interfaces and its state check are that device's own
+from fpd.mechanics.dev_bidirectional import centre, normal, ok, slip  # noqa: F401
 
 __kernel__ = True
-
-
-def normal(C, S, i):
-    if i == 0:
-        return S[bk.S_N1]
-    return S[bk.S_N2]
-
-
-def slip(C, S, i):
-    if i == 0:
-        return S[bk.S_SV1]
-    return S[bk.S_SV2]
-
-
-def centre(C, S, i):
-    c1x, c1y, c2x, c2y = bk.centres(C, S)
-    if i == 0:
-        return c1x, c1y
-    return c2x, c2y
 
 
 def step(C, S, L, X, n, dt, mu, dW):
@@ -38,14 +21,6 @@ def step(C, S, L, X, n, dt, mu, dW):
     dW[0] = S[bk.S_W1] - w1
     dW[1] = S[bk.S_W2] - w2
     return flag
-
-
-def ok(C, S):
-    """Every value of the state finite."""
-    s = 0.0
-    for i in range(S.shape[0]):
-        s += S[i] * 0.0
-    return s == 0.0
 
 
 def values(C, S, L, n, dt, row):
