@@ -1,0 +1,137 @@
+"""The rigid triple friction pendulum in both horizontal directions: the
+stepper around mechanics/tfp3d_kernel.py (docs/model.md section 6.8).
+
+The planar TFP's bodies and geometry (mechanics/tfp.py's TFPGeometry), its
+two rotations made tilt vectors: phi = (phi_x, phi_y) the stack's (S1 and S4
+slide together, R1 : R4), alpha = (alpha_x, alpha_y) the pad's relative to
+the slider plates (S2 and S3, R2 : R3). Friction on each surface is a vector
+opposing its slip, bounded by a disk; a step's increment is the minimiser of
+a small second-order cone program (tfp3d_kernel.socp). A run whose record has
+no y component is the planar TFP's to round-off; a record turned by an angle
+is the planar run turned.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import tfp3d_kernel as K
+from .ground_motion import float_array
+from .phases import MechanicsFailure
+from .tfp import TFPGeometry
+
+COLUMNS = (
+    "t_s", "xg_m", "yg_m", "ux_m", "uy_m", "u_m", "vx_mps", "vy_mps", "v_mps", "Fx_N", "Fy_N", "F_N", "z_m",
+    "theta_rad", "phix_rad", "phiy_rad", "phi_rad", "alphax_rad", "alphay_rad", "alpha_rad",
+    "s1x_m", "s1y_m", "s1_m", "s2x_m", "s2y_m", "s2_m", "s3x_m", "s3y_m", "s3_m", "s4x_m", "s4y_m", "s4_m",
+    "N1_N", "N2_N", "N3_N", "N4_N", "W1_J", "W2_J", "W3_J", "W4_J", "phase",
+    "E_input_J", "E_kin_J", "E_pot_J", "E_rim_J", "regime", "slide1", "slide2", "slide3", "slide4",
+    "rim1", "rim2", "rim3", "rim4", "J_rim_Ns", "n_rim1", "n_rim2", "n_rim3", "n_rim4",
+    "c1x_m", "c1y_m", "c2x_m", "c2y_m", "c3x_m", "c3y_m", "c4x_m", "c4y_m",
+    "fp_iterations", "kkt_rel", "vs1_mps", "vs2_mps", "vs3_mps", "vs4_mps", "psix_rad", "psiy_rad",
+)
+assert len(COLUMNS) == K.N_ROW
+
+
+class TFP3DFailure(MechanicsFailure):
+    pass
+
+
+class TFP3DStepper:
+    """The rigid TFP under a two-component ground motion (gx, gy: GroundMotion
+    on the same grid; gy None: the y component absent). ``step(mu1..mu4)``
+    advances one step and returns the friction work of S1..S4 in it; the
+    state is one float64 vector (tfp3d_kernel.S_*)."""
+
+    n_interfaces = 4
+    two_d = True
+    drawing = None
+    engine_device = None          # the pure loop (no compiled engine for this device yet)
+    columns = COLUMNS
+    model = "seated"
+
+    def __init__(self, geom: TFPGeometry, gx, gy=None, kernel=None, az=None):
+        self.geom = geom
+        self.k = kernel if kernel is not None else K
+        self.dt = gx.dt
+        self.n_steps = gx.n_steps
+        self.machine = False
+        self._ax = float_array(gx.a_step)
+        self._xg = float_array(gx.d)
+        if gy is not None:
+            self._ay = float_array(gy.a_step)
+            self._yg = float_array(gy.d)
+        else:
+            self._ay = np.zeros_like(self._ax)
+            self._yg = np.zeros_like(self._xg)
+        self._az = np.zeros_like(self._ax) if az is None else float_array(az)
+        self.par = geom.pack()
+        self.S = np.zeros(K.N_S)
+        self.N = self.S[K.S_N:K.S_N + 4]
+        self.out = np.zeros(K.N_OUT)
+        self._sc = np.zeros(K.N_SC)
+        self._row = np.zeros(K.N_ROW)
+        self.n = 0
+        self.t = 0.0
+        K.normal_forces(self.par, self.S[0:4], self.S[4:8], 0.0, 0.0, 0.0, 0.0, 0.0, self.N, self._sc)
+
+    # -- accessors the loop and outputs use ------------------------------------------------
+    @property
+    def W(self) -> list:
+        return [float(x) for x in self.S[K.S_W:K.S_W + 4]]
+
+    @property
+    def E_in(self) -> float:
+        return float(self.S[K.S_EIN])
+
+    @property
+    def slip_v(self) -> list:
+        return [float(x) for x in self.S[K.S_SV:K.S_SV + 4]]
+
+    @property
+    def q(self) -> np.ndarray:
+        """(phi_x, phi_y, alpha_x, alpha_y)."""
+        return self.S[0:4].copy()
+
+    def footprints(self) -> tuple:
+        """Footprint centres (x, y) on the lower plate, lower slider plate,
+        upper slider plate and upper plate: +R phi / +R alpha on the lower
+        parts, minus on the upper (the planar TFP's, per component)."""
+        g, q = self.geom, self.S
+        return ((g.R1 * q[0], g.R1 * q[1]), (g.R2 * q[2], g.R2 * q[3]),
+                (-g.R3 * q[2], -g.R3 * q[3]), (-g.R4 * q[0], -g.R4 * q[1]))
+
+    def E_kin(self) -> float:
+        return K.kinetic(self.par, self.S[0:4], self.S[4:8], self._sc)
+
+    def E_pot(self) -> float:
+        return K.potential(self.par, self.S[0:4])
+
+    def ledger_residual(self) -> float:
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W))
+
+    def values(self) -> tuple:
+        n = self.n
+        K.row_values(self.par, self.S, self.t, self._xg[n], self._yg[n], self._row, self._sc)
+        return tuple(self._row.tolist())
+
+    def save(self):
+        return (self.n, self.t, self.S.copy())
+
+    def restore(self, snap) -> None:
+        self.n, self.t, S = snap
+        self.S[:] = S
+
+    # -- the step ---------------------------------------------------------------------------
+    def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
+        n = self.n
+        fail = self.k.advance(self.par, self.S, self.dt, self._ax[n], self._ay[n], self._az[n],
+                              mu1, mu2, mu3, mu4, self.out, self._sc)
+        if fail == K.FAIL_RIM:
+            raise TFP3DFailure("a surface reached its rim: rim impacts of the TFP in both directions are not "
+                               "modelled yet (the planar TFP has them)")
+        if fail == K.FAIL_FIXED_POINT:
+            raise TFP3DFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
+                               "iterations (lower solver.dt)")
+        self.n = n + 1
+        self.t = self.n * self.dt
+        return tuple(float(x) for x in self.S[K.S_DW:K.S_DW + 4])

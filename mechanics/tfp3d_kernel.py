@@ -1,0 +1,918 @@
+"""Per-step physics of the rigid triple friction pendulum in both horizontal
+directions, one source (kernel module, fpd/kernels.py).
+
+The planar model (mechanics/tfp_kernel.py, docs/model.md section 6) with
+its two rotations made 2D vectors (docs/model.md section 6.8): q = (phi,
+alpha), four coordinates, phi = (phi_x, phi_y) the stack's tilt (both slider
+plates about C1), alpha the pad's tilt relative to them, psi = phi + alpha
+the pad's tilt. A tilt vector v points the body's axis along
+
+    e(v) = (-s(t) v_x, -s(t) v_y, c(t)),   t = |v|^2, s(t) = sin|v| / |v|, c(t) = cos|v|
+
+(a tilt |v| towards the azimuth of v; e((x, 0)) = (-sin x, 0, cos x), the
+planar e(x)). Body k sits at r_k = -a_k e(phi) - b_k e(psi) from C1, so
+
+    2T = (Aa + Jphi) |X|^2 + (B + Jpsi) |Y|^2 + 2 K X . Y,   X = De(phi)[phi'], Y = De(psi)[psi'],
+    V = g [P1 (1 - c(|phi|^2)) + P2 (1 - c(|psi|^2))],   b = P1 s(|phi|^2) phi + P2 s(|psi|^2) psi,
+
+b the horizontal first moment through which the ground acceleration works.
+Friction: the slide of S1 (S4) is R1 (R4) times the arc the stack's axis
+turns through, |De(phi) dphi| = |L(phi) dphi|, L(v) = s I + (1 - s) v v^T / t
+(radial unchanged, azimuthal sin|v| / |v|); S2 and S3 slide R2, R3 times
+|L(alpha) dalpha|. A step's increment solves
+
+    min 1/2 dq^T H dq - r^T dq + c_o |L(phi0) dphi| + c_i |L(alpha0) dalpha|
+
+(H = 2 M(q1) / dt^2, r = 2 p0 / dt + G, G minus the discrete gradient of
+V + ag . b + az b_z + T(., p0), blockwise: phi then alpha, each block's
+gradient averaged along the segment by 4-point Gauss-Legendre, so G . dq is
+the change of that sum to round-off): a second-order cone program solved
+exactly by its active set (``socp``) inside the same fixed point on q1 as
+the planar scheme.
+"""
+import math
+
+from . import tfp_kernel as tk
+
+__kernel__ = True
+
+# -- state vector ----------------------------------------------------------------------
+# 0..7: phi_x, phi_y, alpha_x, alpha_y, and their rates
+S_F, S_W, S_EIN, S_ERIM, S_PHASE, S_REG, S_SLIDE, S_SV, S_DW, S_N = 8, 10, 14, 15, 16, 17, 18, 22, 26, 30
+S_ITER, S_KKT, S_EPS = 34, 35, 36          # fixed-point iterations, the step's KKT residual, its scale
+N_S = 40
+
+# -- step output -------------------------------------------------------------------------
+O_EIN, O_WO, O_WI, O_ITER, O_FAIL, O_ARR_O, O_ARR_I, O_KKT = 0, 1, 2, 3, 4, 5, 6, 7
+O_DQ = 8            # 8..11: the increment
+O_FX, O_FY = 12, 13  # the step's mean horizontal force of the bearing (machine: its force)
+N_OUT = 16
+
+FAIL_NONE, FAIL_FIXED_POINT, FAIL_RIM, FAIL_CAPACITY = 0, 2, 4, 1
+
+FIXED_POINT_TOL = 1e-15
+FIXED_POINT_ITERS = 60
+N_SC = 400              # scratch length
+
+# Gauss-Legendre, 4 points on [0, 1]
+GL_X0, GL_X1 = 0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563
+GL_W0, GL_W1 = 0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461
+
+N_ROW = 75          # len(mechanics.tfp3d.COLUMNS)
+
+
+# -- series in t = |v|^2 (every TFP tilt is well below 1 rad; exact to round-off for t < 4) --
+def sfun(t):
+    """s(t) = sin(sqrt t) / sqrt t."""
+    r = 0.0
+    for n in range(17, 0, -1):
+        r = 1.0 - t * r / ((2.0 * n) * (2.0 * n + 1.0))
+    return r
+
+
+def _sder(t):
+    r = 0.0
+    a = 1.0              # (-t)^(n-1) / (2n+1)! built step by step
+    for n in range(1, 19):
+        if n == 1:
+            a = -1.0 / 6.0
+        else:
+            a = a * (-t) / ((2.0 * n) * (2.0 * n + 1.0))
+        r += n * a
+    return r
+
+
+def sder2(t):
+    """s''(t) = sum_{n>=2} n (n-1) (-1)^n t^(n-2) / (2n+1)!."""
+    r = 0.0
+    a = 1.0 / 120.0      # n = 2: t^0 / 5!
+    for n in range(2, 20):
+        if n > 2:
+            a = a * (-t) / ((2.0 * n) * (2.0 * n + 1.0))
+        r += n * (n - 1.0) * a
+    return r
+
+
+def omc(t):
+    """1 - cos(sqrt t), without cancellation."""
+    return t * _omc_tail(t)
+
+
+def _omc_tail(t):
+    """(1 - cos sqrt t) / t = sum_{n>=1} (-t)^(n-1) / (2n)!."""
+    r = 0.0
+    for n in range(17, 0, -1):
+        r = 1.0 / ((2.0 * n - 1.0) * (2.0 * n)) * (1.0 - t * r) if n < 17 else 1.0 / ((2.0 * n - 1.0) * (2.0 * n))
+    return r
+
+
+def lfun(t):
+    """(1 - s(t)) / t = sum_{n>=1} (-1)^(n+1) t^(n-1) / (2n+1)!."""
+    r = 0.0
+    for n in range(17, 0, -1):
+        r = 1.0 / ((2.0 * n) * (2.0 * n + 1.0)) * (1.0 - t * r) if n < 17 else 1.0 / ((2.0 * n) * (2.0 * n + 1.0))
+    return r
+
+
+# -- kinematics of one tilt vector v = (vx, vy) ------------------------------------------
+def de(vx, vy, wx, wy, o, k):
+    """De(v)[w] into o[k:k+3]."""
+    t = vx * vx + vy * vy
+    s = sfun(t)
+    sd = _sder(t)
+    vw = vx * wx + vy * wy
+    o[k] = -s * wx - 2.0 * sd * vw * vx
+    o[k + 1] = -s * wy - 2.0 * sd * vw * vy
+    o[k + 2] = -s * vw
+
+
+def d2e(vx, vy, wx, wy, ux, uy, o, k):
+    """D^2 e(v)[w, u] into o[k:k+3]."""
+    t = vx * vx + vy * vy
+    s = sfun(t)
+    sd = _sder(t)
+    sdd = sder2(t)
+    vw = vx * wx + vy * wy
+    vu = vx * ux + vy * uy
+    wu = wx * ux + wy * uy
+    o[k] = -2.0 * sd * (vu * wx + wu * vx + vw * ux) - 4.0 * sdd * vu * vw * vx
+    o[k + 1] = -2.0 * sd * (vu * wy + wu * vy + vw * uy) - 4.0 * sdd * vu * vw * vy
+    o[k + 2] = -s * wu - 2.0 * sd * vw * vu
+
+
+# -- mass matrix (4x4, row-major into M[0:16]) -----------------------------------------
+def mass_matrix(par, q, M, sc):
+    """M(q), q = (phi_x, phi_y, alpha_x, alpha_y). sc: scratch >= 12."""
+    aa = par[tk.I_AA] + par[tk.I_JPHI]
+    bb = par[tk.I_B] + par[tk.I_JPSI]
+    K = par[tk.I_K]
+    px, py = q[0], q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    # columns of E(phi) and E(psi)
+    de(px, py, 1.0, 0.0, sc, 0)
+    de(px, py, 0.0, 1.0, sc, 3)
+    de(sx, sy, 1.0, 0.0, sc, 6)
+    de(sx, sy, 0.0, 1.0, sc, 9)
+    for i in range(2):
+        for j in range(2):
+            gp = sc[3 * i] * sc[3 * j] + sc[3 * i + 1] * sc[3 * j + 1] + sc[3 * i + 2] * sc[3 * j + 2]
+            gs = sc[6 + 3 * i] * sc[6 + 3 * j] + sc[6 + 3 * i + 1] * sc[6 + 3 * j + 1] \
+                + sc[6 + 3 * i + 2] * sc[6 + 3 * j + 2]
+            cij = sc[3 * i] * sc[6 + 3 * j] + sc[3 * i + 1] * sc[6 + 3 * j + 1] + sc[3 * i + 2] * sc[6 + 3 * j + 2]
+            cji = sc[3 * j] * sc[6 + 3 * i] + sc[3 * j + 1] * sc[6 + 3 * i + 1] + sc[3 * j + 2] * sc[6 + 3 * i + 2]
+            M[4 * i + j] = aa * gp + bb * gs + K * (cij + cji)
+            M[4 * i + 2 + j] = bb * gs + K * cij
+            M[4 * (2 + j) + i] = bb * gs + K * cij
+            M[4 * (2 + i) + 2 + j] = bb * gs
+
+
+def chol_solve(A, b, x, L):
+    """x = A^-1 b for the symmetric positive definite 4x4 A (row-major); L: scratch 16."""
+    n = 4
+    for i in range(n):
+        for j in range(i + 1):
+            s = A[4 * i + j]
+            for k in range(j):
+                s -= L[4 * i + k] * L[4 * j + k]
+            if i == j:
+                L[4 * i + i] = math.sqrt(s)
+            else:
+                L[4 * i + j] = s / L[4 * j + j]
+    for i in range(n):
+        s = b[i]
+        for k in range(i):
+            s -= L[4 * i + k] * x[k]
+        x[i] = s / L[4 * i + i]
+    for i in range(n - 1, -1, -1):
+        s = x[i]
+        for k in range(i + 1, n):
+            s -= L[4 * k + i] * x[k]
+        x[i] = s / L[4 * i + i]
+
+
+def kinetic(par, q, v, sc):
+    """T(q, v). sc: scratch >= 12."""
+    aa = par[tk.I_AA] + par[tk.I_JPHI]
+    bb = par[tk.I_B] + par[tk.I_JPSI]
+    de(q[0], q[1], v[0], v[1], sc, 0)
+    de(q[0] + q[2], q[1] + q[3], v[0] + v[2], v[1] + v[3], sc, 3)
+    X2 = sc[0] * sc[0] + sc[1] * sc[1] + sc[2] * sc[2]
+    Y2 = sc[3] * sc[3] + sc[4] * sc[4] + sc[5] * sc[5]
+    XY = sc[0] * sc[3] + sc[1] * sc[4] + sc[2] * sc[5]
+    return 0.5 * (aa * X2 + bb * Y2 + 2.0 * par[tk.I_K] * XY)
+
+
+def potential(par, q):
+    tp = q[0] * q[0] + q[1] * q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    ts = sx * sx + sy * sy
+    return par[tk.I_G] * (par[tk.I_P1] * omc(tp) + par[tk.I_P2] * omc(ts))
+
+
+def moments(par, q, o):
+    """The horizontal first moment b(q) (o[0:2]) and the vertical one above the
+    seated position, b_z = P1 (1 - cos|phi|) + P2 (1 - cos|psi|) (o[2])."""
+    tp = q[0] * q[0] + q[1] * q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    ts = sx * sx + sy * sy
+    P1, P2 = par[tk.I_P1], par[tk.I_P2]
+    a = P1 * sfun(tp)
+    b = P2 * sfun(ts)
+    o[0] = a * q[0] + b * sx
+    o[1] = a * q[1] + b * sy
+    o[2] = P1 * omc(tp) + P2 * omc(ts)
+
+
+def u_rel(par, q, o):
+    """The superstructure's horizontal displacement relative to the ground (o[0:2])
+    and its uplift (o[2])."""
+    A, Li = par[tk.I_A], par[tk.I_LI]
+    tp = q[0] * q[0] + q[1] * q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    ts = sx * sx + sy * sy
+    a = A * sfun(tp)
+    b = Li * sfun(ts)
+    o[0] = a * q[0] + b * sx
+    o[1] = a * q[1] + b * sy
+    o[2] = A * omc(tp) + Li * omc(ts)
+
+
+def u_dot(par, q, v, o, k):
+    """The superstructure's horizontal velocity relative to the ground into o[k:k+2]
+    (scratch o[k:k+6])."""
+    A, Li = par[tk.I_A], par[tk.I_LI]
+    de(q[0], q[1], v[0], v[1], o, k)
+    x0, x1 = o[k], o[k + 1]
+    de(q[0] + q[2], q[1] + q[3], v[0] + v[2], v[1] + v[3], o, k)
+    o[k] = -(A * x0 + Li * o[k])
+    o[k + 1] = -(A * x1 + Li * o[k + 1])
+
+
+def grad_f(par, q, p, agx, agy, az, blk, g, sc):
+    """The gradient of f = V + ag . b + az b_z + T(., p) (p fixed) in the block
+    blk (0: phi with alpha fixed, psi moving with it; 1: alpha) into g[0:2].
+    sc: scratch >= 60 (M at sc[0:16], w at sc[16:20], L at sc[20:36])."""
+    mass_matrix(par, q, sc, sc[40:52])
+    chol_solve(sc, p, sc[16:20], sc[20:36])
+    w0, w1, w2, w3 = sc[16], sc[17], sc[18], sc[19]
+    aa = par[tk.I_AA] + par[tk.I_JPHI]
+    bb = par[tk.I_B] + par[tk.I_JPSI]
+    K = par[tk.I_K]
+    px, py = q[0], q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    wpx, wpy = w0, w1
+    wsx, wsy = w0 + w2, w1 + w3
+    de(px, py, wpx, wpy, sc, 36)        # X
+    de(sx, sy, wsx, wsy, sc, 39)        # Y
+    tp = px * px + py * py
+    ts = sx * sx + sy * sy
+    P1, P2, gz = par[tk.I_P1], par[tk.I_P2], par[tk.I_G] + az
+    s_p, s_s = sfun(tp), sfun(ts)
+    d_p, d_s = _sder(tp), _sder(ts)
+    for j in range(2):
+        ux = 1.0 if j == 0 else 0.0
+        uy = 1.0 - ux
+        # -1/2 dQ: dX, dY along u
+        d2e(sx, sy, wsx, wsy, ux, uy, sc, 45)
+        dQ = 2.0 * bb * (sc[39] * sc[45] + sc[40] * sc[46] + sc[41] * sc[47]) \
+            + 2.0 * K * (sc[36] * sc[45] + sc[37] * sc[46] + sc[38] * sc[47])
+        # V, b, b_z of psi
+        us = sx * ux + sy * uy
+        gv = P2 * (gz * s_s * us + s_s * (agx * ux + agy * uy) + 2.0 * d_s * (sx * agx + sy * agy) * us)
+        if blk == 0:
+            d2e(px, py, wpx, wpy, ux, uy, sc, 48)
+            dQ += 2.0 * aa * (sc[36] * sc[48] + sc[37] * sc[49] + sc[38] * sc[50]) \
+                + 2.0 * K * (sc[48] * sc[39] + sc[49] * sc[40] + sc[50] * sc[41])
+            up = px * ux + py * uy
+            gv += P1 * (gz * s_p * up + s_p * (agx * ux + agy * uy) + 2.0 * d_p * (px * agx + py * agy) * up)
+        g[j] = gv - 0.5 * dQ
+
+
+def dgrad(par, q0, q1, p, agx, agy, az, G, sc):
+    """Minus the discrete gradient of f (grad_f) from q0 to q1 into G[0:4]:
+    phi first (alpha at alpha0), then alpha (phi at phi1), each block's
+    gradient averaged over its segment (4-point Gauss-Legendre), so that
+    G . (q1 - q0) = -(f(q1) - f(q0)) to round-off.
+    sc: scratch >= 70 (sc[60:64] the node, sc[64:66] the block gradient)."""
+    for blk in range(2):
+        G[2 * blk] = 0.0
+        G[2 * blk + 1] = 0.0
+        for k in range(4):
+            if k == 0:
+                x, w = GL_X0, GL_W0
+            elif k == 1:
+                x, w = GL_X1, GL_W1
+            elif k == 2:
+                x, w = 1.0 - GL_X1, GL_W1
+            else:
+                x, w = 1.0 - GL_X0, GL_W0
+            if blk == 0:
+                sc[60] = q0[0] + x * (q1[0] - q0[0])
+                sc[61] = q0[1] + x * (q1[1] - q0[1])
+                sc[62] = q0[2]
+                sc[63] = q0[3]
+            else:
+                sc[60] = q1[0]
+                sc[61] = q1[1]
+                sc[62] = q0[2] + x * (q1[2] - q0[2])
+                sc[63] = q0[3] + x * (q1[3] - q0[3])
+            grad_f(par, sc[60:64], p, agx, agy, az, blk, sc[64:66], sc)
+            G[2 * blk] -= w * sc[64]
+            G[2 * blk + 1] -= w * sc[65]
+
+
+# -- the second-order cone program ---------------------------------------------------------
+def metric_root(vx, vy, o, k):
+    """L(v) = s I + (1 - s) v v^T / |v|^2 (the arc metric's square root, symmetric)
+    into o[k:k+4] = (L11, L12, L22, det)."""
+    t = vx * vx + vy * vy
+    s = sfun(t)
+    l = lfun(t)
+    o[k] = s + l * vx * vx
+    o[k + 1] = l * vx * vy
+    o[k + 2] = s + l * vy * vy
+    o[k + 3] = o[k] * o[k + 2] - o[k + 1] * o[k + 1]
+
+
+def block_min(a11, a12, a22, b1, b2, c, y):
+    """The minimiser of 1/2 y^T A y - b^T y + c |y| (A 2x2 SPD) into y[0:2],
+    for |b| > c (else it is 0): y = (A + mu I)^-1 b with mu |y| = c; mu by a
+    safeguarded Newton on 1/|y(mu)| - mu / c (linear in mu when b is along an
+    eigenvector of A) in the eigenbasis of A, to round-off."""
+    if a12 == 0.0:
+        cs, sn = 1.0, 0.0
+        l1, l2 = a11, a22
+    else:
+        th = (a22 - a11) / (2.0 * a12)
+        tn = (1.0 if th >= 0.0 else -1.0) / (abs(th) + math.sqrt(1.0 + th * th))
+        cs = 1.0 / math.sqrt(1.0 + tn * tn)
+        sn = tn * cs
+        l1 = a11 - tn * a12
+        l2 = a22 + tn * a12
+    # eigenvectors u1 = (cs, -sn), u2 = (sn, cs)
+    be1 = cs * b1 - sn * b2
+    be2 = sn * b1 + cs * b2
+    nb = math.sqrt(be1 * be1 + be2 * be2)
+    lmin = l1 if l1 < l2 else l2
+    lmax = l2 if l1 < l2 else l1
+    lo = c * lmin / (nb - c)
+    hi = c * lmax / (nb - c)
+    mu = 0.5 * (lo + hi)
+    if be2 == 0.0 and be1 != 0.0:
+        mu = c * l1 / (nb - c)
+        lo = hi = mu
+    elif be1 == 0.0 and be2 != 0.0:
+        mu = c * l2 / (nb - c)
+        lo = hi = mu
+    for it in range(100):
+        if lo == hi:
+            break
+        d1 = l1 + mu
+        d2 = l2 + mu
+        y1 = be1 / d1
+        y2 = be2 / d2
+        ny = math.sqrt(y1 * y1 + y2 * y2)
+        h = 1.0 / ny - mu / c
+        if h == 0.0:
+            break
+        if h < 0.0:
+            hi = mu
+        else:
+            lo = mu
+        # d(1/|y|)/dmu = (y1^2 / d1 + y2^2 / d2) / |y|^3
+        dh = (y1 * y1 / d1 + y2 * y2 / d2) / (ny * ny * ny) - 1.0 / c
+        nm = mu - h / dh
+        if not (lo < nm < hi):
+            nm = 0.5 * (lo + hi)
+        if abs(nm - mu) <= 4e-16 * mu:
+            mu = nm
+            break
+        mu = nm
+    y1 = be1 / (l1 + mu)
+    y2 = be2 / (l2 + mu)
+    y[0] = cs * y1 + sn * y2
+    y[1] = -sn * y1 + cs * y2
+
+
+def socp(H, r, c1, c2, y, sc):
+    """The minimiser of f(y) = 1/2 y^T H y - r^T y + c1 |y_a| + c2 |y_b| (H 4x4
+    SPD row-major, blocks a = y[0:2], b = y[2:4]) into y, exactly: f is
+    strictly convex, its minimiser the one point where 0 is in the
+    subdifferential, found among the four active sets in turn (docs/model.md
+    6.8): both blocks stuck (|r_a| <= c1, |r_b| <= c2), one stuck (the other
+    block's 2D problem, block_min, then the stuck block's cap checked), both
+    sliding (damped Newton on the smooth stationarity from y's start).
+    Returns the number of Newton iterations (0 for the first three).
+    sc: scratch >= 60."""
+    ra = math.sqrt(r[0] * r[0] + r[1] * r[1])
+    rb = math.sqrt(r[2] * r[2] + r[3] * r[3])
+    if ra <= c1 and rb <= c2:
+        for i in range(4):
+            y[i] = 0.0
+        return 0
+    if rb > c2:
+        block_min(H[10], H[11], H[15], r[2], r[3], c2, sc[0:2])
+        gx = r[0] - H[2] * sc[0] - H[3] * sc[1]
+        gy = r[1] - H[6] * sc[0] - H[7] * sc[1]
+        if gx * gx + gy * gy <= c1 * c1:
+            y[0] = 0.0
+            y[1] = 0.0
+            y[2] = sc[0]
+            y[3] = sc[1]
+            return 0
+    if ra > c1:
+        block_min(H[0], H[1], H[5], r[0], r[1], c1, sc[0:2])
+        gx = r[2] - H[8] * sc[0] - H[9] * sc[1]
+        gy = r[3] - H[12] * sc[0] - H[13] * sc[1]
+        if gx * gx + gy * gy <= c2 * c2:
+            y[0] = sc[0]
+            y[1] = sc[1]
+            y[2] = 0.0
+            y[3] = 0.0
+            return 0
+    # both slide: start from y if both its blocks are nonzero, else from the
+    # minimiser of the smooth part with each friction along its block of r
+    na = math.sqrt(y[0] * y[0] + y[1] * y[1])
+    nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
+    if na == 0.0 or nb == 0.0:
+        for i in range(4):
+            sc[4 + i] = r[i]
+        if ra > 0.0:
+            sc[4] -= c1 * r[0] / ra
+            sc[5] -= c1 * r[1] / ra
+        if rb > 0.0:
+            sc[6] -= c2 * r[2] / rb
+            sc[7] -= c2 * r[3] / rb
+        chol_solve(H, sc[4:8], y, sc[20:36])
+        na = math.sqrt(y[0] * y[0] + y[1] * y[1])
+        nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
+        if na == 0.0 or nb == 0.0:
+            # a start on a kink: the unconstrained minimiser
+            chol_solve(H, r, y, sc[20:36])
+    fy = socp_f(H, r, c1, c2, y)
+    its = 0
+    for it in range(60):
+        its = it + 1
+        na = math.sqrt(y[0] * y[0] + y[1] * y[1])
+        nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
+        # gradient and Hessian of the smooth objective
+        for i in range(4):
+            s = -r[i]
+            for j in range(4):
+                s += H[4 * i + j] * y[j]
+            sc[4 + i] = s
+        sc[4] += c1 * y[0] / na
+        sc[5] += c1 * y[1] / na
+        sc[6] += c2 * y[2] / nb
+        sc[7] += c2 * y[3] / nb
+        for i in range(16):
+            sc[40 + i] = H[i]
+        ka = c1 / (na * na * na)
+        kb = c2 / (nb * nb * nb)
+        sc[40] += ka * y[1] * y[1]
+        sc[41] -= ka * y[0] * y[1]
+        sc[44] -= ka * y[0] * y[1]
+        sc[45] += ka * y[0] * y[0]
+        sc[50] += kb * y[3] * y[3]
+        sc[51] -= kb * y[2] * y[3]
+        sc[54] -= kb * y[2] * y[3]
+        sc[55] += kb * y[2] * y[2]
+        chol_solve(sc[40:56], sc[4:8], sc[8:12], sc[20:36])
+        # damped: f must not rise (a full step can jump over a kink)
+        lam = 1.0
+        done = False
+        for ls in range(60):
+            for i in range(4):
+                sc[12 + i] = y[i] - lam * sc[8 + i]
+            fn = socp_f(H, r, c1, c2, sc[12:16])
+            if fn <= fy:
+                break
+            lam *= 0.5
+            if ls == 59:
+                done = True
+        if done:
+            break
+        st = 0.0
+        ny = 0.0
+        for i in range(4):
+            st += (sc[12 + i] - y[i]) * (sc[12 + i] - y[i])
+            ny += y[i] * y[i]
+            y[i] = sc[12 + i]
+        fy = fn
+        if st <= 1e-32 * ny:
+            break
+    return its
+
+
+def socp_f(H, r, c1, c2, y):
+    f = 0.0
+    for i in range(4):
+        s = 0.0
+        for j in range(4):
+            s += H[4 * i + j] * y[j]
+        f += y[i] * (0.5 * s - r[i])
+    return f + c1 * math.sqrt(y[0] * y[0] + y[1] * y[1]) + c2 * math.sqrt(y[2] * y[2] + y[3] * y[3])
+
+
+def kkt_residual(H, r, c1, c2, y):
+    """The optimality conditions of ``socp`` at y: g = r - H y must equal
+    c1 y_a / |y_a| on a sliding block a (|g_a| <= c1 on a stuck one), the
+    same for b. Returns the largest violation relative to max(c1, c2, |r|)."""
+    sc0 = 0.0
+    for i in range(4):
+        sc0 += r[i] * r[i]
+    scale = max(max(c1, c2), math.sqrt(sc0))
+    if scale == 0.0:
+        return 0.0
+    worst = 0.0
+    for blk in range(2):
+        c = c1 if blk == 0 else c2
+        i0 = 2 * blk
+        g0 = r[i0]
+        g1 = r[i0 + 1]
+        for j in range(4):
+            g0 -= H[4 * i0 + j] * y[j]
+            g1 -= H[4 * (i0 + 1) + j] * y[j]
+        n = math.sqrt(y[i0] * y[i0] + y[i0 + 1] * y[i0 + 1])
+        if n > 0.0:
+            e0 = g0 - c * y[i0] / n
+            e1 = g1 - c * y[i0 + 1] / n
+            v = math.sqrt(e0 * e0 + e1 * e1)
+        else:
+            v = math.sqrt(g0 * g0 + g1 * g1) - c
+            if v < 0.0:
+                v = 0.0
+        if v > worst:
+            worst = v
+    return worst / scale
+
+
+# -- normal forces -------------------------------------------------------------------------
+def normal_forces(par, q, v, agx, agy, az, Fx, Fy, N, sc):
+    """N1..N4 along the axes of the surfaces' centres (S1, S4: e(phi); S2, S3:
+    e(psi)) from the bodies' accelerations at the rates v (centripetal terms,
+    generalised accelerations left out as in the planar model), the ground's
+    d'Alembert force, gravity g + az and the machine's force (Fx, Fy) on the
+    superstructure; top down, clipped at 0. sc: scratch >= 12."""
+    gz = par[tk.I_G] + az
+    px, py = q[0], q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    vpx, vpy = v[0], v[1]
+    vsx, vsy = v[0] + v[2], v[1] + v[3]
+    # -D^2 e[v, v]: the acceleration of -e along the axis' turning
+    d2e(px, py, vpx, vpy, vpx, vpy, sc, 0)
+    d2e(sx, sy, vsx, vsy, vsx, vsy, sc, 3)
+    tp = px * px + py * py
+    ts = sx * sx + sy * sy
+    s_p, s_s = sfun(tp), sfun(ts)
+    ep0, ep1, ep2 = -s_p * px, -s_p * py, 1.0 - omc(tp)
+    es0, es1, es2 = -s_s * sx, -s_s * sy, 1.0 - omc(ts)
+    A, Li, Ms = par[tk.I_A], par[tk.I_LI], par[tk.I_MSUP]
+    # r = -a e(phi) - b e(psi): r'' = -a D2e(phi)[.] - b D2e(psi)[.]
+    bx = Ms * (agx - A * sc[0] - Li * sc[3]) - Fx
+    by = Ms * (agy - A * sc[1] - Li * sc[4]) - Fy
+    bz = Ms * (gz - A * sc[2] - Li * sc[5])
+    N[3] = bx * ep0 + by * ep1 + bz * ep2
+    a, b, m = par[tk.I_A_SU], Li, par[tk.I_MS_UP]
+    bx += m * (agx - a * sc[0] - b * sc[3])
+    by += m * (agy - a * sc[1] - b * sc[4])
+    bz += m * (gz - a * sc[2] - b * sc[5])
+    N[2] = bx * es0 + by * es1 + bz * es2
+    a, b, m = par[tk.I_A_PAD], par[tk.I_B_PAD], par[tk.I_MPAD]
+    bx += m * (agx - a * sc[0] - b * sc[3])
+    by += m * (agy - a * sc[1] - b * sc[4])
+    bz += m * (gz - a * sc[2] - b * sc[5])
+    N[1] = bx * es0 + by * es1 + bz * es2
+    a, m = par[tk.I_A_SL], par[tk.I_MS_LO]
+    bx += m * (agx - a * sc[0])
+    by += m * (agy - a * sc[1])
+    bz += m * (gz - a * sc[2])
+    N[0] = bx * ep0 + by * ep1 + bz * ep2
+    for i in range(4):
+        if N[i] < 0.0:
+            N[i] = 0.0
+
+
+# -- the step -----------------------------------------------------------------------------
+def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
+    """One step of the 3D rigid TFP. st = [phi(2), alpha(2), rates(4)] (updated).
+    agx, agy: mean ground acceleration over the step; az: vertical ground
+    acceleration (gravity g + az); c_o = mu1 N1 R1 + mu4 N4 R4, c_i = mu2 N2
+    R2 + mu3 N3 R3. out[O_*]: increment, input work, friction work per
+    coordinate (arrests included), iterations, KKT residual, failure flag.
+    sc: scratch of length N_SC."""
+    for i in range(N_OUT):
+        out[i] = 0.0
+    q0 = sc[100:104]
+    q1 = sc[104:108]
+    p0 = sc[108:112]
+    x = sc[112:116]
+    G = sc[116:120]
+    H = sc[120:136]
+    r = sc[136:140]
+    Hy = sc[140:156]
+    ry = sc[156:160]
+    y = sc[160:164]
+    Lm = sc[164:172]
+    tmp = sc[180:200]
+    for i in range(4):
+        q0[i] = st[i]
+    # p0 = M(q0) v0
+    mass_matrix(par, q0, H, tmp)
+    for i in range(4):
+        s = 0.0
+        for j in range(4):
+            s += H[4 * i + j] * st[4 + j]
+        p0[i] = s
+    # the arc metric of each block at the start of the step, and its inverse
+    metric_root(q0[0], q0[1], Lm, 0)
+    metric_root(q0[2], q0[3], Lm, 4)
+    for i in range(4):
+        x[i] = dt * st[4 + i]
+        y[i] = 0.0
+    it = 0
+    converged = False
+    nit = 0
+    ch = 0.0
+    qm = par[tk.I_QMAX_PHI]
+    while it < FIXED_POINT_ITERS:
+        it += 1
+        for i in range(4):
+            q1[i] = q0[i] + x[i]
+        dgrad(par, q0, q1, p0, agx, agy, az, G, sc)
+        mass_matrix(par, q1, H, tmp)
+        k = 2.0 / (dt * dt)
+        for i in range(16):
+            H[i] *= k
+        for i in range(4):
+            r[i] = 2.0 * p0[i] / dt + G[i]
+        # in y = L dq: H' = L^-1 H L^-1, r' = L^-1 r (L block-diagonal, symmetric)
+        _to_metric(H, r, Lm, Hy, ry, tmp)
+        nit += socp(Hy, ry, c_o, c_i, y, sc)
+        # dq = L^-1 y
+        for blk in range(2):
+            k0 = 4 * blk
+            l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
+            a0 = (l22 * y[2 * blk] - l12 * y[2 * blk + 1]) / det
+            a1 = (l11 * y[2 * blk + 1] - l12 * y[2 * blk]) / det
+            tmp[2 * blk] = a0
+            tmp[2 * blk + 1] = a1
+        ch = 0.0
+        for i in range(4):
+            ch += abs(tmp[i] - x[i])
+            x[i] = tmp[i]
+        if ch <= FIXED_POINT_TOL:
+            converged = True
+            break
+    if not converged and ch > 1e-12 * (1.0 + abs(x[0]) + abs(x[1]) + abs(x[2]) + abs(x[3])):
+        out[O_FAIL] = FAIL_FIXED_POINT
+    out[O_KKT] = kkt_residual(Hy, ry, c_o, c_i, y)
+    # the generalised force of friction Phi = r - H dq; p1 = p0 + dt (G - Phi)
+    for i in range(4):
+        q1[i] = q0[i] + x[i]
+    for i in range(4):
+        s = r[i]
+        for j in range(4):
+            s -= H[4 * i + j] * x[j]
+        tmp[i] = p0[i] + dt * (G[i] - s)          # p1
+    mass_matrix(par, q1, H, tmp[8:20])
+    chol_solve(H, tmp[0:4], tmp[4:8], sc[200:216])
+    for i in range(4):
+        st[4 + i] = tmp[4 + i]
+    for i in range(4):
+        st[i] = q1[i]
+    wo = c_o * math.sqrt(y[0] * y[0] + y[1] * y[1])
+    wi = c_i * math.sqrt(y[2] * y[2] + y[3] * y[3])
+    # the work of the ground (horizontal and vertical) on the relative motion
+    moments(par, q0, tmp, )
+    b0x, b0y, b0z = tmp[0], tmp[1], tmp[2]
+    moments(par, q1, tmp)
+    ein = -agx * (tmp[0] - b0x) - agy * (tmp[1] - b0y) - az * (tmp[2] - b0z)
+    # a block that stuck ends at rest: an impulse on it alone (the other keeps its momentum)
+    z1 = x[0] == 0.0 and x[1] == 0.0
+    z2 = x[2] == 0.0 and x[3] == 0.0
+    arr_o = 0.0
+    arr_i = 0.0
+    if z1 or z2:
+        K0 = kinetic(par, q1, st[4:8], tmp[8:20])
+        # p = M(q1) v
+        for i in range(4):
+            s = 0.0
+            for j in range(4):
+                s += H[4 * i + j] * st[4 + j]
+            tmp[i] = s
+        if z1:
+            # alpha's rates from p_alpha alone (M_aa w = p_a)
+            m11, m12, m22 = H[10], H[11], H[15]
+            det = m11 * m22 - m12 * m12
+            wa0 = (m22 * tmp[2] - m12 * tmp[3]) / det
+            wa1 = (m11 * tmp[3] - m12 * tmp[2]) / det
+            st[4] = 0.0
+            st[5] = 0.0
+            st[6] = wa0
+            st[7] = wa1
+            Ka = kinetic(par, q1, st[4:8], tmp[8:20])
+            arr_o = K0 - Ka
+            if z2:
+                st[6] = 0.0
+                st[7] = 0.0
+                arr_i = Ka
+        else:
+            m11, m12, m22 = H[0], H[1], H[5]
+            det = m11 * m22 - m12 * m12
+            wa0 = (m22 * tmp[0] - m12 * tmp[1]) / det
+            wa1 = (m11 * tmp[1] - m12 * tmp[0]) / det
+            st[4] = wa0
+            st[5] = wa1
+            st[6] = 0.0
+            st[7] = 0.0
+            arr_i = K0 - kinetic(par, q1, st[4:8], tmp[8:20])
+    for i in range(4):
+        out[O_DQ + i] = x[i]
+    out[O_EIN] = ein
+    out[O_WO] = wo + arr_o
+    out[O_WI] = wi + arr_i
+    out[O_ARR_O] = arr_o
+    out[O_ARR_I] = arr_i
+    out[O_ITER] = it
+    # a rim: the 3D model has no rim impacts yet
+    tp = st[0] * st[0] + st[1] * st[1]
+    ta = st[2] * st[2] + st[3] * st[3]
+    if tp > qm * qm or ta > par[tk.I_QMAX_ALPHA] * par[tk.I_QMAX_ALPHA]:
+        out[O_FAIL] = FAIL_RIM
+
+
+def _to_metric(H, r, Lm, Hy, ry, tmp):
+    """Hy = Li H Li, ry = Li r with Li = L^-1 (block-diagonal 2x2 blocks of Lm)."""
+    # Li as a dense 4x4 into tmp[0:16]
+    for i in range(16):
+        tmp[i] = 0.0
+    for blk in range(2):
+        k0 = 4 * blk
+        l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
+        i0 = 2 * blk
+        tmp[4 * i0 + i0] = l22 / det
+        tmp[4 * i0 + i0 + 1] = -l12 / det
+        tmp[4 * (i0 + 1) + i0] = -l12 / det
+        tmp[4 * (i0 + 1) + i0 + 1] = l11 / det
+    for i in range(4):
+        s = 0.0
+        for j in range(4):
+            s += tmp[4 * i + j] * r[j]
+        ry[i] = s
+    for i in range(4):
+        for j in range(4):
+            s = 0.0
+            for a in range(4):
+                la = tmp[4 * i + a]
+                if la == 0.0:
+                    continue
+                for b in range(4):
+                    lb = tmp[4 * b + j]
+                    if lb == 0.0:
+                        continue
+                    s += la * H[4 * a + b] * lb
+            Hy[4 * i + j] = s
+
+
+# -- the whole step of the stepper ---------------------------------------------------------
+def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, out, sc):
+    """One step on the state vector S (layout S_*): normal forces at the start
+    of the step, caps, ``step``, the friction work of each surface (a
+    coordinate's shared by its two surfaces as their caps), the bearing's
+    force, phase, regime, sliding flags and speeds. Returns the failure flag."""
+    N = S[S_N:S_N + 4]
+    normal_forces(par, S[0:4], S[4:8], agx, agy, az, 0.0, 0.0, N, sc[200:220])
+    R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
+    a1 = mu1 * N[0] * R1
+    a4 = mu4 * N[3] * R4
+    a2 = mu2 * N[1] * R2
+    a3 = mu3 * N[2] * R3
+    c_o = a1 + a4
+    c_i = a2 + a3
+    # the superstructure's velocity at the start
+    u_dot(par, S[0:4], S[4:8], sc, 220)
+    ux0, uy0 = sc[220], sc[221]
+    step(par, S[0:8], dt, agx, agy, az, c_o, c_i, out, sc)
+    fail = int(out[O_FAIL])
+    S[S_ITER] = out[O_ITER]
+    S[S_KKT] = out[O_KKT]
+    wo = out[O_WO]
+    wi = out[O_WI]
+    fo = a1 / c_o if c_o > 0.0 else 0.5
+    fi = a2 / c_i if c_i > 0.0 else 0.5
+    S[S_DW] = fo * wo
+    S[S_DW + 1] = fi * wi
+    S[S_DW + 2] = (1.0 - fi) * wi
+    S[S_DW + 3] = (1.0 - fo) * wo
+    for i in range(4):
+        S[S_W + i] += S[S_DW + i]
+    S[S_EIN] += out[O_EIN]
+    u_dot(par, S[0:4], S[4:8], sc, 220)
+    Ms = par[tk.I_MSUP]
+    S[S_F] = -Ms * (agx + (sc[220] - ux0) / dt)
+    S[S_F + 1] = -Ms * (agy + (sc[221] - uy0) / dt)
+    dp = math.sqrt(out[O_DQ] * out[O_DQ] + out[O_DQ + 1] * out[O_DQ + 1])
+    da = math.sqrt(out[O_DQ + 2] * out[O_DQ + 2] + out[O_DQ + 3] * out[O_DQ + 3])
+    so = 1.0 if dp != 0.0 else 0.0
+    si = 1.0 if da != 0.0 else 0.0
+    S[S_SLIDE] = so
+    S[S_SLIDE + 1] = si
+    S[S_SLIDE + 2] = si
+    S[S_SLIDE + 3] = so
+    if so != 0.0 and si != 0.0:
+        S[S_PHASE] = tk.PHASE_BOTH
+        S[S_REG] = 6.0
+    elif so != 0.0:
+        S[S_PHASE] = tk.PHASE_OUTER
+        S[S_REG] = 3.0
+    elif si != 0.0:
+        S[S_PHASE] = tk.PHASE_INNER
+        S[S_REG] = 1.0
+    else:
+        S[S_PHASE] = tk.PHASE_STICK
+        S[S_REG] = 0.0
+    # slip speeds: the arcs slid (wo / c_o = |L dphi|)
+    lo_ = wo - out[O_ARR_O]
+    li_ = wi - out[O_ARR_I]
+    ao = lo_ / c_o if c_o > 0.0 else dp
+    ai = li_ / c_i if c_i > 0.0 else da
+    S[S_SV] = R1 * ao / dt
+    S[S_SV + 1] = R2 * ai / dt
+    S[S_SV + 2] = R3 * ai / dt
+    S[S_SV + 3] = R4 * ao / dt
+    return fail
+
+
+def row_values(par, S, t, xg, yg, row, sc):
+    """The stepper's columns (mechanics.tfp3d.COLUMNS) into row[0:N_ROW]."""
+    q = S[0:4]
+    v = S[4:8]
+    R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
+    u_rel(par, q, sc)
+    ux, uy, z = sc[0], sc[1], sc[2]
+    u_dot(par, q, v, sc, 10)
+    vx, vy = sc[10], sc[11]
+    Fx, Fy = S[S_F], S[S_F + 1]
+    row[0] = t
+    row[1] = xg
+    row[2] = yg
+    row[3] = ux
+    row[4] = uy
+    row[5] = math.sqrt(ux * ux + uy * uy)
+    row[6] = vx
+    row[7] = vy
+    row[8] = math.sqrt(vx * vx + vy * vy)
+    row[9] = Fx
+    row[10] = Fy
+    row[11] = math.sqrt(Fx * Fx + Fy * Fy)
+    row[12] = z
+    phi = math.sqrt(q[0] * q[0] + q[1] * q[1])
+    al = math.sqrt(q[2] * q[2] + q[3] * q[3])
+    psx, psy = q[0] + q[2], q[1] + q[3]
+    row[13] = math.sqrt(psx * psx + psy * psy)
+    row[14] = q[0]
+    row[15] = q[1]
+    row[16] = phi
+    row[17] = q[2]
+    row[18] = q[3]
+    row[19] = al
+    # slides (footprint offsets on the lower parts; the upper parts' are their negatives)
+    rr = (R1, R2, R3, R4)
+    for i in range(4):
+        Ri = rr[i]
+        if i == 0 or i == 3:
+            row[20 + 3 * i] = Ri * q[0]
+            row[21 + 3 * i] = Ri * q[1]
+            row[22 + 3 * i] = Ri * phi
+        else:
+            row[20 + 3 * i] = Ri * q[2]
+            row[21 + 3 * i] = Ri * q[3]
+            row[22 + 3 * i] = Ri * al
+    for i in range(4):
+        row[32 + i] = S[S_N + i]
+        row[36 + i] = S[S_W + i]
+    row[40] = S[S_PHASE]
+    row[41] = S[S_EIN]
+    row[42] = kinetic(par, q, v, sc)
+    row[43] = potential(par, q)
+    row[44] = S[S_ERIM]
+    row[45] = S[S_REG]
+    for i in range(4):
+        row[46 + i] = S[S_SLIDE + i]
+    for i in range(4):
+        row[50 + i] = 0.0          # rim flags (rims stop the run: none reached)
+    row[54] = 0.0                  # J_rim_Ns
+    for i in range(4):
+        row[55 + i] = 0.0          # n_rim
+    # footprint centres on the four heated parts
+    for i in range(4):
+        sg = 1.0 if i < 2 else -1.0
+        row[59 + 2 * i] = sg * row[20 + 3 * i]
+        row[60 + 2 * i] = sg * row[21 + 3 * i]
+    row[67] = S[S_ITER]
+    row[68] = S[S_KKT]
+    for i in range(4):
+        row[69 + i] = S[S_SV + i]
+    row[73] = q[0] + q[2]
+    row[74] = q[1] + q[3]
