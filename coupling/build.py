@@ -383,6 +383,9 @@ def build_tfp(scene: Scene) -> Simulation:
 
     dt = scene["solver"]["dt"]
     geom = tfp_geometry(scene.data)
+    from fpd.schema.scene import is_bidirectional
+    if is_bidirectional(scene.data):
+        return _build_tfp3d(scene, dt, geom)
     loading = loading_of(scene, dt)
     mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"])
     dev = scene["device"]
@@ -398,6 +401,42 @@ def build_tfp(scene: Scene) -> Simulation:
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made
     return sim
+
+
+def _tfp_parts(scene: Scene, dt: float):
+    dev = scene["device"]
+    feet = (dev["slider_diameter"] / 2, dev["pad_diameter"] / 2, dev["pad_diameter"] / 2, dev["slider_diameter"] / 2)
+    pp = tuple(PlateParams(**scene.thermal(part), a_contact_m=a) for part, a in zip(TFP_PARTS, feet))
+    sub = scene["coupling"]["substeps"]
+    plates = tuple(make_plate(p, dt / sub) for p in pp)
+    laws = tuple(make_law(scene.friction(s)) for s in TFP_SURFACES)
+    return pp, plates, laws, sub
+
+
+def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
+    """The TFP in both horizontal directions (mechanics/tfp3d.py): a record pair or a turned record."""
+    from fpd.mechanics.tfp3d import TFP3DStepper
+
+    ld = scene["loading"]
+    gx, gy = bidirectional_loading_of(scene, dt)
+    mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps))
+    pp, plates, laws, sub = _tfp_parts(scene, dt)
+    info = {"device": "TFP", "capacity_m": geom.capacity}
+    for comp, g in (("record", gx), ("record_y", gy)):
+        if g is not None and hasattr(g, "record"):
+            info[comp] = _record_info(g, ld, gx)
+    if "record" in info:
+        info["record"]["angle_deg"] = ld["angle_deg"]
+    return Simulation(scene, dt, gx.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
+
+
+def _tfp3d_kernel(n_steps: int):
+    """The compiled step of the TFP in both directions past a few hundred steps
+    (its Python step costs ~6 ms), when numba is there; else the pure one."""
+    from fpd import kernels
+    if n_steps >= 500 and kernels.available():
+        return kernels.compiled("fpd.mechanics.tfp3d_kernel")
+    return None
 
 
 def build_flat(scene: Scene) -> Simulation:

@@ -1210,7 +1210,10 @@ def planar_only(ctx, data, device: str) -> None:
 
 
 def tfp_cross_checks(ctx, data) -> None:
-    planar_only(ctx, data, "TFP")
+    if is_bidirectional(data):
+        tfp3d_checks(ctx, data)
+    else:
+        planar_only(ctx, data, "TFP")
     from fpd.mechanics.tfp import tfp_geometry_errors
 
     geom = tfp_geometry(data)
@@ -1237,6 +1240,40 @@ def tfp_cross_checks(ctx, data) -> None:
             if first < 1e-9:
                 ctx.fail(f"{where}.{n_key}", n, f"with grading = {g:g} the first element is {first:.1e} of the "
                          "thickness (< 1e-9): lower the grading or the element count")
+
+
+def tfp3d_checks(ctx, data) -> None:
+    """The TFP in both horizontal directions (mechanics/tfp3d.py): a record pair
+    or a turned record, seated, heat lumped, fe1d or fe3d along 2D footprint
+    paths; what it does not do yet is refused in one line naming it."""
+    ld, mech = data["loading"], data["mechanics"]
+    if ld["kind"] == "displacement":
+        ctx.fail("loading.waveform" if ld.get("waveform", "sine") != "sine" else "loading.direction_deg",
+                 ld.get("waveform") if ld.get("waveform", "sine") != "sine" else ld.get("direction_deg"),
+                 "not yet for the TFP: its test machine is planar (a sine with direction_deg = 0); "
+                 "in both directions the TFP takes ground-motion pairs")
+        return
+    if mech["model"] != "seated":
+        ctx.fail("mechanics.model", mech["model"], 'must be "seated" for the TFP in both directions: '
+                 "its two-phase model (phases in the plane of each step) is not built yet")
+    if ld.get("file_z") is not None:
+        ctx.fail("loading.file_z", ld["file_z"], "not yet for the TFP in both directions: "
+                 "its stepper takes the vertical acceleration, the loading does not pass it yet")
+    if ld.get("channels") is not None and ld["channels"][2]:
+        ctx.fail("loading.channels", [c for c in ld["channels"] if c], "must not name a vertical channel: "
+                 "not yet for the TFP in both directions (no vertical ground motion)")
+    if mech.get("normal_force") not in (None, "start"):
+        ctx.fail("mechanics.normal_force", mech["normal_force"], "is a key of the DFP steppers")
+    if data["output"]["vtk_every"] > 0:
+        ctx.fail("output.vtk_every", data["output"]["vtk_every"],
+                 "must be 0 for the TFP in both directions (its VTK drawing is planar in this version)")
+    if data["coupling"]["substeps"] > 1:
+        ctx.fail("coupling.substeps", data["coupling"]["substeps"],
+                 "must be 1 for a bidirectional run (thermal sub-steps interpolate a 1D footprint path)")
+    for part, t in data["thermal"].items():
+        if t["model"] == "axisym":
+            ctx.fail(f"thermal.{part}.model", "axisym", "the axisymmetric plate cannot take the 2D footprint "
+                     'path of a bidirectional run: use "fe1d", "fe3d", "lumped" or "none"')
 
 
 def flat_device(ctx, data, raw) -> None:
