@@ -167,7 +167,8 @@ def mass_matrix(par, q, M, sc):
 
 
 def chol_solve(A, b, x, L):
-    """x = A^-1 b for the symmetric positive definite 4x4 A (row-major); L: scratch 16."""
+    """x = A^-1 b for the symmetric positive definite 4x4 A (row-major); L: scratch 16.
+    Returns 1 (x not set) if A is not positive definite to round-off, else 0."""
     n = 4
     for i in range(n):
         for j in range(i + 1):
@@ -175,6 +176,8 @@ def chol_solve(A, b, x, L):
             for k in range(j):
                 s -= L[4 * i + k] * L[4 * j + k]
             if i == j:
+                if not s > 0.0:
+                    return 1
                 L[4 * i + i] = math.sqrt(s)
             else:
                 L[4 * i + j] = s / L[4 * j + j]
@@ -188,6 +191,7 @@ def chol_solve(A, b, x, L):
         for k in range(i + 1, n):
             s -= L[4 * k + i] * x[k]
         x[i] = s / L[4 * i + i]
+    return 0
 
 
 def kinetic(par, q, v, sc):
@@ -325,12 +329,12 @@ def dgrad(par, q0, q1, p, agx, agy, az, G, sc):
 def metric_root(vx, vy, o, k):
     """L(v) = s I + (1 - s) v v^T / |v|^2 (the arc metric's square root, symmetric)
     into o[k:k+4] = (L11, L12, L22, det)."""
+    # L = I - l (t I - v v^T), l = (1 - s) / t: exactly the identity along v
     t = vx * vx + vy * vy
-    s = sfun(t)
     l = lfun(t)
-    o[k] = s + l * vx * vx
+    o[k] = 1.0 - l * vy * vy
     o[k + 1] = l * vx * vy
-    o[k + 2] = s + l * vy * vy
+    o[k + 2] = 1.0 - l * vx * vx
     o[k + 3] = o[k] * o[k + 2] - o[k + 1] * o[k + 1]
 
 
@@ -430,31 +434,23 @@ def socp(H, r, c1, c2, y, sc):
             y[2] = 0.0
             y[3] = 0.0
             return 0
-    # both slide: start from y if both its blocks are nonzero, else from the
-    # minimiser of the smooth part with each friction along its block of r
+    # both slide: start from y if both its blocks are nonzero (the fixed
+    # point's previous iterate), else from a few exact block sweeps
     na = math.sqrt(y[0] * y[0] + y[1] * y[1])
     nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
     if na == 0.0 or nb == 0.0:
         for i in range(4):
-            sc[4 + i] = r[i]
-        if ra > 0.0:
-            sc[4] -= c1 * r[0] / ra
-            sc[5] -= c1 * r[1] / ra
-        if rb > 0.0:
-            sc[6] -= c2 * r[2] / rb
-            sc[7] -= c2 * r[3] / rb
-        chol_solve(H, sc[4:8], y, sc[20:36])
-        na = math.sqrt(y[0] * y[0] + y[1] * y[1])
-        nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
-        if na == 0.0 or nb == 0.0:
-            # a start on a kink: the unconstrained minimiser
-            chol_solve(H, r, y, sc[20:36])
-    fy = socp_f(H, r, c1, c2, y)
+            y[i] = 0.0
+        _sweeps(H, r, c1, c2, y, sc, 4, 0.0)
     its = 0
+    ok = False
+    fy = socp_f(H, r, c1, c2, y)
     for it in range(60):
         its = it + 1
         na = math.sqrt(y[0] * y[0] + y[1] * y[1])
         nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
+        if na == 0.0 or nb == 0.0:
+            break
         # gradient and Hessian of the smooth objective
         for i in range(4):
             s = -r[i]
@@ -477,31 +473,66 @@ def socp(H, r, c1, c2, y, sc):
         sc[51] -= kb * y[2] * y[3]
         sc[54] -= kb * y[2] * y[3]
         sc[55] += kb * y[2] * y[2]
-        chol_solve(sc[40:56], sc[4:8], sc[8:12], sc[20:36])
-        # damped: f must not rise (a full step can jump over a kink)
-        lam = 1.0
-        done = False
-        for ls in range(60):
-            for i in range(4):
-                sc[12 + i] = y[i] - lam * sc[8 + i]
-            fn = socp_f(H, r, c1, c2, sc[12:16])
-            if fn <= fy:
-                break
-            lam *= 0.5
-            if ls == 59:
-                done = True
-        if done:
+        if chol_solve(sc[40:56], sc[4:8], sc[8:12], sc[20:36]) != 0:
             break
-        st = 0.0
+        nd = 0.0
         ny = 0.0
         for i in range(4):
-            st += (sc[12 + i] - y[i]) * (sc[12 + i] - y[i])
+            nd += sc[8 + i] * sc[8 + i]
             ny += y[i] * y[i]
-            y[i] = sc[12 + i]
-        fy = fn
-        if st <= 1e-32 * ny:
+        na2 = sc[8] * sc[8] + sc[9] * sc[9]
+        nb2 = sc[10] * sc[10] + sc[11] * sc[11]
+        # near the solution (the step small against each block) Newton's full
+        # step, to round-off; else damped: f may not rise and no block may
+        # lose more than half its length (the kink at 0 is not the model's)
+        lam = 1.0
+        if na2 > 1e-12 * na * na or nb2 > 1e-12 * nb * nb:
+            for ls in range(60):
+                for i in range(4):
+                    sc[12 + i] = y[i] - lam * sc[8 + i]
+                fn = socp_f(H, r, c1, c2, sc[12:16])
+                ta = sc[12] * sc[12] + sc[13] * sc[13]
+                tb = sc[14] * sc[14] + sc[15] * sc[15]
+                if fn <= fy and ta >= 0.25 * na * na and tb >= 0.25 * nb * nb:
+                    break
+                lam *= 0.5
+        for i in range(4):
+            y[i] -= lam * sc[8 + i]
+        fy = socp_f(H, r, c1, c2, y)
+        if nd <= 1e-30 * ny:
+            ok = True
             break
+    if not ok:
+        # Newton did not settle: exact block sweeps (each block's 2D problem
+        # with the other held) converge for any strictly convex H, slowly
+        _sweeps(H, r, c1, c2, y, sc, 200000, 1e-32)
+        its += 1000
     return its
+
+
+def _sweeps(H, r, c1, c2, y, sc, n, tol):
+    """Block coordinate descent: each block the exact minimiser (block_min)
+    with the other held; n sweeps at most, until the squared change is below
+    tol |y|^2."""
+    for k in range(n):
+        ch = 0.0
+        for blk in range(2):
+            i0 = 2 * blk
+            o0 = 2 - i0
+            c = c1 if blk == 0 else c2
+            b0 = r[i0] - H[4 * i0 + o0] * y[o0] - H[4 * i0 + o0 + 1] * y[o0 + 1]
+            b1 = r[i0 + 1] - H[4 * (i0 + 1) + o0] * y[o0] - H[4 * (i0 + 1) + o0 + 1] * y[o0 + 1]
+            if b0 * b0 + b1 * b1 <= c * c:
+                sc[0] = 0.0
+                sc[1] = 0.0
+            else:
+                block_min(H[4 * i0 + i0], H[4 * i0 + i0 + 1], H[4 * (i0 + 1) + i0 + 1], b0, b1, c, sc[0:2])
+            ch += (sc[0] - y[i0]) * (sc[0] - y[i0]) + (sc[1] - y[i0 + 1]) * (sc[1] - y[i0 + 1])
+            y[i0] = sc[0]
+            y[i0 + 1] = sc[1]
+        ny = y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]
+        if ch <= tol * ny:
+            break
 
 
 def socp_f(H, r, c1, c2, y):
