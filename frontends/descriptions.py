@@ -350,12 +350,12 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "z_m": ("m", "Uplift of the superstructure."),
     "theta_rad": ("rad", "Seated angle of the line joining the centres of the two surfaces (bidirectional: "
                          "the tilt of that line from the vertical, >= 0, in the direction phi_rad; a TFP: the "
-                         "pad axis C2C3, psi = phi_rad + alpha_rad)."),
+                         "pad axis C2C3, psi = phi_rad + alpha_rad; in both directions |phi + alpha|)."),
     "phi_rad": ("rad", "Bidirectional: azimuth of the tilt, atan2 of the axis C1C2's horizontal components "
                        "(the direction of u_m without the rocking offset, from x towards y). A TFP: the outer coordinate phi, the angle both slider plates have turned about "
-                       "the outer centres (S1 slides R1 phi, S4 R4 phi)."),
+                       "the outer centres (S1 slides R1 phi, S4 R4 phi); in both directions the length of the tilt vector, |phi|)."),
     "alpha_rad": ("rad", "TFP: the inner coordinate alpha, the pad's rotation relative to the slider plates "
-                         "(S2 slides R2 alpha, S3 R3 alpha)."),
+                         "(S2 slides R2 alpha, S3 R3 alpha); in both directions the length of the tilt vector, |alpha|)."),
     "beta_rad": ("rad", "Pad rotation about its pivot (rocking), = beta1_rad."),
     "s1_m": ("m", "Footprint centre on the lower plate (arc from the plate centre; bidirectional: its distance "
                   "R1 theta from the centre, >= 0; a TFP: R1 phi, the slider on S1; the flat bearing: the "
@@ -363,14 +363,40 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "s2_m": ("m", "Footprint centre on the upper plate (arc from the plate centre; bidirectional: its distance "
                   "R2 theta, >= 0; a TFP: R2 alpha, the pad on S2 of the lower slider plate; the flat bearing: "
                   "the superstructure's slip on the pad, u_m = s1_m + s2_m)."),
-    "s3_m": ("m", "TFP: R3 alpha, the pad's position on S3 of the upper slider plate (arc from its centre)."),
+    "s3_m": ("m", "TFP: R3 alpha, the pad's position on S3 of the upper slider plate (arc from its centre; in both "
+                  "directions its length R3 |alpha|)."),
     "s4_m": ("m", "TFP: R4 phi, the upper slider plate's position on S4 of the upper plate (arc from its "
-                  "centre)."),
+                  "centre; in both directions its length R4 |phi|)."),
     "c1x_m": ("m", "Bidirectional: x of the footprint centre on the lower plate, R1 theta cos(phi) from the "
-                   "plate centre."),
+                   "plate centre (a TFP in both directions: on the lower plate, R1 phi_x)."),
     "c1y_m": ("m", "Bidirectional: y of the footprint centre on the lower plate, R1 theta sin(phi)."),
-    "c2x_m": ("m", "Bidirectional: x of the footprint centre on the upper plate, -R2 theta cos(phi)."),
+    "c2x_m": ("m", "Bidirectional: x of the footprint centre on the upper plate, -R2 theta cos(phi) (a TFP in "
+                   "both directions: on the lower slider plate, R2 alpha_x)."),
     "c2y_m": ("m", "Bidirectional: y of the footprint centre on the upper plate, -R2 theta sin(phi)."),
+    "phix_rad": ("rad", "TFP in both directions (docs/model.md 6.8): x component of the stack's tilt vector "
+                        "phi (both slider plates about C1; S1 and S4 slide R1 phi, R4 phi)."),
+    "phiy_rad": ("rad", "TFP in both directions: y component of the stack's tilt vector phi."),
+    "alphax_rad": ("rad", "TFP in both directions: x component of the pad's tilt vector alpha relative to the "
+                          "slider plates (S2 and S3 slide R2 alpha, R3 alpha)."),
+    "alphay_rad": ("rad", "TFP in both directions: y component of the pad's relative tilt vector alpha."),
+    "s1x_m": ("m", "TFP in both directions: x component of the slide on S1, R1 phi_x (s1_m its length)."),
+    "s1y_m": ("m", "TFP in both directions: y component of the slide on S1, R1 phi_y."),
+    "s2x_m": ("m", "TFP in both directions: x component of the slide on S2, R2 alpha_x."),
+    "s2y_m": ("m", "TFP in both directions: y component of the slide on S2, R2 alpha_y."),
+    "s3x_m": ("m", "TFP in both directions: x component of the slide on S3, R3 alpha_x."),
+    "s3y_m": ("m", "TFP in both directions: y component of the slide on S3, R3 alpha_y."),
+    "s4x_m": ("m", "TFP in both directions: x component of the slide on S4, R4 phi_x."),
+    "s4y_m": ("m", "TFP in both directions: y component of the slide on S4, R4 phi_y."),
+    "c3x_m": ("m", "TFP in both directions: x of the pad's footprint centre on the upper slider plate "
+                   "(S3), -R3 alpha_x from its centre."),
+    "c3y_m": ("m", "TFP in both directions: y of the footprint centre on the upper slider plate, -R3 alpha_y."),
+    "c4x_m": ("m", "TFP in both directions: x of the upper slider plate's footprint centre on the upper "
+                   "plate (S4), -R4 phi_x."),
+    "c4y_m": ("m", "TFP in both directions: y of the footprint centre on the upper plate, -R4 phi_y."),
+    "fp_iterations": ("", "TFP in both directions: iterations of the step's fixed point on q(t_n+1)."),
+    "kkt_rel": ("", "TFP in both directions: the largest violation of the optimality conditions of the "
+                    "step's cone program at its solution, relative to the larger of its friction caps and "
+                    "|r| (round-off: ~1e-16; docs/model.md 6.8)."),
     "N1_N": ("N", "Normal force on the lower interface (a TFP: on S1, along the axis through its centre, at the "
                   "start of the step)."),
     "N2_N": ("N", "Normal force on the upper interface (a TFP: on S2)."),

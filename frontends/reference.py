@@ -90,6 +90,7 @@ COLUMN_SOURCES = (
     "fpd.mechanics.bidirectional:VERTICAL_COLUMNS",
     "fpd.mechanics.tfp:COLUMNS",
     "fpd.mechanics.tfp:TWO_PHASE_COLUMNS",
+    "fpd.mechanics.tfp3d:COLUMNS",
     "fpd.mechanics.flat:COLUMNS",
 )
 

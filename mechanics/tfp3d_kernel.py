@@ -58,7 +58,7 @@ N_SC = 400              # scratch length
 GL_X0, GL_X1 = 0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563
 GL_W0, GL_W1 = 0.5 * 0.3478548451374538, 0.5 * 0.6521451548625461
 
-N_ROW = 75          # len(mechanics.tfp3d.COLUMNS)
+N_ROW = 69          # len(mechanics.tfp3d.COLUMNS)
 
 
 # -- series in t = |v|^2 (every TFP tilt is well below 1 rad; exact to round-off for t < 4) --
@@ -943,7 +943,3 @@ def row_values(par, S, t, xg, yg, row, sc):
         row[60 + 2 * i] = sg * row[21 + 3 * i]
     row[67] = S[S_ITER]
     row[68] = S[S_KKT]
-    for i in range(4):
-        row[69 + i] = S[S_SV + i]
-    row[73] = q[0] + q[2]
-    row[74] = q[1] + q[3]

@@ -117,6 +117,9 @@ def test_planar_columns_are_signed():
     ("ferndale-3c", ["solver.duration=3", "loading.channels=[1, 2]", "loading.baseline=false",
                      f'loading.file_z="{PULSE}"']),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
+    # the TFP in both directions: a record pair, fe1d on the four parts along 2D footprint paths
+    ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=6",
+                      "solver.dt=2e-3"]),
     ("flat-lab", []),
     ("flat-lab", ["thermal.model=lumped"]),
     ("lab-sine", []),
