@@ -418,7 +418,9 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     from fpd.mechanics.tfp3d import TFP3DStepper
 
     ld = scene["loading"]
-    gx, gy = bidirectional_loading_of(scene, dt)
+    loading = bidirectional_loading_of(scene, dt)
+    # an orbit (or a turned sine) on the test machine, or a ground-motion pair
+    gx, gy = (loading, None) if ld["kind"] == "displacement" else loading
     mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps))
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}

@@ -3,8 +3,10 @@ coupled engine sees it: the device interface of mechanics/dev_two_phase.py,
 four interfaces S1..S4 (lower plate, lower slider plate, upper slider plate,
 upper plate), footprint centres in 2D.
 
-L = (ax, ay, az, xg, yg, sc): the ground acceleration per step (x, y,
-vertical), the ground position per row (x, y) and the rows' scratch;
+L = (ax, ay, az, xg, yg, sc, ux, uy, udx, udy, mach): the ground (a test
+machine: the lower plate's) acceleration per step (x, y, vertical), its
+position per row (x, y), the rows' scratch, the machine's programme u, u'
+per grid point (zeros for a ground motion) and mach[0] = 1 for the machine;
 X = (out, sc): the step's output and scratch (the stepper's own arrays).
 """
 from fpd.mechanics import tfp3d_kernel as k3
@@ -33,7 +35,8 @@ def centre(C, S, i):
 
 
 def step(C, S, L, X, n, dt, mu, dW):
-    fail = k3.advance(C, S, dt, L[0][n - 1], L[1][n - 1], L[2][n - 1], mu[0], mu[1], mu[2], mu[3], X[0], X[1])
+    fail = k3.advance(C, S, dt, L[0][n - 1], L[1][n - 1], L[2][n - 1], mu[0], mu[1], mu[2], mu[3],
+                      int(L[10][0]), L[6][n], L[7][n], L[8][n], L[9][n], X[0], X[1])
     for i in range(4):
         dW[i] = S[k3.S_DW + i]
     return fail

@@ -53,15 +53,26 @@ class TFP3DStepper:
         self.k = kernel if kernel is not None else K
         self.dt = gx.dt
         self.n_steps = gx.n_steps
-        self.machine = False
-        self._ax = float_array(gx.a_step)
-        self._xg = float_array(gx.d)
-        if gy is not None:
-            self._ay = float_array(gy.a_step)
-            self._yg = float_array(gy.d)
+        # the test machine (an OrbitProgramme: u, u' per grid point, (n + 1, 2)):
+        # the lower plate moves by -u, the superstructure is held
+        self.machine = np.ndim(getattr(gx, "u", None)) == 2
+        if self.machine:
+            U, UD = np.asarray(gx.u, dtype=float), np.asarray(gx.ud, dtype=float)
+            self._ux, self._uy = float_array(U[:, 0]), float_array(U[:, 1])
+            self._udx, self._udy = float_array(UD[:, 0]), float_array(UD[:, 1])
+            self._ax = float_array(-np.diff(UD[:, 0]) / gx.dt)
+            self._ay = float_array(-np.diff(UD[:, 1]) / gx.dt)
+            self._xg, self._yg = float_array(-U[:, 0]), float_array(-U[:, 1])
         else:
-            self._ay = np.zeros_like(self._ax)
-            self._yg = np.zeros_like(self._xg)
+            self._ax = float_array(gx.a_step)
+            self._xg = float_array(gx.d)
+            if gy is not None:
+                self._ay = float_array(gy.a_step)
+                self._yg = float_array(gy.d)
+            else:
+                self._ay = np.zeros_like(self._ax)
+                self._yg = np.zeros_like(self._xg)
+            self._ux = self._uy = self._udx = self._udy = np.zeros_like(self._xg)
         self._az = np.zeros_like(self._ax) if az is None else float_array(az)
         self.par = geom.pack()
         self.S = np.zeros(K.N_S)
@@ -71,7 +82,25 @@ class TFP3DStepper:
         self._row = np.zeros(K.N_ROW)
         self.n = 0
         self.t = 0.0
+        if self.machine:
+            self._place(float(self._ux[0]), float(self._uy[0]), float(self._udx[0]), float(self._udy[0]))
         K.normal_forces(self.par, self.S[0:4], self.S[4:8], 0.0, 0.0, 0.0, 0.0, 0.0, self.N, self._sc)
+
+    def _place(self, ux, uy, vx, vy) -> None:
+        """The machine places the bearing at u(0) and launches it at u'(0) on
+        the inner surfaces (the stack seated, phi = 0: the pad's tilt with
+        L_i sin|alpha| = |u|); the potential and kinetic energy it gives are input."""
+        um = float(np.hypot(ux, uy))
+        if um >= self.geom.Li:
+            raise TFP3DFailure(f"the machine's start |u(0)| = {um:g} m is beyond the inner surfaces' reach")
+        if um > 0.0:
+            a = float(np.arcsin(um / self.geom.Li))
+            self.S[2], self.S[3] = a * ux / um, a * uy / um
+        C = np.zeros(8)
+        K.grad_u(self.par, self.S[0:4], C)
+        Ca = np.array([[C[4], C[6]], [C[5], C[7]]])        # du / dalpha
+        self.S[6:8] = np.linalg.solve(Ca, [vx, vy])
+        self.S[K.S_EIN] = self.E_kin() + self.E_pot()
 
     # -- accessors the loop and outputs use ------------------------------------------------
     @property
@@ -137,7 +166,8 @@ class TFP3DStepper:
         step's output and scratch."""
         from .ground_motion import as_float64
         L = (as_float64(self._ax), as_float64(self._ay), as_float64(self._az), as_float64(self._xg),
-             as_float64(self._yg), np.zeros(K.N_SC))
+             as_float64(self._yg), np.zeros(K.N_SC), as_float64(self._ux), as_float64(self._uy),
+             as_float64(self._udx), as_float64(self._udy), np.array([1.0 if self.machine else 0.0]))
         return (self.par, self.S, L, (self.out, self._sc))
 
     def engine_pull(self, S) -> None:
@@ -150,7 +180,11 @@ class TFP3DStepper:
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
         n = self.n
         fail = self.k.advance(self.par, self.S, self.dt, self._ax[n], self._ay[n], self._az[n],
-                              mu1, mu2, mu3, mu4, self.out, self._sc)
+                              mu1, mu2, mu3, mu4, 1 if self.machine else 0, self._ux[n + 1], self._uy[n + 1],
+                              self._udx[n + 1], self._udy[n + 1], self.out, self._sc)
+        if fail == K.FAIL_CAPACITY:
+            raise TFP3DFailure("the test machine's force did not make the bearing follow the orbit "
+                               "(Newton on the machine's force did not converge; lower solver.dt)")
         if fail == K.FAIL_RIM:
             raise TFP3DFailure("a surface reached its rim: rim impacts of the TFP in both directions are not "
                                "modelled yet (the planar TFP has them)")

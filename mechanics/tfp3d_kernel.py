@@ -52,7 +52,7 @@ FAIL_NONE, FAIL_FIXED_POINT, FAIL_RIM, FAIL_CAPACITY = 0, 2, 4, 1
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
-N_SC = 400              # scratch length
+N_SC = 420              # scratch length
 
 # Gauss-Legendre, 4 points on [0, 1]
 GL_X0, GL_X1 = 0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563
@@ -625,13 +625,17 @@ def normal_forces(par, q, v, agx, agy, az, Fx, Fy, N, sc):
 
 
 # -- the step -----------------------------------------------------------------------------
-def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
+def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc):
     """One step of the 3D rigid TFP. st = [phi(2), alpha(2), rates(4)] (updated).
     agx, agy: mean ground acceleration over the step; az: vertical ground
     acceleration (gravity g + az); c_o = mu1 N1 R1 + mu4 N4 R4, c_i = mu2 N2
-    R2 + mu3 N3 R3. out[O_*]: increment, input work, friction work per
-    coordinate (arrests included), iterations, KKT residual, failure flag.
-    sc: scratch of length N_SC."""
+    R2 + mu3 N3 R3. machine = 1: the superstructure's displacement relative
+    to the lower plate is imposed, u(t_n+1) = (u1x, u1y), u'(t_n+1) = (ud1x,
+    ud1y) (the test machine; its force, the constraint's multiplier, is
+    found by Newton on the cone program's dual, ``machine_force``; its
+    start is sc[256:258]). out[O_*]: increment, input work, friction work per
+    coordinate (arrests included), iterations, KKT residual, the machine's
+    force, failure flag. sc: scratch of length N_SC."""
     for i in range(N_OUT):
         out[i] = 0.0
     q0 = sc[100:104]
@@ -661,6 +665,16 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
     for i in range(4):
         x[i] = dt * st[4 + i]
         y[i] = 0.0
+    D = sc[240:248]
+    Dy = sc[248:256]
+    Fm = sc[256:258]
+    ex = 0.0
+    ey = 0.0
+    mfail = False
+    if machine == 1:
+        u_rel(par, q0, tmp)
+        ex = u1x - tmp[0]
+        ey = u1y - tmp[1]
     it = 0
     converged = False
     nit = 0
@@ -679,7 +693,22 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
             r[i] = 2.0 * p0[i] / dt + G[i]
         # in y = L dq: H' = L^-1 H L^-1, r' = L^-1 r (L block-diagonal, symmetric)
         _to_metric(H, r, Lm, Hy, ry, tmp)
-        nit += socp(Hy, ry, c_o, c_i, y, sc)
+        if machine == 1:
+            # D: the discrete gradient of u (D^T dq = u(q1) - u(q0)); in y, L^-1 D
+            dgrad_u(par, q0, q1, D, sc)
+            for blk in range(2):
+                k0 = 4 * blk
+                l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
+                i0 = 2 * blk
+                for c in range(2):
+                    a0 = D[2 * i0 + c]
+                    a1 = D[2 * (i0 + 1) + c]
+                    Dy[2 * i0 + c] = (l22 * a0 - l12 * a1) / det
+                    Dy[2 * (i0 + 1) + c] = (l11 * a1 - l12 * a0) / det
+            if machine_force(Hy, ry, Dy, c_o, c_i, ex, ey, y, Fm, sc) != 0:
+                mfail = True
+        else:
+            nit += socp(Hy, ry, c_o, c_i, y, sc)
         # dq = L^-1 y
         for blk in range(2):
             k0 = 4 * blk
@@ -697,6 +726,12 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
             break
     if not converged and ch > 1e-12 * (1.0 + abs(x[0]) + abs(x[1]) + abs(x[2]) + abs(x[3])):
         out[O_FAIL] = FAIL_FIXED_POINT
+    if mfail:
+        out[O_FAIL] = FAIL_CAPACITY
+    if machine == 1:
+        # the cone program the machine's force makes: r' + Dy F
+        for i in range(4):
+            ry[i] += Dy[2 * i] * Fm[0] + Dy[2 * i + 1] * Fm[1]
     out[O_KKT] = kkt_residual(Hy, ry, c_o, c_i, y)
     # the generalised force of friction Phi = r - H dq; p1 = p0 + dt (G - Phi)
     for i in range(4):
@@ -719,6 +754,12 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
     b0x, b0y, b0z = tmp[0], tmp[1], tmp[2]
     moments(par, q1, tmp)
     ein = -agx * (tmp[0] - b0x) - agy * (tmp[1] - b0y) - az * (tmp[2] - b0z)
+    if machine == 1:
+        # the machine's work: F . (D^T dq)
+        for i in range(4):
+            ein += (D[2 * i] * Fm[0] + D[2 * i + 1] * Fm[1]) * x[i]
+        out[O_FX] = Fm[0]
+        out[O_FY] = Fm[1]
     # a block that stuck ends at rest: an impulse on it alone (the other keeps its momentum)
     z1 = x[0] == 0.0 and x[1] == 0.0
     z2 = x[2] == 0.0 and x[3] == 0.0
@@ -758,6 +799,10 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
             st[6] = 0.0
             st[7] = 0.0
             arr_i = K0 - kinetic(par, q1, st[4:8], tmp[8:20])
+    if machine == 1:
+        # the machine imposes u'(t_n+1) through the blocks still sliding: the
+        # kinetic-metric projection (an impulse along C^T), its energy input
+        ein += machine_velocity(par, st, H, z1, z2, ud1x, ud1y, sc)
     for i in range(4):
         out[O_DQ + i] = x[i]
     out[O_EIN] = ein
@@ -771,6 +816,224 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
     ta = st[2] * st[2] + st[3] * st[3]
     if tp > qm * qm or ta > par[tk.I_QMAX_ALPHA] * par[tk.I_QMAX_ALPHA]:
         out[O_FAIL] = FAIL_RIM
+
+
+def grad_u(par, q, o):
+    """The Jacobian of u(q) (the superstructure's horizontal displacement):
+    o[2 i + k] = du_k / dq_i."""
+    A, Li = par[tk.I_A], par[tk.I_LI]
+    px, py = q[0], q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    tp = px * px + py * py
+    ts = sx * sx + sy * sy
+    s_p, s_s = sfun(tp), sfun(ts)
+    d_p, d_s = _sder(tp), _sder(ts)
+    # Dh(v)[w] = s w + 2 s' (v . w) v
+    for j in range(2):
+        wx = 1.0 if j == 0 else 0.0
+        wy = 1.0 - wx
+        vs = sx * wx + sy * wy
+        vp = px * wx + py * wy
+        hsx = s_s * wx + 2.0 * d_s * vs * sx
+        hsy = s_s * wy + 2.0 * d_s * vs * sy
+        o[2 * j] = A * (s_p * wx + 2.0 * d_p * vp * px) + Li * hsx
+        o[2 * j + 1] = A * (s_p * wy + 2.0 * d_p * vp * py) + Li * hsy
+        o[2 * (2 + j)] = Li * hsx
+        o[2 * (2 + j) + 1] = Li * hsy
+
+
+def dgrad_u(par, q0, q1, D, sc):
+    """The discrete gradient of u from q0 to q1 (blockwise, Gauss-Legendre,
+    as ``dgrad``) into D (4x2): D^T (q1 - q0) = u(q1) - u(q0) to round-off.
+    sc: scratch (uses sc[60:64], sc[66:74])."""
+    for i in range(8):
+        D[i] = 0.0
+    for blk in range(2):
+        for k in range(4):
+            if k == 0:
+                x, w = GL_X0, GL_W0
+            elif k == 1:
+                x, w = GL_X1, GL_W1
+            elif k == 2:
+                x, w = 1.0 - GL_X1, GL_W1
+            else:
+                x, w = 1.0 - GL_X0, GL_W0
+            if blk == 0:
+                sc[60] = q0[0] + x * (q1[0] - q0[0])
+                sc[61] = q0[1] + x * (q1[1] - q0[1])
+                sc[62] = q0[2]
+                sc[63] = q0[3]
+            else:
+                sc[60] = q1[0]
+                sc[61] = q1[1]
+                sc[62] = q0[2] + x * (q1[2] - q0[2])
+                sc[63] = q0[3] + x * (q1[3] - q0[3])
+            grad_u(par, sc[60:64], sc[66:74])
+            for i in range(2):
+                for c in range(2):
+                    D[2 * (2 * blk + i) + c] += w * sc[66 + 2 * (2 * blk + i) + c]
+
+
+def _jac(H, y, c1, c2, Dy, J, sc):
+    """J = Dy_S^T (H + K_f)_SS^-1 Dy_S over the sliding blocks S of y (K_f the
+    friction's curvature c / |y_k| (I - y_k y_k^T / |y_k|^2)); with no block
+    sliding, the frictionless Dy^T H^-1 Dy. J = (J11, J12, J22)."""
+    na = math.sqrt(y[0] * y[0] + y[1] * y[1])
+    nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
+    for i in range(16):
+        sc[300 + i] = H[i]
+    if na > 0.0:
+        ka = c1 / (na * na * na)
+        sc[300] += ka * y[1] * y[1]
+        sc[301] -= ka * y[0] * y[1]
+        sc[304] -= ka * y[0] * y[1]
+        sc[305] += ka * y[0] * y[0]
+    if nb > 0.0:
+        kb = c2 / (nb * nb * nb)
+        sc[310] += kb * y[3] * y[3]
+        sc[311] -= kb * y[2] * y[3]
+        sc[314] -= kb * y[2] * y[3]
+        sc[315] += kb * y[2] * y[2]
+    if (na == 0.0) != (nb == 0.0):
+        # one block: its 2x2 part alone
+        i0 = 0 if na > 0.0 else 2
+        m11 = sc[300 + 4 * i0 + i0]
+        m12 = sc[300 + 4 * i0 + i0 + 1]
+        m22 = sc[300 + 4 * (i0 + 1) + i0 + 1]
+        det = m11 * m22 - m12 * m12
+        for c in range(2):
+            a0 = Dy[2 * i0 + c]
+            a1 = Dy[2 * (i0 + 1) + c]
+            sc[320 + 4 * i0 + 2 * c] = (m22 * a0 - m12 * a1) / det
+            sc[320 + 4 * i0 + 2 * c + 1] = (m11 * a1 - m12 * a0) / det
+        J[0] = Dy[2 * i0] * sc[320 + 4 * i0] + Dy[2 * (i0 + 1)] * sc[320 + 4 * i0 + 1]
+        J[1] = Dy[2 * i0] * sc[320 + 4 * i0 + 2] + Dy[2 * (i0 + 1)] * sc[320 + 4 * i0 + 3]
+        J[2] = Dy[2 * i0 + 1] * sc[320 + 4 * i0 + 2] + Dy[2 * (i0 + 1) + 1] * sc[320 + 4 * i0 + 3]
+        return
+    for c in range(2):
+        for i in range(4):
+            sc[330 + i] = Dy[2 * i + c]
+        chol_solve(sc[300:316], sc[330:334], sc[334 + 4 * c:338 + 4 * c], sc[342:358])
+    J[0] = 0.0
+    J[1] = 0.0
+    J[2] = 0.0
+    for i in range(4):
+        J[0] += Dy[2 * i] * sc[334 + i]
+        J[1] += Dy[2 * i] * sc[338 + i]
+        J[2] += Dy[2 * i + 1] * sc[338 + i]
+
+
+def machine_force(Hy, ry, Dy, c1, c2, ex, ey, y, F, sc):
+    """The test machine's force F (the multiplier of Dy^T y = e): Newton on
+    R(F) = Dy^T y(F) - e, y(F) the cone program's minimiser with r' + Dy F
+    (R is minus the gradient of the concave dual, its Jacobian J of ``_jac``
+    positive definite), halving the step until |R| falls. F: start in, the
+    force out; y: the minimiser. Returns 0, or 1 if R did not vanish."""
+    rn = 0.0
+    tol = 1e-13 * math.sqrt(ex * ex + ey * ey) + 1e-300
+    for it in range(80):
+        for i in range(4):
+            sc[360 + i] = ry[i] + Dy[2 * i] * F[0] + Dy[2 * i + 1] * F[1]
+        socp(Hy, sc[360:364], c1, c2, y, sc)
+        R0 = -ex
+        R1 = -ey
+        for i in range(4):
+            R0 += Dy[2 * i] * y[i]
+            R1 += Dy[2 * i + 1] * y[i]
+        rn = math.sqrt(R0 * R0 + R1 * R1)
+        if rn <= tol:
+            return 0
+        _jac(Hy, y, c1, c2, Dy, sc[364:367], sc)
+        j11, j12, j22 = sc[364], sc[365], sc[366]
+        det = j11 * j22 - j12 * j12
+        d0 = (j22 * R0 - j12 * R1) / det
+        d1 = (j11 * R1 - j12 * R0) / det
+        f0, f1 = F[0], F[1]
+        lam = 1.0
+        for ls in range(40):
+            F[0] = f0 - lam * d0
+            F[1] = f1 - lam * d1
+            for i in range(4):
+                sc[360 + i] = ry[i] + Dy[2 * i] * F[0] + Dy[2 * i + 1] * F[1]
+                sc[368 + i] = y[i]
+            socp(Hy, sc[360:364], c1, c2, sc[368:372], sc)
+            S0 = -ex
+            S1 = -ey
+            for i in range(4):
+                S0 += Dy[2 * i] * sc[368 + i]
+                S1 += Dy[2 * i + 1] * sc[368 + i]
+            if S0 * S0 + S1 * S1 < rn * rn:
+                break
+            lam *= 0.5
+        if abs(lam * d0) + abs(lam * d1) <= 1e-16 * (abs(f0) + abs(f1)):
+            break
+    # the last F: its minimiser
+    for i in range(4):
+        sc[360 + i] = ry[i] + Dy[2 * i] * F[0] + Dy[2 * i + 1] * F[1]
+    socp(Hy, sc[360:364], c1, c2, y, sc)
+    R0 = -ex
+    R1 = -ey
+    for i in range(4):
+        R0 += Dy[2 * i] * y[i]
+        R1 += Dy[2 * i + 1] * y[i]
+    if math.sqrt(R0 * R0 + R1 * R1) <= 1e-9 * math.sqrt(ex * ex + ey * ey) + 1e-300:
+        return 0
+    return 1
+
+
+def machine_velocity(par, st, M, z1, z2, udx, udy, sc):
+    """The machine imposes u'(t_n+1) = (udx, udy): the rates of the sliding
+    blocks change by M_SS^-1 C_S^T lam with C = du/dq at q1 so that C v =
+    u'. Returns the kinetic energy it adds (input). M: M(q1)."""
+    if z1 and z2:
+        return 0.0
+    K0 = kinetic(par, st[0:4], st[4:8], sc[380:392])
+    grad_u(par, st[0:4], sc[280:288])
+    C = sc[280:288]
+    rx = udx
+    ry_ = udy
+    for i in range(4):
+        rx -= C[2 * i] * st[4 + i]
+        ry_ -= C[2 * i + 1] * st[4 + i]
+    # W = M_SS^-1 C_S^T (columns) for the sliding blocks
+    for i in range(8):
+        sc[288 + i] = 0.0
+    if not z1 and not z2:
+        for c in range(2):
+            for i in range(4):
+                sc[392 + i] = C[2 * i + c]
+            chol_solve(M, sc[392:396], sc[396:400], sc[300:316])
+            for i in range(4):
+                sc[288 + 2 * i + c] = sc[396 + i]
+    else:
+        i0 = 2 if z1 else 0
+        m11 = M[4 * i0 + i0]
+        m12 = M[4 * i0 + i0 + 1]
+        m22 = M[4 * (i0 + 1) + i0 + 1]
+        det = m11 * m22 - m12 * m12
+        for c in range(2):
+            a0 = C[2 * i0 + c]
+            a1 = C[2 * (i0 + 1) + c]
+            sc[288 + 2 * i0 + c] = (m22 * a0 - m12 * a1) / det
+            sc[288 + 2 * (i0 + 1) + c] = (m11 * a1 - m12 * a0) / det
+    # (C W) lam = residual
+    a11 = 0.0
+    a12 = 0.0
+    a21 = 0.0
+    a22 = 0.0
+    for i in range(4):
+        a11 += C[2 * i] * sc[288 + 2 * i]
+        a12 += C[2 * i] * sc[288 + 2 * i + 1]
+        a21 += C[2 * i + 1] * sc[288 + 2 * i]
+        a22 += C[2 * i + 1] * sc[288 + 2 * i + 1]
+    det = a11 * a22 - a12 * a21
+    if det == 0.0:
+        return 0.0
+    l0 = (a22 * rx - a12 * ry_) / det
+    l1 = (a11 * ry_ - a21 * rx) / det
+    for i in range(4):
+        st[4 + i] += sc[288 + 2 * i] * l0 + sc[288 + 2 * i + 1] * l1
+    return kinetic(par, st[0:4], st[4:8], sc[380:392]) - K0
 
 
 def _to_metric(H, r, Lm, Hy, ry, tmp):
@@ -807,13 +1070,16 @@ def _to_metric(H, r, Lm, Hy, ry, tmp):
 
 
 # -- the whole step of the stepper ---------------------------------------------------------
-def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, out, sc):
+def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
     """One step on the state vector S (layout S_*): normal forces at the start
     of the step, caps, ``step``, the friction work of each surface (a
     coordinate's shared by its two surfaces as their caps), the bearing's
     force, phase, regime, sliding flags and speeds. Returns the failure flag."""
     N = S[S_N:S_N + 4]
-    normal_forces(par, S[0:4], S[4:8], agx, agy, az, 0.0, 0.0, N, sc[200:220])
+    # the machine's force (the last step's) enters the normal forces; a ground motion has none
+    fx = S[S_F] if machine == 1 else 0.0
+    fy = S[S_F + 1] if machine == 1 else 0.0
+    normal_forces(par, S[0:4], S[4:8], agx, agy, az, fx, fy, N, sc[200:220])
     R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
     a1 = mu1 * N[0] * R1
     a4 = mu4 * N[3] * R4
@@ -824,7 +1090,9 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, out, sc):
     # the superstructure's velocity at the start
     u_dot(par, S[0:4], S[4:8], sc, 220)
     ux0, uy0 = sc[220], sc[221]
-    step(par, S[0:8], dt, agx, agy, az, c_o, c_i, out, sc)
+    sc[256] = S[S_F]            # the machine's force: Newton starts from the last step's
+    sc[257] = S[S_F + 1]
+    step(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
     fail = int(out[O_FAIL])
     S[S_ITER] = out[O_ITER]
     S[S_KKT] = out[O_KKT]
@@ -841,8 +1109,12 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, out, sc):
     S[S_EIN] += out[O_EIN]
     u_dot(par, S[0:4], S[4:8], sc, 220)
     Ms = par[tk.I_MSUP]
-    S[S_F] = -Ms * (agx + (sc[220] - ux0) / dt)
-    S[S_F + 1] = -Ms * (agy + (sc[221] - uy0) / dt)
+    if machine == 1:
+        S[S_F] = out[O_FX]
+        S[S_F + 1] = out[O_FY]
+    else:
+        S[S_F] = -Ms * (agx + (sc[220] - ux0) / dt)
+        S[S_F + 1] = -Ms * (agy + (sc[221] - uy0) / dt)
     dp = math.sqrt(out[O_DQ] * out[O_DQ] + out[O_DQ + 1] * out[O_DQ + 1])
     da = math.sqrt(out[O_DQ + 2] * out[O_DQ + 2] + out[O_DQ + 3] * out[O_DQ + 3])
     so = 1.0 if dp != 0.0 else 0.0

@@ -1248,11 +1248,19 @@ def tfp3d_checks(ctx, data) -> None:
     paths; what it does not do yet is refused in one line naming it."""
     ld, mech = data["loading"], data["mechanics"]
     if ld["kind"] == "displacement":
-        ctx.fail("loading.waveform" if ld.get("waveform", "sine") != "sine" else "loading.direction_deg",
-                 ld.get("waveform") if ld.get("waveform", "sine") != "sine" else ld.get("direction_deg"),
-                 "not yet for the TFP: its test machine is planar (a sine with direction_deg = 0); "
-                 "in both directions the TFP takes ground-motion pairs")
-        return
+        # the orbit machine: the superstructure held, the lower plate driven by -u(t)
+        if ld.get("vertical") is not None:
+            ctx.fail("loading.vertical", ld["vertical"], "is a key of the DFP / SFP test machine; the TFP's "
+                     "machine passes the superstructure's weight and inertia down the stack (leave it out)")
+        for key in ("vertical_amplitude_N", "vertical_amplitude_ratio", "vertical_frequency_Hz",
+                    "vertical_phase_deg", "vertical_file"):
+            if key in ld:
+                ctx.fail(f"loading.{key}", ld[key], "not yet for the TFP: the axial-load programme is the "
+                         "DFP / SFP test machine's (the TFP's machine holds the weight)")
+        sol = data["solver"]
+        if "duration" in sol and sol["duration"] > loading_length(ld) * (1 + 1e-12):
+            ctx.fail("solver.duration", sol["duration"], f"must not exceed the orbit's length "
+                     f"{loading_length(ld):g} s (cycles / frequency_Hz) on the test machine in both directions")
     if mech["model"] != "seated":
         ctx.fail("mechanics.model", mech["model"], 'must be "seated" for the TFP in both directions: '
                  "its two-phase model (phases in the plane of each step) is not built yet")
