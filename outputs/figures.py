@@ -24,6 +24,15 @@ def _path_rows(result) -> bool:
 
 
 FIGURE_SETS = (
+    ("TFP in both directions", ("W4_J", "uy_m"), (
+        ("hysteresis", (), plots.loops),                 # the x and the y loops
+        ("response", (), plots.response),
+        ("orbit", (), plots.orbit),
+        ("force_orbit", (), plots.force_orbit),
+        ("heat_path", _path_rows, plots.heat_path),
+        ("temperature", ("T1_C",), plots.tfp_temperature),
+        ("friction", (), plots.tfp_friction),
+    )),
     ("TFP", ("W4_J",), (
         ("hysteresis", (), plots.tfp_hysteresis),       # each branch coloured by its regime
         ("response", (), plots.tfp_response),

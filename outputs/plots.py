@@ -354,11 +354,20 @@ def heat_path(result, scene):
     contact area, between consecutive recorded rows)."""
     from .drawing import new_figure, thin_xy
     title = scene.name
-    a = 0.5 * scene["device"]["pad_diameter"]
-    area = math.pi * a * a
+    dev = scene["device"]
     t = result["t_s"]
-    fig, axes = new_figure(1, 2, figsize=(10.5, 5.0), left=0.8, right=0.45, wgap=1.25, top=0.7, bottom=0.55)
-    for ax, (i, side) in zip(axes, ((1, "lower"), (2, "upper"))):
+    if "c4x_m" in result:
+        # the TFP's four heated parts: the slider plates' footprints on S1 and S4, the pad's on S2 and S3
+        rs, rp = 0.5 * dev["slider_diameter"], 0.5 * dev["pad_diameter"]
+        panels = ((1, "lower", rs), (2, "lower slider", rp), (3, "upper slider", rp), (4, "upper", rs))
+        fig, axes = new_figure(2, 2, figsize=(10.5, 9.6), left=0.8, right=0.45, wgap=1.25, hgap=0.9, top=0.7,
+                               bottom=0.55)
+    else:
+        a = 0.5 * dev["pad_diameter"]
+        panels = ((1, "lower", a), (2, "upper", a))
+        fig, axes = new_figure(1, 2, figsize=(10.5, 5.0), left=0.8, right=0.45, wgap=1.25, top=0.7, bottom=0.55)
+    for ax, (i, side, a) in zip(axes, panels):
+        area = math.pi * a * a
         cx, cy = 1e3 * result[f"c{i}x_m"], 1e3 * result[f"c{i}y_m"]
         W = result[f"W{i}_J"]
         dt = np.diff(t)
@@ -371,7 +380,7 @@ def heat_path(result, scene):
         ax.plot(cx[s], cy[s], lw=0.3, color="0.6", zorder=0)
         circ = np.linspace(0.0, 2.0 * math.pi, 100)
         ax.plot(cx[-1] + 1e3 * a * np.cos(circ), cy[-1] + 1e3 * a * np.sin(circ), lw=0.8, color="C0",
-                label="pad footprint at the end")
+                label="footprint at the end" if len(panels) == 4 else "pad footprint at the end")
         ax.set_aspect("equal", adjustable="datalim")
         ax.set_xlabel("x on the plate (mm)")
         ax.set_ylabel("y on the plate (mm)")

@@ -226,6 +226,9 @@ def test_a_record_pair_runs_with_heat_on_four_parts(tmp_path):
     for c in ("ux_m", "uy_m", "Fx_N", "Fy_N", "phix_rad", "phiy_rad", "alphax_rad", "alphay_rad",
               "s1x_m", "s4y_m", "c2x_m", "c3y_m", "W4_J", "T4_C"):
         assert c in head, c
+    # the figures of a run in both directions: x and y loops, orbits, the four parts' heat paths
+    for name in ("hysteresis", "response", "orbit", "force_orbit", "heat_path", "temperature", "friction"):
+        assert (out / "plots" / f"{name}.png").is_file(), name
 
 
 @pytest.mark.parametrize("sets,key", [
