@@ -335,6 +335,9 @@ def main(argv=None) -> int:
         _parser().print_help()
         return EXIT_INPUT
     signal.signal(signal.SIGTERM, _sigterm)
+    if argv is None:                # the command's own process (not a caller's): figures imported lean
+        from fpd.outputs import drawing
+        drawing.LEAN = True
     if not getattr(args, "quiet", False):
         from fpd import jitcache
         jitcache.enable()           # one line on stderr before the first compile of the kernels
