@@ -42,6 +42,11 @@ JIT_OPTIONS = {"cache": True, "nogil": True, "error_model": "numpy"}
 _SUFFIX = "__njit"
 _compiled: dict[str, types.ModuleType] = {}
 _deps: dict[str, list] = {}          # the source files a compiled module depends on
+# the command line's own process (frontends/cli.py): the objects alive when numba is
+# first loaded (the modules imported, the scene's arrays) are frozen out of the
+# garbage collector's full passes (gc.freeze), which compiling triggers many times
+LEAN = False
+_frozen = False
 
 
 def available() -> bool:
@@ -74,6 +79,11 @@ def compiled(name: str, bind: dict | None = None) -> types.ModuleType:
     if key in _compiled:
         return _compiled[key]
     import numba
+    global _frozen
+    if LEAN and not _frozen:
+        import gc
+        gc.freeze()
+        _frozen = True
 
     pure = importlib.import_module(name)
     if not is_kernel_module(pure):
