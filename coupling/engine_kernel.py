@@ -35,10 +35,10 @@ __jit_options__ = {"inline": "always"}
 
 KIND_NONE, KIND_LUMPED, KIND_FE1D = 0, 1, 2
 # ctl (int64)
-C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT, C_NVAL, C_2D, C_TRACK = range(12)
-N_CTL = 12
+C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT, C_NVAL, C_2D, C_TRACK, C_HOT = range(13)
+N_CTL = 13
 # ctl[C_STATUS]
-RUNNING, DONE, REPLAY, ROW_FAILED, FULL = 0, 1, 2, 3, 4
+RUNNING, DONE, REPLAY, ROW_FAILED, FULL, LOOK = 0, 1, 2, 3, 4, 5
 
 
 def plate_step(kind, Mb, Ab, FAC, V, I, P, power_W, centre_m):
@@ -104,13 +104,28 @@ def keep_row(buf, row, k, n_rows, n, last_row):
     return RUNNING, k, last_row
 
 
+def hotter(T, hot):
+    """Is some interface's temperature T[i] above hot[i], its highest at the
+    earlier looks at the plate fields? (hot[i] raised to it.) A look at the
+    fields (outputs/hottest.py) is taken only then: with lumped and fe1d
+    plates, heated at the sliding face, no field is hotter than the face
+    has been (the maximum principle), so a look while every face is cooler
+    than at an earlier look cannot find a hotter field."""
+    up = False
+    for i in range(len(T)):
+        if T[i] > hot[i]:
+            hot[i] = T[i]
+            up = True
+    return up
+
+
 def end_chunk(ctl, status, n, n_end, k, last_row):
     """The counters after a chunk that ended with status at step n: the
-    steps done (n_end when DONE, n when FULL, else n - 1: step n is the
-    Python loop's or failed), rows kept, the last row's step, the status."""
+    steps done (n_end when DONE, n when FULL or LOOK, else n - 1: step n is
+    the Python loop's or failed), rows kept, the last row's step, the status."""
     if status == DONE:
         ctl[C_NDONE] = n_end
-    elif status == FULL:
+    elif status == FULL or status == LOOK:
         ctl[C_NDONE] = n
     else:
         ctl[C_NDONE] = n - 1
@@ -140,12 +155,14 @@ def track_row(row, n_track, SX, SN, LI, SL):
             SL[1] = e
 
 
-def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is, Ps, T, mu, mun, dW,
+def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is, Ps, T, hot, mu, mun, dW,
               buf, row, ctl, SX, SN, LI, SL):
     """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
     (DONE; REPLAY: step ctl[C_NDONE] + 1 is for the Python loop, the state is
     as before it; ROW_FAILED: that step's row, in ``row``, is not finite;
-    FULL: buf has no room left after step ctl[C_NDONE]: the caller empties it).
+    FULL: buf has no room left after step ctl[C_NDONE]: the caller empties it;
+    LOOK: the caller looks at the plate fields after step ctl[C_NDONE], a
+    multiple of ctl[C_HOT] (0: no looks) where ``hotter(T, hot)``).
 
     C, S: the device's constants and state (S0: room for a copy), L, X its
     loading and scratch (tuples of arrays); per interface i: LW[i] its
@@ -161,6 +178,7 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
     k, n_rows, every, last_row, N = ctl[C_K], ctl[C_NROWS], ctl[C_EVERY], ctl[C_LAST], ctl[C_N]
     heat = ctl[C_HEAT] != 0
     nv, two_d, track = ctl[C_NVAL], ctl[C_2D], ctl[C_TRACK] != 0
+    hot_every = ctl[C_HOT]
     ni = T.shape[0]
     n_track = nv + ni
     if heat:
@@ -219,5 +237,8 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
             if kept != RUNNING:
                 status = kept
                 break
+        if hot_every > 0 and n % hot_every == 0 and hotter(T, hot):
+            status = LOOK
+            break
     end_chunk(ctl, status, n, n_end, k, last_row)
     return status

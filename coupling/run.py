@@ -17,7 +17,8 @@ import numpy as np
 from fpd.mechanics.phases import PHASES, MechanicsFailure
 
 from .build import Simulation
-from .fast_loop import compiled_loop, loop_columns
+from .engine_kernel import hotter
+from .fast_loop import _plate_kind, compiled_loop, loop_columns
 from .recording import MemoryHistory, signals_held
 
 # canonical column order (docs/reference.md), every device; extra diagnostic columns follow
@@ -295,6 +296,9 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     status, message = "ok", ""
     total_iter, worst_iter = 0, 0
     hot_every = look_every(N)              # the plates' fields, ~2000 times a run
+    # ... when a face is hotter than at the earlier looks, with lumped and fe1d plates
+    # (engine_kernel.hotter: no hotter field otherwise); every time with the others
+    hot = [-math.inf] * ni if all(_plate_kind(p) in ("none", "lumped", "fe1d") for p in plates) else None
     old = mech.footprints() if mech else None
     # every step's extremes and ledger when not every step's row is kept
     tracker = StepTracker(cols, len(mech.columns) + ni * (2 if heat else 1)) if (mech and every > 1) else None
@@ -324,6 +328,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
             flush()                     # the buffer is full: as the loop below does
         if jit is not None and mech is not None:
             old = mech.footprints()
+        if jit is not None and hot is not None:
+            hot = jit.hot.tolist()      # the faces' highest temperatures at the engine's looks
         for n in range(n0 + 1, N + 1):
             if mech is None:                                    # thermal-only scene
                 for _ in range(sub):
@@ -382,7 +388,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 if on_frame is not None and frame_every and n % frame_every == 0:
                     sim.frame_values = dict(zip(cols, r))   # the CSV row, for the VTK frame
                     on_frame(n, sim)
-            if hottest is not None and n % hot_every == 0:
+            if hottest is not None and n % hot_every == 0 and (hot is None or hotter(T, hot)):
                 hottest.update(plates, n * dt)
             if n % 2048 == 0:
                 bar.update(n)
