@@ -408,7 +408,8 @@ def build_flat(scene: Scene) -> Simulation:
     dev = scene["device"]
     geom = FlatGeometry(dev["pad_height"], dev["pad_diameter"], dev["pad_mass"], scene["superstructure"]["mass"])
     loading = loading_of(scene, dt)
-    mech = FlatStepper(geom, loading)
+    gz = vertical_loading_of(scene, dt, loading)
+    mech = FlatStepper(geom, loading, gz=gz)
     sub = scene["coupling"]["substeps"]
     pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
     plates = tuple(make_plate(p, dt / sub) for p in pp)
@@ -416,6 +417,8 @@ def build_flat(scene: Scene) -> Simulation:
     info = {"device": "flat", "mu_tip_closed_form": geom.mu_tip()}
     if hasattr(loading, "record"):
         info["record"] = record_info(scene, loading)
+    if gz is not None:
+        info["record_z"] = _record_info(gz, scene["loading"], loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made

@@ -158,16 +158,16 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
                                   "components). The x record sets the length; after a shorter y record the "
                                   "ground stops accelerating in y (docs/bidirectional.md, section 4)."),
-    "loading.record.file_z": ("", "DFP, SFP: a record file of the vertical ground acceleration, positive up (path "
+    "loading.record.file_z": ("", "DFP, SFP, flat bearing: a record file of the vertical ground acceleration, positive up (path "
                                   "relative to the scene file, any format of file; a CSMIP V2 file: its vertical "
                                   "channel), scaled by scale (and the x record's target_pga_g factor) and "
                                   "baseline-corrected like x. Treated as the y component of a pair is: read on "
                                   "its own sampling and integrated onto the solver grid; the x record (or "
                                   "solver.duration) sets the length, after a shorter vertical record the ground "
                                   "stops accelerating vertically. Every normal force, friction cap, the heat, the "
-                                  "pad's rocking check and the ledger see g + a_z (docs/model.md 10). Refused on "
-                                  "the TFP and the flat bearing (not yet for these devices) and when the record's "
-                                  "channels already give z."),
+                                  "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
+                                  "(docs/model.md 10). Refused on the TFP (not yet for this device) and when the "
+                                  "record's channels already give z."),
     "loading.record.channels": ("", "A three-channel CSMIP V2 record (record = \"ferndale-2022\", or a .v2 file): "
                                     "the channels to run, by number; horizontal channels go on x then y in the "
                                     "order given, the vertical one on z. Default: all three in file order ([1, 2, "
@@ -407,13 +407,15 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
     "az_mps2": ("m/s2", "Vertical ground acceleration, up (the step's mean, the field is g + az_mps2): a run with a "
                         "vertical record only (loading.file_z, or a three-channel record's vertical channel)."),
-    "lift_m": ("m", "DFP / SFP under a vertical record: height of the moving assembly (superstructure and pad) "
+    "lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: height of the moving assembly (superstructure and pad) "
                     "above its seated position, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
-                    "and flies until it lands (docs/model.md 10); z_m includes it."),
-    "n_lift": ("", "DFP / SFP under a vertical record: lift-offs so far."),
-    "t_flight_s": ("s", "DFP / SFP under a vertical record: time spent in flight so far (no contact: normal "
+                    "and flies until it lands (docs/model.md 10); z_m includes it. The flat bearing's "
+                    "assembly flies ballistically relative to the ground horizontally too (its slips go on, "
+                    "friction-free); the DFP / SFP's seated state is held in flight."),
+    "n_lift": ("", "DFP / SFP / flat bearing under a vertical record: lift-offs so far."),
+    "t_flight_s": ("s", "DFP / SFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "
                         "forces, friction, heat and the force on the ground are 0)."),
-    "E_land_J": ("J", "DFP / SFP under a vertical record: cumulative energy taken by the landings after a "
+    "E_land_J": ("J", "DFP / SFP / flat bearing under a vertical record: cumulative energy taken by the landings after a "
                       "lift-off (plastic: the assembly's vertical kinetic energy (M + m) z'^2 / 2 at touch-down)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
@@ -429,7 +431,7 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground (in flight: the seated "
                      "motion's, suspended, and the flight's (M + m) z'^2 / 2)."),
     "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad, in flight + (M + m) g lift_m; a TFP: and the slider plates; "
-                     "the flat bearing: 0)."),
+                     "the flat bearing: 0 while seated)."),
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
                         "seated configuration at t_n+1 is stopped; first order in dt)."),
@@ -518,12 +520,12 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
     "rim_loss_J": ("J", "Energy taken by the rims (final E_rim_J)."),
-    "lift_off.count": ("", "DFP / SFP under a vertical record: number of lift-offs (final n_lift)."),
-    "lift_off.flight_time_s": ("s", "DFP / SFP under a vertical record: total time in flight (final "
+    "lift_off.count": ("", "DFP / SFP / flat bearing under a vertical record: number of lift-offs (final n_lift)."),
+    "lift_off.flight_time_s": ("s", "DFP / SFP / flat bearing under a vertical record: total time in flight (final "
                                     "t_flight_s)."),
-    "lift_off.peak_lift_m": ("m", "DFP / SFP under a vertical record: the highest the moving assembly rose "
+    "lift_off.peak_lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: the highest the moving assembly rose "
                                   "above its seated position (peak lift_m)."),
-    "lift_off.landing_loss_J": ("J", "DFP / SFP under a vertical record: energy taken by the landings (final "
+    "lift_off.landing_loss_J": ("J", "DFP / SFP / flat bearing under a vertical record: energy taken by the landings (final "
                                      "E_land_J)."),
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
     "rim_impacts.lower": ("", "DFP / SFP: number of rim impacts on the lower surface (final n_rim1)."),

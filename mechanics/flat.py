@@ -33,6 +33,8 @@ from .phases import STICK, MechanicsFailure
 ENGINE_WORTH_STEPS = 60_000     # from here a mechanics-only run loads numba for the compiled engine
 COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J",
            "phase", "E_input_J", "E_kin_J", "E_pot_J", "tip_ratio")
+# with a vertical ground record (model.md 10): as the DFP's (mechanics/bidirectional.py)
+VERTICAL_COLUMNS = ("az_mps2", "lift_m", "n_lift", "t_flight_s", "E_land_J")
 
 
 @dataclass(frozen=True)
@@ -60,7 +62,7 @@ class FlatGeometry:
         """N D + m g D / 2 about the trailing bottom corner (N m): flat_kernel's."""
         C = [0.0] * K.N_PAR
         C[K.I_MPAD], C[K.I_D], C[K.I_G] = self.pad_mass, self.pad_diameter, self.g
-        return K.resisting_moment(C, N_top)
+        return K.resisting_moment(C, N_top, self.g)
 
     def mu_tip(self, mu_lower: float | None = None) -> float:
         """Closed-form tipping threshold of the top face's mu (quasi-static, pad
@@ -98,7 +100,10 @@ class FlatStepper(TwoInterfaces):
     phase, tip = _slot(K.S_PHASE, int), _slot(K.S_TIP)
     slip_v1, slip_v2 = _slot(K.S_SV1), _slot(K.S_SV2)
 
-    def __init__(self, geom: FlatGeometry, loading):
+    def __init__(self, geom: FlatGeometry, loading, gz=None):
+        """gz: the vertical ground motion (up) on the loading's grid, or None
+        (model.md 10: every normal force, friction cap and the tipping check
+        see g + a_z; g + a_z < 0 lifts the assembly off)."""
         self.geom = geom
         self.dt = loading.dt
         self.n_steps = loading.n_steps
@@ -110,9 +115,16 @@ class FlatStepper(TwoInterfaces):
         else:
             self._a, self._xg = float_array(loading.a_step), float_array(loading.d)
             self._u = self._ud = float_array(np.zeros(1))
+        if gz is not None and (self.machine or gz.n_steps != loading.n_steps or gz.dt != loading.dt):
+            raise ValueError("the vertical ground motion must be on the horizontal record's grid (no test machine)")
+        self.ground_z = gz
+        self._az = float_array(gz.a_step) if gz is not None else float_array(np.zeros(1))
+        if gz is not None:
+            self.columns = COLUMNS + VERTICAL_COLUMNS
         self.C = C = [0.0] * K.N_PAR
         C[K.I_MPAD], C[K.I_MSUP], C[K.I_H], C[K.I_D] = geom.pad_mass, geom.mass, geom.pad_height, geom.pad_diameter
         C[K.I_G], C[K.I_DT], C[K.I_MACH] = geom.g, self.dt, 1.0 if self.machine else 0.0
+        C[K.I_VERT] = 1.0 if gz is not None else 0.0
         self.S = [0.0] * K.N_S
         self.out = [0.0] * K.N_OUT
         self._w = [0.0] * 2
@@ -138,16 +150,24 @@ class FlatStepper(TwoInterfaces):
 
     @property
     def E_kin(self) -> float:
-        return K.kinetic(self.C, float(self.S[K.S_V1]), float(self.S[K.S_V2]))
+        return K.energies(self.C, self.S)[0]
+
+    @property
+    def E_pot(self) -> float:
+        return K.energies(self.C, self.S)[1]
+
+    @property
+    def E_land(self) -> float:
+        return float(self.S[K.S_ELAND])
 
     def xg(self) -> float:
         return K.ground(self.C, self._u, self._xg, self.n)
 
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin + self.W1 + self.W2)
+        return self.E_in - (self.E_kin + self.E_pot + self.W1 + self.W2 + self.E_land)
 
     def values(self) -> tuple:
-        row = [0.0] * K.N_VALUES
+        row = [0.0] * len(self.columns)
         K.values(self.C, self.S, self.xg(), row)
         row[11] = int(row[11])
         return tuple(row)
@@ -162,7 +182,7 @@ class FlatStepper(TwoInterfaces):
 
     def step(self, mu1: float, mu2: float) -> tuple:
         o = self.out
-        if K.advance(self.C, self.S, self._a, self._u, self._ud, mu1, mu2, o, self._w) != 0.0:
+        if K.advance(self.C, self.S, self._a, self._az, self._u, self._ud, mu1, mu2, o, self._w) != 0.0:
             self.raise_error()
         return o[K.O_W1], o[K.O_W2]
 
@@ -170,7 +190,8 @@ class FlatStepper(TwoInterfaces):
         """The exception the step's error flag S[S_ERR] stands for."""
         g, S = self.geom, self.S
         raise PadTipped(f"the pad tips: friction couple {S[K.S_DEM]:.4g} N m > N D + m g D/2 = "
-                        f"{K.resisting_moment(self.C, self.N2):.4g} N m (closed form: mu > {g.mu_tip():.4g})")
+                        f"{K.resisting_moment(self.C, self.N2, g.g + float(S[K.S_AZ])):.4g} N m "
+                        f"(closed form: mu > {g.mu_tip():.4g})")
 
     # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
     engine_device = "fpd.mechanics.dev_flat"
@@ -178,10 +199,11 @@ class FlatStepper(TwoInterfaces):
     def engine_state(self):
         """(C, S, L, X) as the engine reads them: float64 copies of the
         constants and state, the loading (a per step, u, u' per grid point,
-        the ground position per grid point) and step()'s scratch (out, w)."""
+        the ground position per grid point, a_z per step) and step()'s
+        scratch (out, w)."""
         f = (lambda x: np.asarray(x, dtype=float))
         return (f(self.C), f(self.S), (as_float64(self._a), as_float64(self._u), as_float64(self._ud),
-                                       as_float64(self._xg)), (np.zeros(K.N_OUT), np.zeros(2)))
+                                       as_float64(self._xg), as_float64(self._az)), (np.zeros(K.N_OUT), np.zeros(2)))
 
     def engine_pull(self, S) -> None:
         """The state into the engine's copy (before a chunk)."""

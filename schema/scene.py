@@ -1177,12 +1177,13 @@ def planar_only(ctx, data, device: str) -> None:
     if ld["kind"] == "record":
         # the vertical ground motion (model.md 10): the DFP and the SFP only
         vwhy = (f"not yet for this device: the {device}'s stepper has no vertical ground motion "
-                "(a DFP or an SFP takes it)")
-        if ld.get("file_z") is not None:
+                "(a DFP, an SFP or the flat bearing takes it)")
+        takes_z = device == "flat bearing"
+        if ld.get("file_z") is not None and not takes_z:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
-        if ld.get("channels") is not None and (ld["channels"][1] or ld["channels"][2]):
+        if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not takes_z)):
             ch = [c for c in ld["channels"] if c]
-            what = vwhy if ld["channels"][2] else why
+            what = vwhy if ld["channels"][2] and not takes_z else why
             ctx.fail("loading.channels", ch, f"must name one horizontal channel ([{ch[0]}]): {what}")
         if ld.get("file_y") is not None:
             ctx.fail("loading.file_y", ld["file_y"], f"is not allowed: {why}")
