@@ -409,7 +409,7 @@ def build_flat(scene: Scene) -> Simulation:
     geom = FlatGeometry(dev["pad_height"], dev["pad_diameter"], dev["pad_mass"], scene["superstructure"]["mass"])
     loading = loading_of(scene, dt)
     gz = vertical_loading_of(scene, dt, loading)
-    mech = FlatStepper(geom, loading, gz=gz)
+    mech = FlatStepper(geom, loading, gz=gz, rim=(dev["d1"], dev["d2"], dev["rim_restitution"]))
     sub = scene["coupling"]["substeps"]
     pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
     plates = tuple(make_plate(p, dt / sub) for p in pp)

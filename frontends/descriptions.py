@@ -70,11 +70,15 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.d1": ("m", "Slide capacity of the lower surface (TFP: S1) before its rim, as the arc of the "
                        "footprint centre from the surface centre: a DFP / SFP |R1 theta| <= d1 (default: what the "
                        "plate allows, thermal.lower.plate_radius - pad radius; more is refused); a TFP "
-                       "|R1 phi| <= d1 (required)."),
+                       "|R1 phi| <= d1 (required); the flat bearing: the pad's slip on the lower plate, "
+                       "|s1_m| <= d1 (default and limit as the DFP's)."),
     "device.d2": ("m", "Slide capacity of the upper surface of a DFP (|R2 theta| <= d2; default "
                        "thermal.upper.plate_radius - pad radius), of S2 of a TFP (|R2 alpha| <= d2). The DFP's "
-                       "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim."),
-    "device.rim_restitution": ("", "DFP / SFP: coefficient of restitution of a rim impact: the velocity normal "
+                       "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim. The flat "
+                       "bearing: the superstructure's slip on the pad, |s2_m| <= d2 (default "
+                       "thermal.upper.plate_radius - pad radius; more is refused); its test machine's amplitude "
+                       "must be within d1 and d2."),
+    "device.rim_restitution": ("", "DFP / SFP / flat bearing: coefficient of restitution of a rim impact: the velocity normal "
                                    "to the rim is stopped (0, the inelastic stop) or handed back times it; the "
                                    "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J)."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
@@ -419,7 +423,10 @@ COLUMNS: dict[str, tuple[str, str]] = {
                       "lift-off (plastic: the assembly's vertical kinetic energy (M + m) z'^2 / 2 at touch-down)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
-                         "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N)."),
+                         "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
+                         "flat bearing: the sum of the step's impact impulses, the lower rim's on the pad and "
+                         "the upper rim's between pad and superstructure (a face resting on its rim is held: "
+                         "its reaction is part of F_N)."),
     "n_rim1": ("", "Rim impacts on the lower surface (TFP: S1) so far: arrivals at the rim (a DFP counts them on "
                    "the surface that bounds the slide, or on both)."),
     "n_rim2": ("", "Rim impacts on the upper surface of a DFP (TFP: S2) so far."),
@@ -436,7 +443,9 @@ COLUMNS: dict[str, tuple[str, str]] = {
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
                         "seated configuration at t_n+1 is stopped; first order in dt)."),
     "E_rim_J": ("J", "Cumulative energy taken by the rims: a TFP's inelastic impacts; a DFP / SFP's impacts "
-                     "((1 - e^2) of the kinetic energy normal to the rim) and contact."),
+                     "((1 - e^2) of the kinetic energy normal to the rim) and contact; the flat bearing's "
+                     "impacts (the lower rim stops the pad, mass m; the upper rim the slip between pad and "
+                     "superstructure, mass m M / (m + M); both at once: the exact impact of the pair)."),
     "E_stored_J": ("J", "Heat stored in the plates (above the initial temperature; a TFP: its four parts)."),
     "E_air_J": ("J", "Cumulative heat lost to the air (and through the back face)."),
     # two-phase diagnostics (docs/two_phase.md, section 5)
@@ -528,14 +537,14 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "lift_off.landing_loss_J": ("J", "DFP / SFP / flat bearing under a vertical record: energy taken by the landings (final "
                                      "E_land_J)."),
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
-    "rim_impacts.lower": ("", "DFP / SFP: number of rim impacts on the lower surface (final n_rim1)."),
-    "rim_impacts.upper": ("", "DFP: number of rim impacts on the upper surface (final n_rim2)."),
-    "capacity.*.capacity_m": ("m", "DFP / SFP: the surface's slide capacity (device.d1 / d2, or the plate's)."),
-    "capacity.*.peak_slide_m": ("m", "DFP / SFP: the largest arc of the footprint centre from the surface "
+    "rim_impacts.lower": ("", "DFP / SFP / flat bearing: number of rim impacts on the lower surface (final n_rim1)."),
+    "rim_impacts.upper": ("", "DFP / flat bearing: number of rim impacts on the upper surface (final n_rim2)."),
+    "capacity.*.capacity_m": ("m", "DFP / SFP / flat bearing: the surface's slide capacity (device.d1 / d2, or the plate's)."),
+    "capacity.*.peak_slide_m": ("m", "DFP / SFP / flat bearing: the largest arc of the footprint centre from the surface "
                                      "centre (peak |s1_m| / |s2_m|)."),
-    "capacity.*.ratio": ("", "DFP / SFP: peak slide / capacity (1: the rim was reached)."),
-    "capacity.*.impacts": ("", "DFP / SFP: rim impacts counted on the surface."),
-    "capacity_ratio": ("", "DFP / SFP: the largest capacity ratio of the surfaces (1: the rim was reached)."),
+    "capacity.*.ratio": ("", "DFP / SFP / flat bearing: peak slide / capacity (1: the rim was reached)."),
+    "capacity.*.impacts": ("", "DFP / SFP / flat bearing: rim impacts counted on the surface."),
+    "capacity_ratio": ("", "DFP / SFP / flat bearing: the largest capacity ratio of the surfaces (1: the rim was reached)."),
     "rim_impacts.S1": ("", "TFP: number of rim impacts on S1 (final n_rim1)."),
     "rim_impacts.S2": ("", "TFP: number of rim impacts on S2 (final n_rim2)."),
     "rim_impacts.S3": ("", "TFP: number of rim impacts on S3 (final n_rim3)."),

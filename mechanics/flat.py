@@ -35,6 +35,8 @@ COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "s1_m", "s2_m", "N1_N", "N2_N",
            "phase", "E_input_J", "E_kin_J", "E_pot_J", "tip_ratio")
 # with a vertical ground record (model.md 10): as the DFP's (mechanics/bidirectional.py)
 VERTICAL_COLUMNS = ("az_mps2", "lift_m", "n_lift", "t_flight_s", "E_land_J")
+# with rims (capacities d1, d2: model.md 7), before the vertical ones
+RIM_COLUMNS = ("E_rim_J", "J_rim_Ns", "n_rim1", "n_rim2")
 
 
 @dataclass(frozen=True)
@@ -79,6 +81,10 @@ class PadTipped(MechanicsFailure):
     pass
 
 
+class MachinePastRim(MechanicsFailure):
+    pass
+
+
 def _slot(i: int, kind=float):
     """A FlatStepper attribute that is slot i of its state vector S."""
     return property(lambda self: kind(self.S[i]), lambda self, v: self.S.__setitem__(i, kind(v)))
@@ -100,10 +106,12 @@ class FlatStepper(TwoInterfaces):
     phase, tip = _slot(K.S_PHASE, int), _slot(K.S_TIP)
     slip_v1, slip_v2 = _slot(K.S_SV1), _slot(K.S_SV2)
 
-    def __init__(self, geom: FlatGeometry, loading, gz=None):
+    def __init__(self, geom: FlatGeometry, loading, gz=None, rim: tuple | None = None):
         """gz: the vertical ground motion (up) on the loading's grid, or None
         (model.md 10: every normal force, friction cap and the tipping check
-        see g + a_z; g + a_z < 0 lifts the assembly off)."""
+        see g + a_z; g + a_z < 0 lifts the assembly off). rim: (d1, d2,
+        restitution), the capacities of the lower and the upper face (m,
+        > 0), or None: unbounded plates."""
         self.geom = geom
         self.dt = loading.dt
         self.n_steps = loading.n_steps
@@ -119,12 +127,16 @@ class FlatStepper(TwoInterfaces):
             raise ValueError("the vertical ground motion must be on the horizontal record's grid (no test machine)")
         self.ground_z = gz
         self._az = float_array(gz.a_step) if gz is not None else float_array(np.zeros(1))
-        if gz is not None:
-            self.columns = COLUMNS + VERTICAL_COLUMNS
+        self.columns = COLUMNS + (RIM_COLUMNS if rim is not None else ()) + (
+            VERTICAL_COLUMNS if gz is not None else ())
         self.C = C = [0.0] * K.N_PAR
         C[K.I_MPAD], C[K.I_MSUP], C[K.I_H], C[K.I_D] = geom.pad_mass, geom.mass, geom.pad_height, geom.pad_diameter
         C[K.I_G], C[K.I_DT], C[K.I_MACH] = geom.g, self.dt, 1.0 if self.machine else 0.0
         C[K.I_VERT] = 1.0 if gz is not None else 0.0
+        if rim is not None:
+            if not (rim[0] > 0.0 and rim[1] > 0.0 and 0.0 <= rim[2] <= 1.0):
+                raise ValueError(f"rim: capacities must be > 0 and the restitution in [0, 1], not {rim}")
+            C[K.I_CAP1], C[K.I_CAP2], C[K.I_REST] = float(rim[0]), float(rim[1]), float(rim[2])
         self.S = [0.0] * K.N_S
         self.out = [0.0] * K.N_OUT
         self._w = [0.0] * 2
@@ -163,8 +175,12 @@ class FlatStepper(TwoInterfaces):
     def xg(self) -> float:
         return K.ground(self.C, self._u, self._xg, self.n)
 
+    @property
+    def E_rim(self) -> float:
+        return float(self.S[K.S_ERIM])
+
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin + self.E_pot + self.W1 + self.W2 + self.E_land)
+        return self.E_in - (self.E_kin + self.E_pot + self.W1 + self.W2 + self.E_land + self.E_rim)
 
     def values(self) -> tuple:
         row = [0.0] * len(self.columns)
@@ -189,6 +205,9 @@ class FlatStepper(TwoInterfaces):
     def raise_error(self) -> None:
         """The exception the step's error flag S[S_ERR] stands for."""
         g, S = self.geom, self.S
+        if S[K.S_ERR] == K.ERR_RIM:
+            raise MachinePastRim(f"the machine drove a face past its rim (s1 = {S[K.S_Q1]:.4g} m, d1 = "
+                                 f"{self.C[K.I_CAP1]:.4g} m; s2 = {S[K.S_Q2]:.4g} m, d2 = {self.C[K.I_CAP2]:.4g} m)")
         raise PadTipped(f"the pad tips: friction couple {S[K.S_DEM]:.4g} N m > N D + m g D/2 = "
                         f"{K.resisting_moment(self.C, self.N2, g.g + float(S[K.S_AZ])):.4g} N m "
                         f"(closed form: mu > {g.mu_tip():.4g})")

@@ -630,10 +630,6 @@ def _validate(raw: dict, path: str) -> Scene:
     for key in TFP_DEVICE_KEYS:
         if key in dev:
             ctx.fail(f"device.{key}", dev[key], f'is a key of kind = "TFP" only (this device is "{dev["kind"]}")')
-    if dev["kind"] == "flat":
-        for key in ("d1", "d2"):
-            if key in dev:
-                ctx.fail(f"device.{key}", dev[key], 'is a capacity of a concave surface: the flat bearing has none')
     if dev["kind"] == "SFP" and "d2" in dev:
         ctx.fail("device.d2", dev["d2"], "the SFP has one sliding surface: give its capacity as d1")
     if "R1" not in dev and dev["kind"] != "flat":
@@ -1254,6 +1250,31 @@ def flat_device(ctx, data, raw) -> None:
         ctx.fail("loading.kind", "heat", 'a thermal-only scene ignores the device: use kind = "DFP" for it')
 
 
+def _flat_capacities(ctx, data) -> None:
+    """The flat bearing's d1 (the pad's slip on the lower plate) and d2 (on
+    the upper plate), docs/model.md 7: by default what the plate allows
+    (plate_radius - a), a given one no larger; the test machine's amplitude
+    within both (the weaker face carries u, so the machine stops short of
+    either rim)."""
+    dev, a = data["device"], data["device"]["pad_diameter"] / 2
+    for key, side in (("d1", "lower"), ("d2", "upper")):
+        room = data["thermal"][side]["plate_radius"] - a
+        if key not in dev:
+            if room <= 0.0:
+                ctx.fail(f"thermal.{side}.plate_radius", data["thermal"][side]["plate_radius"],
+                         f"must exceed the pad radius {a:g} m (the footprint needs room to slide: device.{key})")
+            dev[key] = room
+        elif dev[key] > room * (1 + 1e-12):
+            ctx.fail(f"device.{key}", dev[key], f"the footprint (radius {a:g} m) would pass the plate's edge: at most "
+                     f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
+    ld = data["loading"]
+    if ld["kind"] == "displacement" and "d1" in dev and "d2" in dev:
+        key = "d1" if dev["d1"] <= dev["d2"] else "d2"
+        if ld["amplitude_m"] > dev[key] * (1 + 1e-12):
+            ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"drives the flat bearing past its capacity: device.{key} "
+                     f"= {dev[key]:.4g} m (the machine's amplitude must stay within d1 and d2)")
+
+
 def flat_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "flat bearing")
 
@@ -1261,6 +1282,7 @@ def flat_cross_checks(ctx, data) -> None:
     if data["output"]["vtk_every"] > 0:
         ctx.fail("output.vtk_every", data["output"]["vtk_every"], "must be 0 for the flat bearing (no VTK yet)")
     check_time_grid(ctx, ld, sol)
+    _flat_capacities(ctx, data)
     for side, t in data["thermal"].items():
         if t["model"] != "none" and dev["pad_diameter"] / 2 > t["plate_radius"]:
             ctx.fail("thermal.plate_radius", t["plate_radius"], f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
