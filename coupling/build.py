@@ -409,7 +409,14 @@ def build_flat(scene: Scene) -> Simulation:
     geom = FlatGeometry(dev["pad_height"], dev["pad_diameter"], dev["pad_mass"], scene["superstructure"]["mass"])
     loading = loading_of(scene, dt)
     gz = vertical_loading_of(scene, dt, loading)
-    mech = FlatStepper(geom, loading, gz=gz, rim=(dev["d1"], dev["d2"], dev["rim_restitution"]))
+    axial = None
+    if scene["loading"]["kind"] == "displacement":
+        from fpd.mechanics.axial import AxialError, programme_of
+        try:
+            axial = programme_of(scene["loading"], geom.weight)
+        except AxialError as exc:
+            raise SceneError(f"{exc} (loading.vertical_file)") from None
+    mech = FlatStepper(geom, loading, gz=gz, rim=(dev["d1"], dev["d2"], dev["rim_restitution"]), axial=axial)
     sub = scene["coupling"]["substeps"]
     pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
     plates = tuple(make_plate(p, dt / sub) for p in pp)

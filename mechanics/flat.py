@@ -106,12 +106,15 @@ class FlatStepper(TwoInterfaces):
     phase, tip = _slot(K.S_PHASE, int), _slot(K.S_TIP)
     slip_v1, slip_v2 = _slot(K.S_SV1), _slot(K.S_SV2)
 
-    def __init__(self, geom: FlatGeometry, loading, gz=None, rim: tuple | None = None):
+    def __init__(self, geom: FlatGeometry, loading, gz=None, rim: tuple | None = None, axial=None):
         """gz: the vertical ground motion (up) on the loading's grid, or None
         (model.md 10: every normal force, friction cap and the tipping check
         see g + a_z; g + a_z < 0 lifts the assembly off). rim: (d1, d2,
         restitution), the capacities of the lower and the upper face (m,
-        > 0), or None: unbounded plates."""
+        > 0), or None: unbounded plates. axial: the test machine's axial-load
+        programme (mechanics.axial.AxialProgramme) held in force control on
+        the superstructure (N2 = N(t), N1 = N(t) + m g; the step's mean
+        of the programme at its two grid points), or None: the weight M g."""
         self.geom = geom
         self.dt = loading.dt
         self.n_steps = loading.n_steps
@@ -127,12 +130,18 @@ class FlatStepper(TwoInterfaces):
             raise ValueError("the vertical ground motion must be on the horizontal record's grid (no test machine)")
         self.ground_z = gz
         self._az = float_array(gz.a_step) if gz is not None else float_array(np.zeros(1))
+        self.axial = axial if axial is not None and axial.varying else None
+        if self.axial is not None:
+            if not self.machine:
+                raise ValueError("an axial-load programme is the test machine's")
+            N = self.axial.at(np.asarray(loading.t, dtype=float))
+            self._az = float_array(0.5 * (N[:-1] + N[1:]))
         self.columns = COLUMNS + (RIM_COLUMNS if rim is not None else ()) + (
             VERTICAL_COLUMNS if gz is not None else ())
         self.C = C = [0.0] * K.N_PAR
         C[K.I_MPAD], C[K.I_MSUP], C[K.I_H], C[K.I_D] = geom.pad_mass, geom.mass, geom.pad_height, geom.pad_diameter
         C[K.I_G], C[K.I_DT], C[K.I_MACH] = geom.g, self.dt, 1.0 if self.machine else 0.0
-        C[K.I_VERT] = 1.0 if gz is not None else 0.0
+        C[K.I_VERT] = 1.0 if gz is not None else (2.0 if self.axial is not None else 0.0)
         if rim is not None:
             if not (rim[0] > 0.0 and rim[1] > 0.0 and 0.0 <= rim[2] <= 1.0):
                 raise ValueError(f"rim: capacities must be > 0 and the restitution in [0, 1], not {rim}")
@@ -140,8 +149,8 @@ class FlatStepper(TwoInterfaces):
         self.S = [0.0] * K.N_S
         self.out = [0.0] * K.N_OUT
         self._w = [0.0] * 2
-        self.N2 = geom.weight
-        self.N1 = geom.weight + geom.pad_mass * geom.g
+        self.N2 = geom.weight if self.axial is None else float(self.axial.at(0.0))
+        self.N1 = self.N2 + geom.pad_mass * geom.g
         self.phase = STICK
         if self.machine and self._ud[0] != 0.0:
             self.S[K.S_V2] = self._ud[0]          # launched on the top face; its kinetic energy is input

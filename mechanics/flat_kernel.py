@@ -22,7 +22,8 @@ from .phases import SLIP, STICK
 __kernel__ = True
 
 # C: the constants (``par`` of step(): its first two slots); I_VERT: 1 with a vertical
-# ground record (the field g + a_z, model.md 10; the columns VERTICAL_COLUMNS follow)
+# ground record (the field g + a_z, model.md 10; the columns VERTICAL_COLUMNS follow),
+# 2 with the test machine's axial-load programme (AZ: the load N per step, force control)
 I_MPAD, I_MSUP, I_H, I_D, I_G, I_DT, I_MACH, I_VERT = 0, 1, 2, 3, 4, 5, 6, 7
 # the rims (model.md 7, 9): the capacities |q1| <= d1, |q2| <= d2 (0: no rim; the columns
 # RIM_COLUMNS follow the others when there are rims) and the restitution of an impact
@@ -313,7 +314,8 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
     """Step S[S_N] -> S[S_N] + 1 with mu1 (lower face), mu2 (upper face): A
     the ground acceleration per step, AZ the vertical one (up; read only with
     C[I_VERT]); U, UD the machine's programme per grid point (read only in
-    the machine). out, w: step()'s scratch (out holds the step's increments
+    the machine; with C[I_VERT] == 2 the machine's axial load N per step in
+    AZ). out, w: step()'s scratch (out holds the step's increments
     after it: the friction work of the faces out[O_W1], out[O_W2]). Every
     normal force and friction cap sees gv = g + a_z; when gv < 0 the
     assembly lifts off (``flight``) and a step that lands finishes seated.
@@ -324,13 +326,17 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
     dt = C[I_DT]
     ag = A[n]
     az = 0.0
-    if C[I_VERT] != 0.0:
+    if C[I_VERT] == 1.0:
         az = AZ[n]
         S[S_AZ] = az
     gv = C[I_G] + az
     h = dt
     seated = True
-    if C[I_VERT] != 0.0:
+    if C[I_VERT] == 2.0:
+        # the machine's vertical actuator holds N on the superstructure; the pad keeps its weight
+        S[S_N2] = AZ[n]
+        S[S_N1] = AZ[n] + C[I_MPAD] * C[I_G]
+    if C[I_VERT] == 1.0:
         if S[S_FLY] == 0.0 and not gv < 0.0:
             S[S_N2] = C[I_MSUP] * gv
             S[S_N1] = C[I_MSUP] * gv + C[I_MPAD] * gv
@@ -429,5 +435,5 @@ def values(C, S, xg, row):
     if C[I_CAP1] > 0.0 or C[I_CAP2] > 0.0:
         row[j], row[j + 1], row[j + 2], row[j + 3] = S[S_ERIM], S[S_JRIM], S[S_NRIM1], S[S_NRIM2]
         j += N_RIM
-    if C[I_VERT] != 0.0:
+    if C[I_VERT] == 1.0:
         row[j], row[j + 1], row[j + 2], row[j + 3], row[j + 4] = S[S_AZ], S[S_ZF], S[S_NLIFT], S[S_TFLY], S[S_ELAND]

@@ -1189,7 +1189,13 @@ def planar_only(ctx, data, device: str) -> None:
             ctx.fail("loading.record", ld["record"], f"must be a single-component record: {why}")
         if ld.get("angle_deg", 0.0) != 0.0:
             ctx.fail("loading.angle_deg", ld["angle_deg"], f"must be 0: {why}")
-    if ld["kind"] == "displacement":
+    if ld["kind"] == "displacement" and device == "flat bearing":
+        # the flat bearing's machine holds the vertical load in force control: M g or a programme
+        if ld.get("vertical") not in (None, "constant", "sine", "series"):
+            ctx.fail("loading.vertical", ld["vertical"], 'must be "constant", "sine" or "series" for the flat '
+                     "bearing (its machine holds the vertical load in force control; nothing rides up or down)")
+        _axial_checks(ctx, ld, data)
+    elif ld["kind"] == "displacement":
         if ld.get("vertical") is not None:
             ctx.fail("loading.vertical", ld["vertical"], f"is a key of the DFP / SFP test machine; the {device}'s "
                      "machine passes the superstructure's weight and inertia down the stack (leave it out)")
@@ -1197,7 +1203,7 @@ def planar_only(ctx, data, device: str) -> None:
                     "vertical_phase_deg", "vertical_file"):
             if key in ld:
                 ctx.fail(f"loading.{key}", ld[key], f"not yet for this device: the axial-load programme is the "
-                         f"DFP / SFP test machine's (the {device}'s machine holds the weight)")
+                         f"DFP / SFP / flat bearing test machine's (the {device}'s machine holds the weight)")
         if ld.get("waveform", "sine") != "sine":
             ctx.fail("loading.waveform", ld["waveform"], f'must be "sine": {why}')
         if ld.get("direction_deg", 0.0) != 0.0:
