@@ -349,7 +349,14 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
     ld = scene["loading"]
     loading = bidirectional_loading_of(scene, dt)
     if ld["kind"] == "displacement":
-        mech = BidirectionalTestMachine(geom, loading)
+        axial = None
+        if ld["vertical"] != "riding-mass":
+            from fpd.mechanics.axial import AxialError, programme_of
+            try:
+                axial = programme_of(ld, geom.mass * geom.g)
+            except AxialError as exc:
+                raise SceneError(f"{exc} (loading.vertical_file)") from None
+        mech = BidirectionalTestMachine(geom, loading, axial=axial)
         n_steps = loading.n_steps
     else:
         gx, gy = loading

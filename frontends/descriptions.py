@@ -215,7 +215,8 @@ KEYS: dict[str, tuple[str, str]] = {
                                           '(as "constant" with N(t) for M g in the normal forces, friction caps, '
                                           'heat, the restoring moment and the ledger; docs/test_machine.md, '
                                           '"Axial-load programme"): a sine about W, or a file of (t, N) rows; '
-                                          'the planar machine only ("not yet for an orbit").'),
+                                          'on an orbit too (the bidirectional machine then holds the load in '
+                                          'force control: "sine" and "series" only, "constant" is refused there).'),
     "loading.displacement.vertical_amplitude_N": ("N", 'vertical = "sine": the amplitude N_a of '
                                                        'N(t) = W + N_a sin(2 pi f_v t + phase), below W (the '
                                                        'bearing stays in compression). Exactly one of this and '

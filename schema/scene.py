@@ -808,14 +808,13 @@ def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
     if ld["kind"] == "displacement":
         # the planar machine holds the vertical load by default; the orbit machine
         # (mechanics/bidirectional.py) carries the superstructure as a riding mass
+        # (its default; an axial-load programme "sine" or "series" holds the load in force control)
         if not two_d:
             ld.setdefault("vertical", "constant")
-        elif ld.get("vertical") in AXIAL_KEYS:
-            ctx.fail("loading.vertical", ld["vertical"], "not yet for an orbit: the axial-load programme is the "
-                     "planar test machine's (a sine with direction_deg = 0)")
-        elif ld.setdefault("vertical", "riding-mass") != "riding-mass":
-            ctx.fail("loading.vertical", ld["vertical"], 'must be "riding-mass" (or left out) for an orbit: the '
-                     "bidirectional test machine carries the superstructure as a riding mass in this version")
+        elif ld.setdefault("vertical", "riding-mass") not in ("riding-mass", *AXIAL_KEYS):
+            ctx.fail("loading.vertical", ld["vertical"], 'must be "riding-mass" (or left out), "sine" or "series" '
+                     "for an orbit: the bidirectional test machine carries the superstructure as a riding mass "
+                     "unless an axial-load programme holds it")
         _axial_checks(ctx, ld, data)
     if not two_d:
         return
@@ -1204,6 +1203,7 @@ def planar_only(ctx, data, device: str) -> None:
             if key in ld:
                 ctx.fail(f"loading.{key}", ld[key], f"not yet for this device: the axial-load programme is the "
                          f"DFP / SFP / flat bearing test machine's (the {device}'s machine holds the weight)")
+    if ld["kind"] == "displacement":
         if ld.get("waveform", "sine") != "sine":
             ctx.fail("loading.waveform", ld["waveform"], f'must be "sine": {why}')
         if ld.get("direction_deg", 0.0) != 0.0:

@@ -85,3 +85,22 @@ def test_bad_axial_input_is_refused_in_one_line():
     with pytest.raises(scn.SceneError, match=r"^[^\n]*must be below the mean load[^\n]*$"):
         scn.load("flat-lab", ['loading.vertical="sine"', "loading.vertical_amplitude_ratio=1.2",
                               "loading.vertical_frequency_Hz=0.2"])
+
+
+def test_compiled_flat_machine_with_an_axial_load_equals_the_pure_path(monkeypatch):
+    pytest.importorskip("numba")
+    from fpd import kernels
+    if not kernels.available():
+        pytest.skip("FPD_NO_JIT")
+    from fpd.coupling import fast_loop
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate
+    over = ['loading.vertical="sine"', "loading.vertical_amplitude_ratio=0.4", "loading.vertical_frequency_Hz=0.13",
+            "thermal.model=lumped"]
+    sim = build(scn.load("flat-lab", over))
+    assert fast_loop.compiled_loop(sim, 1, 2, fast_loop.loop_columns(sim)) is not None
+    a = simulate(sim)
+    monkeypatch.setenv("FPD_NO_JIT", "1")
+    b = simulate(build(scn.load("flat-lab", over)))
+    assert a.status == b.status == "ok" and a.columns == b.columns
+    np.testing.assert_array_equal(a.data, b.data)
