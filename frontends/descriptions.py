@@ -172,6 +172,14 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
                                   "(docs/model.md 10). Refused on the TFP (not yet for this device) and when the "
                                   "record's channels already give z."),
+    "loading.record.vertical_scale": ("", "DFP, SFP, flat bearing: the vertical ground acceleration as this "
+                                          "factor times the horizontal (x) one as run (after scale, "
+                                          "target_pga_g, baseline and the pair's angle), up; e.g. 0.67 for the "
+                                          "common two-thirds rule. Only where named (never a default; a FEMA "
+                                          "P695 set member has no vertical otherwise); not with file_z or a "
+                                          "record's vertical channel (one vertical component); non-zero. The "
+                                          "run is then one under a vertical record (columns, lift-off, "
+                                          "docs/model.md 10; summary record_z names the copy)."),
     "loading.record.channels": ("", "A three-channel CSMIP V2 record (record = \"ferndale-2022\", or a .v2 file): "
                                     "the channels to run, by number; horizontal channels go on x then y in the "
                                     "order given, the vertical one on z. Default: all three in file order ([1, 2, "
@@ -619,7 +627,10 @@ SUMMARY: dict[str, tuple[str, str]] = {
                                    "the pair is scaled as one and keeps its proportions)."),
     "record_y.baseline_b1_mps2": ("m/s2", "Bidirectional record: b1 of the y record's baseline correction."),
     "record_y.baseline_b2_mps3": ("m/s3", "Bidirectional record: b2 of the y record's baseline correction."),
-    "record_z.name": ("", "Vertical record (loading.file_z, or the three-channel record and its channel)."),
+    "record_z.name": ("", "Vertical record (loading.file_z, or the three-channel record and its channel; "
+                          "with loading.vertical_scale: \"k x <the x record>\")."),
+    "record_z.vertical_scale": ("", "loading.vertical_scale: the vertical is this factor times the x record."),
+    "record_z.of": ("", "loading.vertical_scale: the horizontal (x) record the vertical copies."),
     "record_z.points": ("", "Vertical record: samples."),
     "record_z.dt_s": ("s", "Vertical record: sampling interval."),
     "record_z.pga_g": ("g", "Vertical record: peak vertical ground acceleration (unscaled)."),

@@ -142,6 +142,9 @@ LOADING_KEYS = {
                "file_y": ("str", None, None), "angle_deg": ("float", 0.0, None),
                # the vertical component (model.md 10), and the channels of a three-channel CSMIP V2 file
                "file_z": ("str", None, None), "channels": ("floats", None, None),
+               # or the vertical as a scaled copy of the horizontal (x) record, only when named
+               "vertical_scale": ("float", None, lambda x: None if x != 0 and math.isfinite(x)
+                                  else "must be a non-zero number (leave it out for no vertical motion)"),
                # FEMA P695 record sets (mechanics/p695.py; fpd sweep expands a set into its components)
                "record_set": (("p695-far-field", "p695-near-field-pulse", "p695-near-field-no-pulse"), None, None),
                "record_id": ("int", None, _atleast(1)), "component": (("a", "b", "pair"), None, None),
@@ -480,6 +483,10 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
                 ctx.fail("loading.file_z", res["file_z"], "must not be given when the record's channels include its "
                          "vertical one (leave it out of loading.channels to take file_z)")
             res["path_z"] = _record_path(ctx, "loading.file_z", res["file_z"], scene_dir)
+        if "vertical_scale" in res and "path_z" in res:
+            what = "loading.file_z" if "file_z" in res else "the record's vertical channel (loading.channels)"
+            ctx.fail("loading.vertical_scale", res["vertical_scale"], f"must not be given with {what}: one "
+                     "vertical component (a record, or a scaled copy of the horizontal one)")
         if res["angle_deg"] != 0.0 and "path_y" not in res:
             res["path_y"] = None          # one component turned in the plane: bidirectional too
     if kind == "displacement" and "vertical_file" in res:
@@ -1176,6 +1183,8 @@ def planar_only(ctx, data, device: str) -> None:
         takes_z = device == "flat bearing"
         if ld.get("file_z") is not None and not takes_z:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
+        if ld.get("vertical_scale") is not None and not takes_z:
+            ctx.fail("loading.vertical_scale", ld["vertical_scale"], vwhy)
         if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not takes_z)):
             ch = [c for c in ld["channels"] if c]
             what = vwhy if ld["channels"][2] and not takes_z else why
