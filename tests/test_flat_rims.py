@@ -151,3 +151,15 @@ def test_compiled_flat_bearing_with_rims_equals_the_pure_path(monkeypatch, tmp_p
     assert a.status == b.status == "ok" and a.columns == b.columns
     assert a["n_rim2"][-1] >= 1
     np.testing.assert_array_equal(a.data, b.data)
+
+
+def test_a_machine_that_drives_a_face_past_its_rim_stops_the_run():
+    """The flat bearing's machine cannot push a face through its rim: a
+    programme past d2 (built around the scene check) stops with
+    MachinePastRim naming the slips and the capacities."""
+    from fpd.mechanics.flat import MachinePastRim
+    from fpd.mechanics.ground_motion import sine_programme
+    s = FlatStepper(GEOM, sine_programme(0.05, 0.2, 1, 1e-3), rim=(0.2, 0.03, 0.0))
+    with pytest.raises(MachinePastRim, match=r"past its rim.*d2 = 0\.03"):
+        for _ in range(5000):
+            s.step(0.9, 0.3)
