@@ -139,6 +139,8 @@ def vertical_loading_of(scene: Scene, dt: float, gx):
     from fpd.mechanics import ground_motion as gmod
 
     ld = scene["loading"]
+    if ld["kind"] == "record" and ld.get("vertical_scale") is not None:
+        return scaled_vertical(gx, ld["vertical_scale"])
     if ld["kind"] != "record" or not ld.get("path_z"):
         return None
     key = "file_z" if ld.get("file_z") is not None else ("record" if "record" in ld else "file")
@@ -153,6 +155,26 @@ def vertical_loading_of(scene: Scene, dt: float, gx):
                                          baseline=ld["baseline"])
     gz.record = rec
     return gz
+
+
+def scaled_vertical(gx, k: float):
+    """The vertical ground motion as k times the horizontal x one, on its grid
+    (loading.vertical_scale: given by name only, never a default)."""
+    import dataclasses
+
+    import numpy as np
+    gz = dataclasses.replace(gx, name=f"{k:g} x {gx.name}", d=k * np.asarray(gx.d, dtype=float),
+                             v=k * np.asarray(gx.v, dtype=float), a=k * np.asarray(gx.a, dtype=float),
+                             a_step=k * np.asarray(gx.a_step, dtype=float))
+    gz.vertical_scale = k
+    return gz
+
+
+def vertical_info(gz, ld, gx) -> dict:
+    """summary.json's record_z: the vertical record's, or the scale of the horizontal one it copies."""
+    if hasattr(gz, "vertical_scale"):
+        return {"name": gz.name, "vertical_scale": gz.vertical_scale, "of": gx.name}
+    return _record_info(gz, ld, gx)
 
 
 def _record_info(g, ld, gx) -> dict:
@@ -268,7 +290,7 @@ def build(scene: Scene) -> Simulation:
         mech = BidirectionalStepper(geom, loading, None, normal_force=scene["mechanics"]["normal_force"],
                                     model=model, planar=True, rim=rim_of(scene), gz=gz)
         if gz is not None:
-            info["record_z"] = _record_info(gz, ld, loading)
+            info["record_z"] = vertical_info(gz, ld, loading)
     if hasattr(loading, "record"):
         info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
                           "pga_g": loading.record.pga_g, "scale": ld["scale"],
@@ -349,7 +371,14 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
     ld = scene["loading"]
     loading = bidirectional_loading_of(scene, dt)
     if ld["kind"] == "displacement":
-        mech = BidirectionalTestMachine(geom, loading)
+        axial = None
+        if ld["vertical"] != "riding-mass":
+            from fpd.mechanics.axial import AxialError, programme_of
+            try:
+                axial = programme_of(ld, geom.mass * geom.g)
+            except AxialError as exc:
+                raise SceneError(f"{exc} (loading.vertical_file)") from None
+        mech = BidirectionalTestMachine(geom, loading, axial=axial)
         n_steps = loading.n_steps
     else:
         gx, gy = loading
@@ -358,8 +387,10 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
         mech = BidirectionalStepper(geom, gx, gy, normal_force=scene["mechanics"]["normal_force"], model=model,
                                     rim=rim_of(scene), gz=gz)
         n_steps = gx.n_steps
+        if gz is not None and hasattr(gz, "vertical_scale"):
+            info["record_z"] = vertical_info(gz, ld, gx)
         for comp, g in (("record", gx), ("record_y", gy), ("record_z", gz)):
-            if g is not None and hasattr(g, "record"):
+            if g is not None and hasattr(g, "record") and not hasattr(g, "vertical_scale"):
                 info[comp] = {"name": g.name, "points": len(g.record.t), "dt_s": g.record.dt,
                               "pga_g": g.record.pga_g, "scale": ld["scale"],
                               "scaled_pga_g": g.record.pga_g * ld["scale"] * _target_factor(ld, gx.record),
@@ -408,7 +439,15 @@ def build_flat(scene: Scene) -> Simulation:
     dev = scene["device"]
     geom = FlatGeometry(dev["pad_height"], dev["pad_diameter"], dev["pad_mass"], scene["superstructure"]["mass"])
     loading = loading_of(scene, dt)
-    mech = FlatStepper(geom, loading)
+    gz = vertical_loading_of(scene, dt, loading)
+    axial = None
+    if scene["loading"]["kind"] == "displacement":
+        from fpd.mechanics.axial import AxialError, programme_of
+        try:
+            axial = programme_of(scene["loading"], geom.weight)
+        except AxialError as exc:
+            raise SceneError(f"{exc} (loading.vertical_file)") from None
+    mech = FlatStepper(geom, loading, gz=gz, rim=(dev["d1"], dev["d2"], dev["rim_restitution"]), axial=axial)
     sub = scene["coupling"]["substeps"]
     pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
     plates = tuple(make_plate(p, dt / sub) for p in pp)
@@ -416,6 +455,8 @@ def build_flat(scene: Scene) -> Simulation:
     info = {"device": "flat", "mu_tip_closed_form": geom.mu_tip()}
     if hasattr(loading, "record"):
         info["record"] = record_info(scene, loading)
+    if gz is not None:
+        info["record_z"] = vertical_info(gz, scene["loading"], loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made

@@ -70,11 +70,15 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.d1": ("m", "Slide capacity of the lower surface (TFP: S1) before its rim, as the arc of the "
                        "footprint centre from the surface centre: a DFP / SFP |R1 theta| <= d1 (default: what the "
                        "plate allows, thermal.lower.plate_radius - pad radius; more is refused); a TFP "
-                       "|R1 phi| <= d1 (required)."),
+                       "|R1 phi| <= d1 (required); the flat bearing: the pad's slip on the lower plate, "
+                       "|s1_m| <= d1 (default and limit as the DFP's)."),
     "device.d2": ("m", "Slide capacity of the upper surface of a DFP (|R2 theta| <= d2; default "
                        "thermal.upper.plate_radius - pad radius), of S2 of a TFP (|R2 alpha| <= d2). The DFP's "
-                       "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim."),
-    "device.rim_restitution": ("", "DFP / SFP: coefficient of restitution of a rim impact: the velocity normal "
+                       "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim. The flat "
+                       "bearing: the superstructure's slip on the pad, |s2_m| <= d2 (default "
+                       "thermal.upper.plate_radius - pad radius; more is refused); its test machine's amplitude "
+                       "must be within d1 and d2."),
+    "device.rim_restitution": ("", "DFP / SFP / flat bearing: coefficient of restitution of a rim impact: the velocity normal "
                                    "to the rim is stopped (0, the inelastic stop) or handed back times it; the "
                                    "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J)."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
@@ -158,16 +162,24 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
                                   "components). The x record sets the length; after a shorter y record the "
                                   "ground stops accelerating in y (docs/bidirectional.md, section 4)."),
-    "loading.record.file_z": ("", "DFP, SFP: a record file of the vertical ground acceleration, positive up (path "
+    "loading.record.file_z": ("", "DFP, SFP, flat bearing: a record file of the vertical ground acceleration, positive up (path "
                                   "relative to the scene file, any format of file; a CSMIP V2 file: its vertical "
                                   "channel), scaled by scale (and the x record's target_pga_g factor) and "
                                   "baseline-corrected like x. Treated as the y component of a pair is: read on "
                                   "its own sampling and integrated onto the solver grid; the x record (or "
                                   "solver.duration) sets the length, after a shorter vertical record the ground "
                                   "stops accelerating vertically. Every normal force, friction cap, the heat, the "
-                                  "pad's rocking check and the ledger see g + a_z (docs/model.md 10). Refused on "
-                                  "the TFP and the flat bearing (not yet for these devices) and when the record's "
-                                  "channels already give z."),
+                                  "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
+                                  "(docs/model.md 10). Refused on the TFP (not yet for this device) and when the "
+                                  "record's channels already give z."),
+    "loading.record.vertical_scale": ("", "DFP, SFP, flat bearing: the vertical ground acceleration as this "
+                                          "factor times the horizontal (x) one as run (after scale, "
+                                          "target_pga_g, baseline and the pair's angle), up; e.g. 0.67 for the "
+                                          "common two-thirds rule. Only where named (never a default; a FEMA "
+                                          "P695 set member has no vertical otherwise); not with file_z or a "
+                                          "record's vertical channel (one vertical component); non-zero. The "
+                                          "run is then one under a vertical record (columns, lift-off, "
+                                          "docs/model.md 10; summary record_z names the copy)."),
     "loading.record.channels": ("", "A three-channel CSMIP V2 record (record = \"ferndale-2022\", or a .v2 file): "
                                     "the channels to run, by number; horizontal channels go on x then y in the "
                                     "order given, the vertical one on z. Default: all three in file order ([1, 2, "
@@ -203,13 +215,16 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'test machine (a sine along x); an orbit (circle, figure-eight, a '
                                           'turned sine) runs the bidirectional machine, which carries the '
                                           'riding mass: "riding-mass" (the default there; "constant" is refused). '
-                                          'The TFP and the flat bearing refuse the key (their machine passes '
-                                          'the superstructure\'s weight and inertia down the stack). '
+                                          'The TFP refuses the key (its machine passes the superstructure\'s '
+                                          'weight and inertia down the stack); the flat bearing\'s machine takes '
+                                          '"constant" (its default), "sine" and "series" (N2 = N(t), N1 = N(t) '
+                                          '+ m g: the pad keeps its weight; "riding-mass" is refused). '
                                           '"sine", "series": an axial-load programme N(t) held in force control '
                                           '(as "constant" with N(t) for M g in the normal forces, friction caps, '
                                           'heat, the restoring moment and the ledger; docs/test_machine.md, '
                                           '"Axial-load programme"): a sine about W, or a file of (t, N) rows; '
-                                          'the planar machine only ("not yet for an orbit").'),
+                                          'on an orbit too (the bidirectional machine then holds the load in '
+                                          'force control: "sine" and "series" only, "constant" is refused there).'),
     "loading.displacement.vertical_amplitude_N": ("N", 'vertical = "sine": the amplitude N_a of '
                                                        'N(t) = W + N_a sin(2 pi f_v t + phase), below W (the '
                                                        'bearing stays in compression). Exactly one of this and '
@@ -407,17 +422,22 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
     "az_mps2": ("m/s2", "Vertical ground acceleration, up (the step's mean, the field is g + az_mps2): a run with a "
                         "vertical record only (loading.file_z, or a three-channel record's vertical channel)."),
-    "lift_m": ("m", "DFP / SFP under a vertical record: height of the moving assembly (superstructure and pad) "
+    "lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: height of the moving assembly (superstructure and pad) "
                     "above its seated position, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
-                    "and flies until it lands (docs/model.md 10); z_m includes it."),
-    "n_lift": ("", "DFP / SFP under a vertical record: lift-offs so far."),
-    "t_flight_s": ("s", "DFP / SFP under a vertical record: time spent in flight so far (no contact: normal "
+                    "and flies until it lands (docs/model.md 10); z_m includes it. The flat bearing's "
+                    "assembly flies ballistically relative to the ground horizontally too (its slips go on, "
+                    "friction-free); the DFP / SFP's seated state is held in flight."),
+    "n_lift": ("", "DFP / SFP / flat bearing under a vertical record: lift-offs so far."),
+    "t_flight_s": ("s", "DFP / SFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "
                         "forces, friction, heat and the force on the ground are 0)."),
-    "E_land_J": ("J", "DFP / SFP under a vertical record: cumulative energy taken by the landings after a "
+    "E_land_J": ("J", "DFP / SFP / flat bearing under a vertical record: cumulative energy taken by the landings after a "
                       "lift-off (plastic: the assembly's vertical kinetic energy (M + m) z'^2 / 2 at touch-down)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
-                         "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N)."),
+                         "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
+                         "flat bearing: the sum of the step's impact impulses, the lower rim's on the pad and "
+                         "the upper rim's between pad and superstructure (a face resting on its rim is held: "
+                         "its reaction is part of F_N)."),
     "n_rim1": ("", "Rim impacts on the lower surface (TFP: S1) so far: arrivals at the rim (a DFP counts them on "
                    "the surface that bounds the slide, or on both)."),
     "n_rim2": ("", "Rim impacts on the upper surface of a DFP (TFP: S2) so far."),
@@ -429,12 +449,14 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground (in flight: the seated "
                      "motion's, suspended, and the flight's (M + m) z'^2 / 2)."),
     "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad, in flight + (M + m) g lift_m; a TFP: and the slider plates; "
-                     "the flat bearing: 0)."),
+                     "the flat bearing: 0 while seated)."),
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
                         "seated configuration at t_n+1 is stopped; first order in dt)."),
     "E_rim_J": ("J", "Cumulative energy taken by the rims: a TFP's inelastic impacts; a DFP / SFP's impacts "
-                     "((1 - e^2) of the kinetic energy normal to the rim) and contact."),
+                     "((1 - e^2) of the kinetic energy normal to the rim) and contact; the flat bearing's "
+                     "impacts (the lower rim stops the pad, mass m; the upper rim the slip between pad and "
+                     "superstructure, mass m M / (m + M); both at once: the exact impact of the pair)."),
     "E_stored_J": ("J", "Heat stored in the plates (above the initial temperature; a TFP: its four parts)."),
     "E_air_J": ("J", "Cumulative heat lost to the air (and through the back face)."),
     # two-phase diagnostics (docs/two_phase.md, section 5)
@@ -518,22 +540,22 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
     "rim_loss_J": ("J", "Energy taken by the rims (final E_rim_J)."),
-    "lift_off.count": ("", "DFP / SFP under a vertical record: number of lift-offs (final n_lift)."),
-    "lift_off.flight_time_s": ("s", "DFP / SFP under a vertical record: total time in flight (final "
+    "lift_off.count": ("", "DFP / SFP / flat bearing under a vertical record: number of lift-offs (final n_lift)."),
+    "lift_off.flight_time_s": ("s", "DFP / SFP / flat bearing under a vertical record: total time in flight (final "
                                     "t_flight_s)."),
-    "lift_off.peak_lift_m": ("m", "DFP / SFP under a vertical record: the highest the moving assembly rose "
+    "lift_off.peak_lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: the highest the moving assembly rose "
                                   "above its seated position (peak lift_m)."),
-    "lift_off.landing_loss_J": ("J", "DFP / SFP under a vertical record: energy taken by the landings (final "
+    "lift_off.landing_loss_J": ("J", "DFP / SFP / flat bearing under a vertical record: energy taken by the landings (final "
                                      "E_land_J)."),
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
-    "rim_impacts.lower": ("", "DFP / SFP: number of rim impacts on the lower surface (final n_rim1)."),
-    "rim_impacts.upper": ("", "DFP: number of rim impacts on the upper surface (final n_rim2)."),
-    "capacity.*.capacity_m": ("m", "DFP / SFP: the surface's slide capacity (device.d1 / d2, or the plate's)."),
-    "capacity.*.peak_slide_m": ("m", "DFP / SFP: the largest arc of the footprint centre from the surface "
+    "rim_impacts.lower": ("", "DFP / SFP / flat bearing: number of rim impacts on the lower surface (final n_rim1)."),
+    "rim_impacts.upper": ("", "DFP / flat bearing: number of rim impacts on the upper surface (final n_rim2)."),
+    "capacity.*.capacity_m": ("m", "DFP / SFP / flat bearing: the surface's slide capacity (device.d1 / d2, or the plate's)."),
+    "capacity.*.peak_slide_m": ("m", "DFP / SFP / flat bearing: the largest arc of the footprint centre from the surface "
                                      "centre (peak |s1_m| / |s2_m|)."),
-    "capacity.*.ratio": ("", "DFP / SFP: peak slide / capacity (1: the rim was reached)."),
-    "capacity.*.impacts": ("", "DFP / SFP: rim impacts counted on the surface."),
-    "capacity_ratio": ("", "DFP / SFP: the largest capacity ratio of the surfaces (1: the rim was reached)."),
+    "capacity.*.ratio": ("", "DFP / SFP / flat bearing: peak slide / capacity (1: the rim was reached)."),
+    "capacity.*.impacts": ("", "DFP / SFP / flat bearing: rim impacts counted on the surface."),
+    "capacity_ratio": ("", "DFP / SFP / flat bearing: the largest capacity ratio of the surfaces (1: the rim was reached)."),
     "rim_impacts.S1": ("", "TFP: number of rim impacts on S1 (final n_rim1)."),
     "rim_impacts.S2": ("", "TFP: number of rim impacts on S2 (final n_rim2)."),
     "rim_impacts.S3": ("", "TFP: number of rim impacts on S3 (final n_rim3)."),
@@ -605,7 +627,10 @@ SUMMARY: dict[str, tuple[str, str]] = {
                                    "the pair is scaled as one and keeps its proportions)."),
     "record_y.baseline_b1_mps2": ("m/s2", "Bidirectional record: b1 of the y record's baseline correction."),
     "record_y.baseline_b2_mps3": ("m/s3", "Bidirectional record: b2 of the y record's baseline correction."),
-    "record_z.name": ("", "Vertical record (loading.file_z, or the three-channel record and its channel)."),
+    "record_z.name": ("", "Vertical record (loading.file_z, or the three-channel record and its channel; "
+                          "with loading.vertical_scale: \"k x <the x record>\")."),
+    "record_z.vertical_scale": ("", "loading.vertical_scale: the vertical is this factor times the x record."),
+    "record_z.of": ("", "loading.vertical_scale: the horizontal (x) record the vertical copies."),
     "record_z.points": ("", "Vertical record: samples."),
     "record_z.dt_s": ("s", "Vertical record: sampling interval."),
     "record_z.pga_g": ("g", "Vertical record: peak vertical ground acceleration (unscaled)."),

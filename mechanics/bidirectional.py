@@ -366,7 +366,13 @@ class BidirectionalTestMachine(_Base):
     (mechanics.orbits.OrbitProgramme). F_N components are the restraint's
     horizontal force; the normal forces include its axial share."""
 
-    def __init__(self, geom: DeviceGeometry, programme, jit: bool | None = None):
+    def __init__(self, geom: DeviceGeometry, programme, jit: bool | None = None, axial=None):
+        """axial: None (the superstructure rides on the bearing with its weight
+        and inertia), or an axial-load programme (mechanics.axial.AxialProgramme:
+        "constant" W, "sine", "series") the vertical actuator holds in force
+        control: the superstructure has no inertia, N(t) takes the place of
+        M g in the normal forces and the restoring moment, and the
+        actuator's work beyond the weight's is input."""
         u0, v0 = programme.u[0], programme.ud[0]
         self._setup(geom, programme.dt, programme.n_steps, True, jit,
                     u0=(float(u0[0]), float(u0[1])), v0=(float(v0[0]), float(v0[1])), seated=True)
@@ -374,6 +380,19 @@ class BidirectionalTestMachine(_Base):
         self._U = np.ascontiguousarray(programme.u, dtype=float)
         self._UD = np.ascontiguousarray(programme.ud, dtype=float)
         self._UDD = np.ascontiguousarray(programme.udd, dtype=float)
+        self._GV = np.full(1, geom.g)
+        self.axial = axial
+        if axial is not None:
+            self._GV = np.ascontiguousarray(axial.at(np.asarray(programme.t, dtype=float)) / geom.mass, dtype=float)
+            C, S = self.C, self.S
+            C[K.C_AXIAL] = 1.0
+            C[K.C_I] = geom.I - geom.mass * geom.L ** 2
+            C[K.C_SIN] = geom.S - geom.mass * geom.L
+            Ek, Ep = _pure.energies(C, S)
+            S[K.S_EIN] = Ek + Ep        # the launch's kinetic energy without the held superstructure's
+            nz = S[K.S_NZ]
+            S[K.S_N2] = geom.mass * self._GV[0] * -nz
+            S[K.S_N1] = S[K.S_N2] + geom.pad_mass * geom.g * -nz
         self.normal_force = "seated"
 
     def ground_position(self):
@@ -390,7 +409,7 @@ class BidirectionalTestMachine(_Base):
         self.use_compiled()
         if not self.compiled:
             raise ImportError("numba is not available")
-        return self.C, self.S, (self._U, self._UD, self._UDD), (np.zeros(1),)
+        return self.C, self.S, (self._U, self._UD, self._UDD, self._GV), (np.zeros(1),)
 
     def engine_pull(self, S) -> None:
         """Nothing to copy: the engine steps the stepper's own state."""
@@ -403,6 +422,6 @@ class BidirectionalTestMachine(_Base):
             raise IndexError(f"all {self.n_steps} steps of the loading are taken")
         S = self.S
         W1, W2 = S[K.S_W1], S[K.S_W2]
-        self._K.machine_step(self.C, S, self._U, self._UD, self._UDD, self.n, mu1, mu2)
+        self._K.machine_step(self.C, S, self._U, self._UD, self._UDD, self._GV, self.n, mu1, mu2)
         self.n += 1
         return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)

@@ -69,7 +69,11 @@ C_PLANAR = 28
 C_THMAX, C_REST, C_RIM1, C_RIM2 = 29, 30, 31, 32
 # 1: the loading has a vertical component (the column az_mps2 follows the others)
 C_VERT = 33
-N_C = 34
+# the orbit machine's vertical actuator in force control (1.0; 0: the superstructure rides on
+# the bearing): the load N(t) per grid point over M in the programme's GV, the superstructure
+# without inertia (C_I without M L^2), the moving parts' inertial first moment S - M L
+C_AXIAL, C_SIN = 34, 35
+N_C = 36
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -811,7 +815,7 @@ def run_steps(C, S, AX, AY, AZ, h, mu1, mu2, n0, n1, out):
 
 # -- the bearing-test machine: a prescribed orbit u(t) = (ux, uy) --------------------
 
-def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2):
+def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2, gv):
     """Restraint force (Fx, Fy) and normal forces at one instant of a
     prescribed relative motion u, u', u'' (the lower plate moves by -u, the
     superstructure is held horizontally and rides on its weight), with the
@@ -822,6 +826,10 @@ def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2):
     with a_g = -u'' the lower plate's acceleration and cap = sum mu_i R_i N_i,
     N_i = N_i0 + F . n_h (the restraint's axial share). Linear in F: solved
     in the tangent basis. The planar SeatedTestMachine is the case u_y = 0.
+    With C[C_AXIAL] the vertical actuator holds N = M gv in force control
+    (gv = g: the weight; docs/test_machine.md "Axial-load programme"): the
+    superstructure has no inertia, N2 = N (-n_z) + F . n_h, and its weight
+    M g in S g becomes N (S g + M L (gv - g)); gv is read only then.
     Returns (Fx, Fy, N1, N2, nx, ny, nz, wx, wy, wz)."""
     L, I, S, g = C[C_L], C[C_I], C[C_S], C[C_G]
     nx, ny = ux / L, uy / L
@@ -834,15 +842,22 @@ def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2):
     gax, gay = -ax, -ay                       # the lower plate's acceleration
     # the seated normal forces (unclipped: the machine's formula is linear in F)
     g_axis = -(gax * nx + gay * ny + g * nz)
-    N2_0 = C[C_M] * (g_axis + L * w2)
+    Sin = S
+    Sg = S * g
+    if C[C_AXIAL] != 0.0:
+        N2_0 = C[C_M] * gv * -nz
+        Sin = C[C_SIN]
+        Sg = S * g + C[C_M] * L * (gv - g)
+    else:
+        N2_0 = C[C_M] * (g_axis + L * w2)
     N1_0 = N2_0 + C[C_MP] * (g_axis + C[C_RHO] * w2)
     k = mu1 * C[C_R1] + mu2 * C[C_R2]
     cap0 = mu1 * C[C_R1] * N1_0 + mu2 * C[C_R2] * N2_0
     t1, t2 = tangent_basis(nx, ny, nz)
     # right-hand side, a 3-vector in the tangent plane (normal parts drop in the dots)
-    rx = I * qx + S * gax + cap0 * tx
-    ry = I * qy + S * gay + cap0 * ty
-    rz = I * qz + S * g + cap0 * tz
+    rx = I * qx + Sin * gax + cap0 * tx
+    ry = I * qy + Sin * gay + cap0 * ty
+    rz = I * qz + Sg + cap0 * tz
     b1 = rx * t1[0] + ry * t1[1] + rz * t1[2]
     b2 = rx * t2[0] + ry * t2[1] + rz * t2[2]
     tt1 = tx * t1[0] + ty * t1[1] + tz * t1[2]
@@ -877,13 +892,15 @@ def _slip_tangent(nx, ny, nz, wx, wy, dx, dy, dz):
     return _chord_tangent(nx, ny, nz, dx, dy, dz)
 
 
-def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
+def machine_step(C, S, U, UD, UDD, GV, i, mu1, mu2):
     """Grid point i -> i+1 of the prescribed orbit (U, UD, UDD: (n+1, 2)
-    arrays of u, u', u''). Friction work per interface: mu_i R_i times the
+    arrays of u, u', u''; GV: the axial load over M per grid point, read
+    with C[C_AXIAL] only). Friction work per interface: mu_i R_i times the
     normal force averaged over the step times the angle between the axes
     (the great-circle arc); the input work: the generalised force of the
     restraint and of the moving plate's d'Alembert force, trapezoidal over
-    the chord. Returns the flag."""
+    the chord, and in force control the actuator's work beyond the weight's,
+    -(N - M g) dz with dz = L dn_z (trapezoidal). Returns the flag."""
     L = C[C_L]
     n0x, n0y = U[i, 0] / L, U[i, 1] / L
     n1x, n1y = U[i + 1, 0] / L, U[i + 1, 1] / L
@@ -894,17 +911,26 @@ def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
     ang = 2.0 * math.asin(0.5 * chord)
     t0 = _slip_tangent(n0x, n0y, n0z, UD[i, 0] / L, UD[i, 1] / L, dx, dy, dz)
     t1 = _slip_tangent(n1x, n1y, n1z, UD[i + 1, 0] / L, UD[i + 1, 1] / L, dx, dy, dz)
+    gva = C[C_G]
+    gvb = C[C_G]
+    Sin = C[C_S]
+    if C[C_AXIAL] != 0.0:
+        gva = GV[i]
+        gvb = GV[i + 1]
+        Sin = C[C_SIN]
     Fa = machine_point(C, U[i, 0], U[i, 1], UD[i, 0], UD[i, 1], UDD[i, 0], UDD[i, 1],
-                       t0[0], t0[1], t0[2], mu1, mu2)
+                       t0[0], t0[1], t0[2], mu1, mu2, gva)
     Fb = machine_point(C, U[i + 1, 0], U[i + 1, 1], UD[i + 1, 0], UD[i + 1, 1], UDD[i + 1, 0],
-                       UDD[i + 1, 1], t1[0], t1[1], t1[2], mu1, mu2)
+                       UDD[i + 1, 1], t1[0], t1[1], t1[2], mu1, mu2, gvb)
     R1, R2 = C[C_R1], C[C_R2]
     S[S_W1] += mu1 * 0.5 * (Fa[2] + Fb[2]) * R1 * ang
     S[S_W2] += mu2 * 0.5 * (Fa[3] + Fb[3]) * R2 * ang
     # generalised force Q = L F + S u'' (the plate's d'Alembert force is -S a_g = S u'')
-    qa = (L * Fa[0] + C[C_S] * UDD[i, 0], L * Fa[1] + C[C_S] * UDD[i, 1])
-    qb = (L * Fb[0] + C[C_S] * UDD[i + 1, 0], L * Fb[1] + C[C_S] * UDD[i + 1, 1])
+    qa = (L * Fa[0] + Sin * UDD[i, 0], L * Fa[1] + Sin * UDD[i, 1])
+    qb = (L * Fb[0] + Sin * UDD[i + 1, 0], L * Fb[1] + Sin * UDD[i + 1, 1])
     S[S_EIN] += 0.5 * ((qa[0] + qb[0]) * dx + (qa[1] + qb[1]) * dy)
+    if C[C_AXIAL] != 0.0:
+        S[S_EIN] -= 0.5 * C[C_M] * L * ((gva - C[C_G]) + (gvb - C[C_G])) * dz
     S[S_NX], S[S_NY], S[S_NZ] = Fb[4], Fb[5], Fb[6]
     S[S_WX], S[S_WY], S[S_WZ] = Fb[7], Fb[8], Fb[9]
     S[S_FX], S[S_FY], S[S_N1], S[S_N2] = Fb[0], Fb[1], Fb[2], Fb[3]

@@ -195,13 +195,13 @@ def _f(x):
 
 
 def rim_summary(d: dict, st) -> dict:
-    """The DFP / SFP rim (docs/model.md 9): per surface its capacity, the
+    """The DFP / SFP / flat bearing's rims (docs/model.md 9, 7): per surface its capacity, the
     peak slide (arc from its centre), their ratio and the impacts counted on
     it; the rim's loss and the impacts' impulse (N s: an impact is an
     impulse, never a force); the largest ratio, for sweep tables."""
     dev = d["device"]
     sides = (("lower", "s1_m", "d1", "n_rim1"),) + ((("upper", "s2_m", "d2", "n_rim2"),)
-                                                      if dev["kind"] == "DFP" else ())
+                                                      if dev["kind"] in ("DFP", "flat") else ())
     cap = {}
     for side, col, key, n in sides:
         peak = st.peak_abs(col)

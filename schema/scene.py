@@ -142,6 +142,9 @@ LOADING_KEYS = {
                "file_y": ("str", None, None), "angle_deg": ("float", 0.0, None),
                # the vertical component (model.md 10), and the channels of a three-channel CSMIP V2 file
                "file_z": ("str", None, None), "channels": ("floats", None, None),
+               # or the vertical as a scaled copy of the horizontal (x) record, only when named
+               "vertical_scale": ("float", None, lambda x: None if x != 0 and math.isfinite(x)
+                                  else "must be a non-zero number (leave it out for no vertical motion)"),
                # FEMA P695 record sets (mechanics/p695.py; fpd sweep expands a set into its components)
                "record_set": (("p695-far-field", "p695-near-field-pulse", "p695-near-field-no-pulse"), None, None),
                "record_id": ("int", None, _atleast(1)), "component": (("a", "b", "pair"), None, None),
@@ -480,6 +483,10 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
                 ctx.fail("loading.file_z", res["file_z"], "must not be given when the record's channels include its "
                          "vertical one (leave it out of loading.channels to take file_z)")
             res["path_z"] = _record_path(ctx, "loading.file_z", res["file_z"], scene_dir)
+        if "vertical_scale" in res and "path_z" in res:
+            what = "loading.file_z" if "file_z" in res else "the record's vertical channel (loading.channels)"
+            ctx.fail("loading.vertical_scale", res["vertical_scale"], f"must not be given with {what}: one "
+                     "vertical component (a record, or a scaled copy of the horizontal one)")
         if res["angle_deg"] != 0.0 and "path_y" not in res:
             res["path_y"] = None          # one component turned in the plane: bidirectional too
     if kind == "displacement" and "vertical_file" in res:
@@ -630,10 +637,6 @@ def _validate(raw: dict, path: str) -> Scene:
     for key in TFP_DEVICE_KEYS:
         if key in dev:
             ctx.fail(f"device.{key}", dev[key], f'is a key of kind = "TFP" only (this device is "{dev["kind"]}")')
-    if dev["kind"] == "flat":
-        for key in ("d1", "d2"):
-            if key in dev:
-                ctx.fail(f"device.{key}", dev[key], 'is a capacity of a concave surface: the flat bearing has none')
     if dev["kind"] == "SFP" and "d2" in dev:
         ctx.fail("device.d2", dev["d2"], "the SFP has one sliding surface: give its capacity as d1")
     if "R1" not in dev and dev["kind"] != "flat":
@@ -812,14 +815,13 @@ def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
     if ld["kind"] == "displacement":
         # the planar machine holds the vertical load by default; the orbit machine
         # (mechanics/bidirectional.py) carries the superstructure as a riding mass
+        # (its default; an axial-load programme "sine" or "series" holds the load in force control)
         if not two_d:
             ld.setdefault("vertical", "constant")
-        elif ld.get("vertical") in AXIAL_KEYS:
-            ctx.fail("loading.vertical", ld["vertical"], "not yet for an orbit: the axial-load programme is the "
-                     "planar test machine's (a sine with direction_deg = 0)")
-        elif ld.setdefault("vertical", "riding-mass") != "riding-mass":
-            ctx.fail("loading.vertical", ld["vertical"], 'must be "riding-mass" (or left out) for an orbit: the '
-                     "bidirectional test machine carries the superstructure as a riding mass in this version")
+        elif ld.setdefault("vertical", "riding-mass") not in ("riding-mass", *AXIAL_KEYS):
+            ctx.fail("loading.vertical", ld["vertical"], 'must be "riding-mass" (or left out), "sine" or "series" '
+                     "for an orbit: the bidirectional test machine carries the superstructure as a riding mass "
+                     "unless an axial-load programme holds it")
         _axial_checks(ctx, ld, data)
     if not two_d:
         return
@@ -1177,12 +1179,15 @@ def planar_only(ctx, data, device: str) -> None:
     if ld["kind"] == "record":
         # the vertical ground motion (model.md 10): the DFP and the SFP only
         vwhy = (f"not yet for this device: the {device}'s stepper has no vertical ground motion "
-                "(a DFP or an SFP takes it)")
-        if ld.get("file_z") is not None:
+                "(a DFP, an SFP or the flat bearing takes it)")
+        takes_z = device == "flat bearing"
+        if ld.get("file_z") is not None and not takes_z:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
-        if ld.get("channels") is not None and (ld["channels"][1] or ld["channels"][2]):
+        if ld.get("vertical_scale") is not None and not takes_z:
+            ctx.fail("loading.vertical_scale", ld["vertical_scale"], vwhy)
+        if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not takes_z)):
             ch = [c for c in ld["channels"] if c]
-            what = vwhy if ld["channels"][2] else why
+            what = vwhy if ld["channels"][2] and not takes_z else why
             ctx.fail("loading.channels", ch, f"must name one horizontal channel ([{ch[0]}]): {what}")
         if ld.get("file_y") is not None:
             ctx.fail("loading.file_y", ld["file_y"], f"is not allowed: {why}")
@@ -1192,7 +1197,13 @@ def planar_only(ctx, data, device: str) -> None:
             ctx.fail("loading.record", ld["record"], f"must be a single-component record: {why}")
         if ld.get("angle_deg", 0.0) != 0.0:
             ctx.fail("loading.angle_deg", ld["angle_deg"], f"must be 0: {why}")
-    if ld["kind"] == "displacement":
+    if ld["kind"] == "displacement" and device == "flat bearing":
+        # the flat bearing's machine holds the vertical load in force control: M g or a programme
+        if ld.get("vertical") not in (None, "constant", "sine", "series"):
+            ctx.fail("loading.vertical", ld["vertical"], 'must be "constant", "sine" or "series" for the flat '
+                     "bearing (its machine holds the vertical load in force control; nothing rides up or down)")
+        _axial_checks(ctx, ld, data)
+    elif ld["kind"] == "displacement":
         if ld.get("vertical") is not None:
             ctx.fail("loading.vertical", ld["vertical"], f"is a key of the DFP / SFP test machine; the {device}'s "
                      "machine passes the superstructure's weight and inertia down the stack (leave it out)")
@@ -1200,7 +1211,8 @@ def planar_only(ctx, data, device: str) -> None:
                     "vertical_phase_deg", "vertical_file"):
             if key in ld:
                 ctx.fail(f"loading.{key}", ld[key], f"not yet for this device: the axial-load programme is the "
-                         f"DFP / SFP test machine's (the {device}'s machine holds the weight)")
+                         f"DFP / SFP / flat bearing test machine's (the {device}'s machine holds the weight)")
+    if ld["kind"] == "displacement":
         if ld.get("waveform", "sine") != "sine":
             ctx.fail("loading.waveform", ld["waveform"], f'must be "sine": {why}')
         if ld.get("direction_deg", 0.0) != 0.0:
@@ -1253,6 +1265,31 @@ def flat_device(ctx, data, raw) -> None:
         ctx.fail("loading.kind", "heat", 'a thermal-only scene ignores the device: use kind = "DFP" for it')
 
 
+def _flat_capacities(ctx, data) -> None:
+    """The flat bearing's d1 (the pad's slip on the lower plate) and d2 (on
+    the upper plate), docs/model.md 7: by default what the plate allows
+    (plate_radius - a), a given one no larger; the test machine's amplitude
+    within both (the weaker face carries u, so the machine stops short of
+    either rim)."""
+    dev, a = data["device"], data["device"]["pad_diameter"] / 2
+    for key, side in (("d1", "lower"), ("d2", "upper")):
+        room = data["thermal"][side]["plate_radius"] - a
+        if key not in dev:
+            if room <= 0.0:
+                ctx.fail(f"thermal.{side}.plate_radius", data["thermal"][side]["plate_radius"],
+                         f"must exceed the pad radius {a:g} m (the footprint needs room to slide: device.{key})")
+            dev[key] = room
+        elif dev[key] > room * (1 + 1e-12):
+            ctx.fail(f"device.{key}", dev[key], f"the footprint (radius {a:g} m) would pass the plate's edge: at most "
+                     f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
+    ld = data["loading"]
+    if ld["kind"] == "displacement" and "d1" in dev and "d2" in dev:
+        key = "d1" if dev["d1"] <= dev["d2"] else "d2"
+        if ld["amplitude_m"] > dev[key] * (1 + 1e-12):
+            ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"drives the flat bearing past its capacity: device.{key} "
+                     f"= {dev[key]:.4g} m (the machine's amplitude must stay within d1 and d2)")
+
+
 def flat_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "flat bearing")
 
@@ -1260,6 +1297,7 @@ def flat_cross_checks(ctx, data) -> None:
     if data["output"]["vtk_every"] > 0:
         ctx.fail("output.vtk_every", data["output"]["vtk_every"], "must be 0 for the flat bearing (no VTK yet)")
     check_time_grid(ctx, ld, sol)
+    _flat_capacities(ctx, data)
     for side, t in data["thermal"].items():
         if t["model"] != "none" and dev["pad_diameter"] / 2 > t["plate_radius"]:
             ctx.fail("thermal.plate_radius", t["plate_radius"], f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")
