@@ -113,6 +113,11 @@ KEYS: dict[str, tuple[str, str]] = {
     "friction.kumar2015.use_velocity": ("", "Apply the velocity factor k_v (else 1)."),
     "friction.table.T_C": ("degC", "Temperatures of the table, strictly increasing."),
     "friction.table.mu": ("", "mu at each T_C (piecewise linear between, constant beyond the ends)."),
+    "friction.constantinou.mu_slow": ("", "mu at rest (sliding speed 0) of the velocity law of Constantinou, Mokha "
+                                          "and Reinhorn (1990): mu = mu_fast - (mu_fast - mu_slow) exp(-a |v|)."),
+    "friction.constantinou.mu_fast": ("", "mu at high sliding speed of the Constantinou law."),
+    "friction.constantinou.a_s_per_m": ("s/m", "Rate parameter a of the Constantinou law (mu has covered 1 - 1/e "
+                                               "of its way from mu_slow to mu_fast at |v| = 1/a)."),
 
     # [loading]
     "loading.kind": ("", '"record": ground acceleration record; "harmonic": sinusoidal ground motion; '

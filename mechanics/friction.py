@@ -67,6 +67,17 @@ class Kumar2015(_Law):
 
 
 @dataclass(frozen=True)
+class Constantinou1990(_Law):
+    """Constantinou, Mokha and Reinhorn (1990): mu = mu_fast - (mu_fast -
+    mu_slow) exp(-a |v|): mu_slow at rest, mu_fast at high sliding speed."""
+
+    mu_slow: float
+    mu_fast: float
+    a_s_per_m: float = 100.0
+    kind = _k.LAW_CONSTANTINOU
+
+
+@dataclass(frozen=True)
 class Table(_Law):
     """Piecewise linear in T through (T_C[i], mu[i]), constant beyond the ends."""
 
@@ -92,7 +103,8 @@ class Table(_Law):
         return mu
 
 
-LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table": Table}
+LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table": Table,
+        "constantinou": Constantinou1990}
 
 
 def make_law(spec: dict):

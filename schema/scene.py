@@ -100,6 +100,8 @@ FRICTION_KEYS = {
                                          "a_s_per_m": ("float", _pos), "use_pressure": ("bool", None),
                                          "use_temperature": ("bool", None), "use_velocity": ("bool", None)}),
     "table": _law_keys("table", {"T_C": ("floats", None), "mu": ("floats", None)}),
+    "constantinou": _law_keys("constantinou", {"mu_slow": ("float", _mu), "mu_fast": ("float", _mu),
+                                               "a_s_per_m": ("float", _pos)}),
 }
 
 def _plate_default(name):
