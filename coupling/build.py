@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from fpd.mechanics.friction import make_law
+from fpd.mechanics.friction import make_law, static_mu
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC
 from fpd.thermal.params import PlateParams
 
@@ -72,6 +72,8 @@ def loading_of(scene: Scene, dt: float):
         return gm
     if ld["kind"] == "harmonic":
         return gmod.harmonic_ground_motion(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
+    if ld["kind"] == "displacement" and ld["waveform"] == "triangle":
+        return gmod.triangle_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "displacement":
         return gmod.sine_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "pulse":
@@ -260,6 +262,8 @@ def build(scene: Scene) -> Simulation:
         except AxialError as exc:
             raise SceneError(f"{exc} (loading.vertical_file)") from None
         mech = SeatedTestMachine(geom, loading, ld["vertical"], axial if axial.varying else None)
+        if ld.get("link_stiffness_N_per_m"):
+            mech.set_link(ld["link_stiffness_N_per_m"], ld["link_mass_kg"])
     else:
         # one DFP/SFP stepper: a planar ground motion is the 3D stepper's with the
         # y component absent (signed planar columns), both models, both schemes
@@ -275,11 +279,19 @@ def build(scene: Scene) -> Simulation:
                           "scaled_pga_g": loading.record.pga_g * ld["scale"] * _target_factor(ld, loading.record),
                           "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    _set_static(scene, mech)
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled loop now, not after the run's folder is made (coupling/fast_loop.py)
     return sim
+
+
+def _set_static(scene: Scene, mech) -> None:
+    """The surfaces' static (breakaway) coefficients into a DFP/SFP stepper (when any is given)."""
+    mus = tuple(static_mu(scene.friction(side)) for side in ("lower", "upper"))
+    if any(m > 0.0 for m in mus):
+        mech.set_static(*mus)
 
 
 # -- bidirectional runs (model.md 8) ----------------------------------------------------
@@ -368,6 +380,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
             info["record"]["angle_deg"] = ld["angle_deg"]
     info["bidirectional"] = {"normal_force": mech.normal_force}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    _set_static(scene, mech)
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
     sim = Simulation(scene, dt, n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
     from .fast_loop import warm

@@ -113,6 +113,19 @@ KEYS: dict[str, tuple[str, str]] = {
     "friction.kumar2015.use_velocity": ("", "Apply the velocity factor k_v (else 1)."),
     "friction.table.T_C": ("degC", "Temperatures of the table, strictly increasing."),
     "friction.table.mu": ("", "mu at each T_C (piecewise linear between, constant beyond the ends)."),
+    "friction.mu_static": ("", "Static (breakaway) coefficient of the surface: a stuck surface holds until the "
+                               "force it must carry exceeds mu_static N, then the sliding law applies until it "
+                               "sticks again. Must be >= the sliding mu at rest (20 degC); absent: the sliding mu "
+                               "holds. DFP and SFP (ground motions and the test machines)."),
+    "friction.wear_k_mm3_per_Nm": ("mm3/(N m)", "Archard wear coefficient k_w of the surface: the wear depth "
+                                                "grows by k_w p ds (p = N / contact area, ds the sliding path). "
+                                                "Absent: no wear columns."),
+    "friction.wear_T_C": ("degC", "Temperatures of a wear-coefficient table (strictly increasing; with "
+                                  "wear_k_T_mm3_per_Nm): k_w(T) piecewise linear, constant beyond the ends; "
+                                  "replaces wear_k_mm3_per_Nm."),
+    "friction.wear_k_T_mm3_per_Nm": ("mm3/(N m)", "k_w at each wear_T_C (>= 0)."),
+    "friction.liner": ("", "A liner preset (docs/liners.md): its law, coefficients and wear coefficient, each "
+                           "overridable key by key in the same table."),
     "friction.constantinou.mu_slow": ("", "mu at rest (sliding speed 0) of the velocity law of Constantinou, Mokha "
                                           "and Reinhorn (1990): mu = mu_fast - (mu_fast - mu_slow) exp(-a |v|)."),
     "friction.constantinou.mu_fast": ("", "mu at high sliding speed of the Constantinou law."),
@@ -194,7 +207,8 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'the bearing there is input at t = 0); "figure-eight": '
                                           'u = A (sin w t, sin(2 w t) / 2); A = amplitude_m, w = 2 pi '
                                           'frequency_Hz. circle and figure-eight are bidirectional orbits '
-                                          '(DFP, SFP; docs/bidirectional.md, section 3).'),
+                                          '(DFP, SFP; docs/bidirectional.md, section 3). "triangle": constant '
+                                          'speed 4 A f from 0 towards +A, to -A and back (planar DFP, SFP).'),
     "loading.displacement.direction_deg": ("deg", "DFP, SFP: direction of the sine in the plane, from x towards y; "
                                                   "non-zero makes the run bidirectional. Not used by circle "
                                                   "and figure-eight."),
@@ -225,6 +239,12 @@ KEYS: dict[str, tuple[str, str]] = {
                                                           '(> 0; required).'),
     "loading.displacement.vertical_phase_deg": ("deg", 'vertical = "sine": the phase of the axial load\'s sine '
                                                         'at t = 0 (default 0: N(0) = W, rising).'),
+    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP, planar machine): a spring "
+                                                          "of this stiffness between the machine's imposed position "
+                                                          "and the plate, which then moves by its own dynamics "
+                                                          "(stick-slip; docs/model.md 11.3). F_N is the link's force. "
+                                                          "Needs link_mass_kg."),
+    "loading.displacement.link_mass_kg": ("kg", "The mass of the plate the compliant link drives."),
     "loading.displacement.vertical_file": ("", 'vertical = "series": a text file of (time s, load N) rows, two '
                                                'numbers a line (whitespace or a comma; # comments), times '
                                                'increasing, loads > 0, covering the run from t = 0; linear '

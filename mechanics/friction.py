@@ -107,9 +107,22 @@ LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table":
         "constantinou": Constantinou1990}
 
 
+# keys of a surface beside its law's (schema.scene.SURFACE_KEYS): read by surface_of
+SURFACE_KEYS = ("mu_static", "wear_k_mm3_per_Nm", "wear_T_C", "wear_k_T_mm3_per_Nm", "liner")
+
+# liner presets: name -> {"values": the [friction] keys it sets, "sources": where each comes from}
+LINERS: dict = {}
+
+
 def make_law(spec: dict):
     """A law from a validated ``[friction]`` table (keys already checked)."""
-    kw = {k: v for k, v in spec.items() if k != "law"}
+    kw = {k: v for k, v in spec.items() if k != "law" and k not in SURFACE_KEYS}
     if spec["law"] == "table":
         kw = {"T_C": tuple(kw["T_C"]), "mu": tuple(kw["mu"])}
     return LAWS[spec["law"]](**kw)
+
+
+def static_mu(spec: dict) -> float:
+    """The surface's static (breakaway) coefficient; 0.0 when none is given
+    (friction_kernel.holding_mu: the sliding mu holds a stuck surface)."""
+    return float(spec.get("mu_static", 0.0))

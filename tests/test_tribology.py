@@ -64,3 +64,138 @@ def test_constantinou_law_from_a_scene():
     with pytest.raises(SceneError, match="friction.a_s_per_m"):
         fpd.load_scene(lab(friction={"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.09,
                                      "a_s_per_m": -1.0}))
+
+
+# -- breakaway (static) friction ------------------------------------------------------------
+def _run(raw):
+    from fpd.coupling.build import build
+    from fpd.coupling.run import simulate
+    sc = fpd.load_scene(raw)
+    res = simulate(build(sc))
+    assert res.status == "ok", res.message
+    return sc, res
+
+
+def _caps(sc, mu):
+    """The DFP's statics at u = 0: the friction part of the restraint force,
+    mu (N1 R1 + N2 R2) / L (not mu N), the machine holding the load at M g."""
+    from fpd.coupling.build import geometry_of
+    g = geometry_of(sc)
+    N2 = g.mass * g.g
+    N1 = N2 + g.pad_mass * g.g
+    return mu * (N1 * g.R1 + N2 * g.friction_radius2) / g.L, g
+
+
+@pytest.mark.parametrize("direction", [0.0, 30.0])     # the planar machine; the orbit machine
+def test_breakaway_force_on_the_test_machine(direction):
+    """A slow sine from rest, mu_s = 0.08 > mu_k = 0.05: the first step's force is
+    the statics with mu_s, the force at the return through u = 0 the statics
+    with mu_k (both within 0.5 %; measured 1e-9 and 6e-6)."""
+    sc, res = _run(lab(friction={"law": "constant", "mu": 0.05, "mu_static": 0.08},
+                       loading={"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 0.05, "cycles": 1,
+                                "direction_deg": direction}))
+    F = res["F_N"]
+    u = res["u_m"]
+    Fs, _ = _caps(sc, 0.08)
+    Fk, _ = _caps(sc, 0.05)
+    assert F[1] == pytest.approx(Fs, rel=5e-3)
+    assert F[1] == pytest.approx(Fs, rel=1e-4)            # what it measures
+    half = len(u) // 2                                    # back through u = 0, sliding towards -u
+    assert abs(u[half]) < 1e-12
+    assert abs(F[half]) == pytest.approx(Fk, rel=5e-3)
+    assert F[2] == pytest.approx(Fk, rel=5e-3)            # sliding right after the breakaway
+    # without mu_static the first step carries the sliding force
+    _, res0 = _run(lab(friction={"law": "constant", "mu": 0.05},
+                       loading={"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 0.05, "cycles": 1,
+                                "direction_deg": direction}))
+    assert res0["F_N"][1] == pytest.approx(Fk, rel=5e-3)
+    np.testing.assert_array_equal(res0["F_N"][2:], F[2:])
+
+
+@pytest.mark.parametrize("model", ["seated", "two-phase"])
+def test_breakaway_threshold_under_a_ground_motion(model):
+    """From rest the pad holds while the ground's drive S a_g stays inside the
+    static cap mu_s (N1 R1 + N2 R2): a harmonic ground motion whose peak
+    acceleration is 1 % below that threshold leaves it stuck (it slides with
+    the sliding mu alone), 1 % above breaks it away."""
+    sc0 = fpd.load_scene(lab())
+    Fs, g = _caps(sc0, 0.08)
+    a_break = Fs * g.L / g.S
+    peaks = {}
+    for fac in (0.99, 1.01):
+        A = fac * a_break / (2 * math.pi) ** 2
+        for mus in (0.08, None):
+            fr = {"law": "constant", "mu": 0.05}
+            if mus:
+                fr["mu_static"] = mus
+            _, res = _run(lab(friction=fr, mechanics={"model": model},
+                              loading={"kind": "harmonic", "amplitude_m": A, "frequency_Hz": 1.0, "cycles": 2}))
+            peaks[fac, mus] = float(np.max(np.abs(res["u_m"])))
+    assert peaks[0.99, 0.08] == 0.0
+    assert peaks[0.99, None] > 1e-3
+    assert peaks[1.01, 0.08] > 1e-3
+
+
+def test_mu_static_refused_below_the_sliding_mu_and_on_the_tfp():
+    with pytest.raises(SceneError, match=r"friction.mu_static = 0.04: must be >= the sliding mu \(0.05"):
+        fpd.load_scene(lab(friction={"law": "constant", "mu": 0.05, "mu_static": 0.04}))
+    with pytest.raises(SceneError, match=r"friction.lower.mu_static = 0.02: must be >= the sliding mu \(0.03"):
+        fpd.load_scene(lab(friction={"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.09,
+                                     "lower": {"mu_static": 0.02}}))
+    fpd.load_scene(lab(friction={"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.09, "mu_static": 0.05}))
+    with pytest.raises(SceneError, match="breakaway friction is modelled for the DFP and SFP only, not the TFP"):
+        fpd.load_scene("tfp-elcentro", **{"friction.mu_static": 0.5})
+
+
+# -- stick-slip through a compliant link ----------------------------------------------------
+def spring_block(k, m, Kb, Fs, Fk, V):
+    """The spring-block with static and kinetic friction, driven at speed V
+    through a spring k, with the bearing's restoring stiffness Kb
+    (docs/model.md, "Stick-slip"): (slip time, stick time, period, drop of the
+    link's force over a slip)."""
+    K = k + Kb
+    w = math.sqrt(K / m)
+    D = Fs - Fk
+    c = k * V / (D * w)
+    phi = 2.0 * math.pi - 2.0 * math.atan(1.0 / c)
+    y0, yd0 = -D / K, -k * V / K
+    y1 = y0 * math.cos(phi) + yd0 / w * math.sin(phi)
+    t_slip = phi / w
+    t_stick = (D + K * y1) / (k * V)
+    dx = k * V * t_slip / K + y1 - y0
+    drop = D + K * y1 - Kb * dx                     # (Fs + Kb x0) - (Fk - K y1 + Kb x1)
+    return t_slip, t_stick, t_slip + t_stick, drop
+
+
+def test_stick_slip_saw_tooth_matches_the_spring_block():
+    """A slow triangle drive (10 mm/s) through a 2 MN/m link onto a 2 t plate,
+    mu_s = 0.08, mu_k = 0.05: the saw-tooth's period and force drop are the
+    spring-block's with the bearing's restoring stiffness S g / L^2 and its
+    inertia added to the plate's (within 1 %; measured 3e-4 and 2e-4); the
+    first breakaway comes when the link carries the static cap."""
+    k, mp, V = 2e6, 2000.0, 0.01
+    sc, res = _run(lab(friction={"law": "constant", "mu": 0.05, "mu_static": 0.08},
+                       loading={"kind": "displacement", "waveform": "triangle", "amplitude_m": 0.15,
+                                "frequency_Hz": V / 0.6, "cycles": 0.25,
+                                "link_stiffness_N_per_m": k, "link_mass_kg": mp}))
+    Fs, g = _caps(sc, 0.08)
+    Fk, _ = _caps(sc, 0.05)
+    Ip, Sin = g.I - g.mass * g.L ** 2, g.S - g.mass * g.L      # the machine holds the load (seated.py)
+    m = mp + Ip / g.L ** 2 - Sin / g.L
+    Kb = g.S * g.g / g.L ** 2
+    t_slip, t_stick, T, drop = spring_block(k, m, Kb, Fs, Fk, V)
+    t, F, ph = res["t_s"], res["F_N"], np.asarray(res["phase"])
+    starts = np.where((ph[1:] != 0) & (ph[:-1] == 0))[0] + 1
+    assert len(starts) >= 4
+    assert t[starts[0]] == pytest.approx(Fs / (k * V), abs=2e-3)   # the first breakaway, from zero force
+    assert F[starts[0] - 1] == pytest.approx(Fs, rel=5e-3)
+    periods = np.diff(t[starts])
+    assert periods[0] == pytest.approx(T, rel=1e-2)
+    assert periods[0] == pytest.approx(T, rel=1e-3)                # what it measures
+    for a, b in zip(starts[:2], starts[1:3]):
+        stops = a + np.where(ph[a:b] == 0)[0][0]                    # the first stuck row after the slip
+        seg = F[a - 1:stops + 1]
+        assert seg.max() - seg.min() == pytest.approx(drop, rel=1e-2)
+    # the slip lasts the closed form's time (to the rows' resolution)
+    first_stop = starts[0] + np.where(ph[starts[0]:] == 0)[0][0]
+    assert t[first_stop] - t[starts[0]] == pytest.approx(t_slip, abs=2.5e-3)
