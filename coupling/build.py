@@ -32,6 +32,15 @@ class Simulation:
     substeps: int = 1
     info: dict = field(default_factory=dict)
 
+    # per interface the Archard wear coefficient's law (mechanics.friction.wear_laws), or None: no wear
+    wear: tuple | None = None
+
+    def __post_init__(self):
+        if self.mechanics is not None and self.wear is None:
+            from fpd.mechanics.friction import wear_laws
+            sides = TFP_SURFACES if len(self.laws) == 4 else ("lower", "upper")
+            self.wear = wear_laws([self.scene.friction(s) for s in sides])
+
     @property
     def areas(self) -> tuple:
         """Contact area (m^2) per interface: p_i = N_i / area_i in the friction laws."""

@@ -417,6 +417,16 @@ COLUMNS: dict[str, tuple[str, str]] = {
                   "in proportion to their caps)."),
     "W4_J": ("J", "TFP: cumulative friction work on S4 (an arrest loss of the outer coordinate shared with S1 "
                   "in proportion to their caps)."),
+    "path1_m": ("m", "With wear: accumulated sliding path of the lower interface (a TFP: S1), the friction "
+                     "work over mu N step by step."),
+    "path2_m": ("m", "With wear: accumulated sliding path of the upper interface (a TFP: S2)."),
+    "path3_m": ("m", "TFP with wear: accumulated sliding path of S3."),
+    "path4_m": ("m", "TFP with wear: accumulated sliding path of S4."),
+    "wear1_m": ("m", "With wear: Archard wear depth of the lower interface (a TFP: S1), the sum of "
+                     "k_w(T) (N / contact area) d(path) (k_w at the temperature the step's mu used)."),
+    "wear2_m": ("m", "With wear: Archard wear depth of the upper interface (a TFP: S2)."),
+    "wear3_m": ("m", "TFP with wear: Archard wear depth of S3."),
+    "wear4_m": ("m", "TFP with wear: Archard wear depth of S4."),
     "phase": ("", "State at the end of the step: stick, slip or tilt (the pad rocks or lands); a TFP: stick, "
                   "inner (S2 + S3 slide), outer (S1 + S4) or inner+outer (all four)."),
     "regime": ("", "TFP: sliding regime of the step as a code (Fenz-Constantinou numbering): 0 stick, 1 = I "
@@ -533,6 +543,11 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_F_N": ("N", "Peak |F_N| (bidirectional: the peak resultant)."),
     "friction_work_J.lower": ("J", "Friction work on the lower interface (final W1_J)."),
     "friction_work_J.upper": ("J", "Friction work on the upper interface (final W2_J)."),
+    "wear.lower.path_m": ("m", "With wear: the lower interface's sliding path (final path1_m); a TFP: "
+                               "wear.S1 .. wear.S4."),
+    "wear.lower.depth_m": ("m", "With wear: the lower interface's Archard wear depth (final wear1_m)."),
+    "wear.upper.path_m": ("m", "With wear: the upper interface's sliding path (final path2_m)."),
+    "wear.upper.depth_m": ("m", "With wear: the upper interface's Archard wear depth (final wear2_m)."),
     "friction_work_J.S1": ("J", "TFP: friction work on S1 (final W1_J)."),
     "friction_work_J.S2": ("J", "TFP: friction work on S2 (final W2_J)."),
     "friction_work_J.S3": ("J", "TFP: friction work on S3 (final W3_J)."),

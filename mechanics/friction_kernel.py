@@ -85,3 +85,15 @@ def holding_mu(mu, mu_s):
     if mu_s > mu:
         return mu_s
     return mu
+
+
+def wear_step(K, T_C, dW, mu, N, area, PW, i, ni):
+    """Archard wear of interface i over a step (of ni): the sliding path
+    ds = dW / (mu N) (the step's friction work dW at the coefficient mu and
+    normal force N) into PW[i], the depth k_w(T) (N / area) ds into
+    PW[ni + i]; K: the wear coefficient's row (a law row, m^2/N, in T only).
+    A step without friction work adds nothing."""
+    if dW > 0.0 and mu > 0.0 and N > 0.0:
+        ds = dW / (mu * N)
+        PW[i] += ds
+        PW[ni + i] += law_mu(K, T_C, 0.0, 0.0) * (N / area) * ds

@@ -373,7 +373,10 @@ def _describe(spec) -> str:
 
 
 # -- the sections with structure -------------------------------------------------
-def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
+def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
+    """Per side the law and its keys, the surface keys and a liner preset's.
+    ``no_static``: the device (named) does not model breakaway: mu_static in the
+    scene is refused, a preset's is not used."""
     if given is None:
         ctx.missing("friction", "the scene needs a [friction] table (law and its keys)")
     if not isinstance(given, dict):
@@ -387,8 +390,13 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
         merged = dict(base)
         merged.update(over)
         where = f"friction.{side}" if over else "friction"
+        if no_static is not None and "mu_static" in merged:
+            ctx.fail(f"friction.{side}.mu_static" if "mu_static" in over else "friction.mu_static",
+                     merged["mu_static"], f"breakaway friction is modelled for the DFP and SFP only, not {no_static}")
         if "liner" in merged:
             merged = _liner(ctx, where, merged, base, over)
+            if no_static is not None:
+                merged.pop("mu_static", None)
         law = merged.get("law", "constant")
         if not isinstance(law, str) or law not in FRICTION_KEYS:
             ctx.fail(f"{where}.law", law, "must be one of " + ", ".join(f'"{k}"' for k in FRICTION_KEYS))
@@ -426,14 +434,6 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
             res["liner"] = liner
         out[side] = res
     return out
-
-
-def _no_static(ctx: _Ctx, data: dict, device: str) -> None:
-    """The breakaway coefficient is modelled in the DFP/SFP steppers only."""
-    for f in data["friction"].values():
-        if "mu_static" in f:
-            ctx.fail("friction.mu_static", f["mu_static"],
-                     f"breakaway friction is modelled for the DFP and SFP only, not {device}")
 
 
 def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
@@ -703,8 +703,7 @@ def _validate(raw: dict, path: str) -> Scene:
     dev = data["device"]
     if dev["kind"] == "TFP":
         tfp_device(ctx, data, raw)
-        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES)
-        _no_static(ctx, data, "the TFP")
+        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES, no_static="the TFP")
         data["thermal"] = _thermal(ctx, raw.get("thermal"), TFP_PARTS, {
             "slider_lower": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_lower"]},
             "slider_upper": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_upper"]}})
@@ -736,9 +735,8 @@ def _validate(raw: dict, path: str) -> Scene:
     if heat_only and raw.get("friction") is None:
         data["friction"] = _friction(ctx, {"law": "constant", "mu": 0.0})
     else:
-        data["friction"] = _friction(ctx, raw.get("friction"))
-    if dev["kind"] == "flat":
-        _no_static(ctx, data, "the flat bearing")
+        data["friction"] = _friction(ctx, raw.get("friction"),
+                                     no_static="the flat bearing" if dev["kind"] == "flat" else None)
     data["thermal"] = _thermal(ctx, raw.get("thermal"))
     if dev["kind"] == "flat":
         flat_cross_checks(ctx, data)

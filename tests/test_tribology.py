@@ -199,3 +199,93 @@ def test_stick_slip_saw_tooth_matches_the_spring_block():
     # the slip lasts the closed form's time (to the rows' resolution)
     first_stop = starts[0] + np.where(ph[starts[0]:] == 0)[0][0]
     assert t[first_stop] - t[starts[0]] == pytest.approx(t_slip, abs=2.5e-3)
+
+
+# -- wear ------------------------------------------------------------------------------------
+def test_archard_wear_equals_the_integral_of_its_own_pressure_and_path():
+    """Three cycles of +-0.1 m on the machine, kumar2015 heating, k_w a table in T:
+    the depth equals the Archard sum k_w(T) (N / A) d(path) recomputed from the
+    run's own columns (k_w at the row before: the temperature the step's mu
+    used) within 0.1 % (measured 1e-15), and the path is the arcs slid,
+    R_i sum |d theta| (an independent count) within 1e-5 (measured 2e-6: the
+    step's work has the mean normal force, the path divides by the end one)."""
+    sc, res = _run(lab(friction={"law": "kumar2015", "mu_ref": 0.06, "wear_T_C": [20.0, 20.5],
+                                 "wear_k_T_mm3_per_Nm": [1e-6, 5e-6]},
+                       loading={"kind": "displacement", "amplitude_m": 0.1, "frequency_Hz": 0.5, "cycles": 3}))
+    from fpd.coupling.build import geometry_of
+    g = geometry_of(sc)
+    A = g.contact_area
+    th = res["theta_rad"]
+    for i, R in ((1, g.R1), (2, g.friction_radius2)):
+        p, w, N, T = res[f"path{i}_m"], res[f"wear{i}_m"], res[f"N{i}_N"], res[f"T{i}_C"]
+        k = np.interp(T[:-1], [20.0, 20.5], [1e-15, 5e-15])
+        ref = float(np.sum(k * N[1:] / A * np.diff(p)))
+        assert w[-1] == pytest.approx(ref, rel=1e-3)
+        assert w[-1] == pytest.approx(ref, rel=1e-12)
+        assert p[-1] == pytest.approx(R * np.sum(np.abs(np.diff(th))), rel=1e-5)
+        assert np.all(np.diff(w) >= 0) and T.max() > 20.2       # k_w rose with the temperature
+    s = fpd.run(lab(friction={"law": "constant", "mu": 0.05, "lower": {"wear_k_mm3_per_Nm": 3e-6}},
+                    loading={"kind": "displacement", "amplitude_m": 0.1, "frequency_Hz": 0.5, "cycles": 1}),
+                output={"plots": False}).summary
+    assert set(s["wear"]) == {"lower", "upper"}
+    assert s["wear"]["upper"]["depth_m"] == 0.0 and s["wear"]["upper"]["path_m"] > 0.2
+    lo = s["wear"]["lower"]
+    # a constant k_w and pressure: depth = k_w (N1 / A) path, N1 = (M + m) g held
+    assert lo["depth_m"] == pytest.approx(3e-15 * (1e5 + 30.0) * G / A * lo["path_m"], rel=1e-3)
+
+
+def test_wear_keys_refused():
+    with pytest.raises(SceneError, match="friction.wear_k_mm3_per_Nm = -1: must be >= 0"):
+        fpd.load_scene(lab(friction={"law": "constant", "mu": 0.05, "wear_k_mm3_per_Nm": -1.0}))
+    with pytest.raises(SceneError, match="friction.wear_k_T_mm3_per_Nm = .*every entry must be >= 0"):
+        fpd.load_scene(lab(friction={"law": "constant", "mu": 0.05, "wear_T_C": [0.0, 50.0],
+                                     "wear_k_T_mm3_per_Nm": [1e-6, -1e-6]}))
+    with pytest.raises(SceneError, match="wear_T_C and wear_k_T_mm3_per_Nm together"):
+        fpd.load_scene(lab(friction={"law": "constant", "mu": 0.05, "wear_T_C": [0.0, 50.0]}))
+
+
+def test_constantinou_compiled_equals_pure(monkeypatch):
+    """The law in the compiled engine: the same history bit for bit."""
+    pytest.importorskip("numba")
+    from fpd import kernels
+    if not kernels.available():
+        pytest.skip("FPD_NO_JIT")
+    raw = lab(friction={"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.09, "a_s_per_m": 30.0,
+                        "mu_static": 0.05})
+    _, a = _run(raw)
+    monkeypatch.setenv("FPD_NO_JIT", "1")
+    _, b = _run(raw)
+    assert a.columns == b.columns
+    np.testing.assert_array_equal(a.data, b.data)
+    assert a["mu1"].min() < 0.04 < a["mu1"].max()          # the speed moved mu
+
+
+# -- liner presets ---------------------------------------------------------------------------
+def test_liner_presets_apply_and_override_key_by_key():
+    from fpd.mechanics.friction import LINERS
+    from pathlib import Path
+    doc = (Path(__file__).resolve().parents[1] / "docs" / "liners.md").read_text()
+    for name, preset in LINERS.items():
+        # every value has its source (or is marked a placeholder), and the docs list the preset
+        assert set(preset["sources"]) == set(preset["values"]), name
+        assert all(preset["sources"].values()), name
+        assert f"| `{name}` |" in doc, name
+        f = fpd.load_scene(lab(friction={"liner": name})).friction("lower")
+        assert f["liner"] == name
+        for key, value in preset["values"].items():
+            assert f[key] == value, (name, key)
+    # key by key: the scene's mu_fast wins, the rest stays the preset's; per surface
+    sc = fpd.load_scene(lab(friction={"liner": "ptfe", "mu_fast": 0.12, "upper": {"liner": "uhmwpe"}}))
+    lo, up = sc.friction("lower"), sc.friction("upper")
+    assert (lo["mu_fast"], lo["mu_slow"], lo["wear_k_mm3_per_Nm"]) == (0.12, 0.04, 3e-4)
+    assert (up["mu_fast"], up["mu_slow"]) == (0.12, 0.03)          # the base table's key applies to both
+    # a law of its own replaces the preset's law and coefficients, keeps mu_static and the wear
+    f = fpd.load_scene(lab(friction={"liner": "ptfe", "law": "constant", "mu": 0.05})).friction("lower")
+    assert (f["law"], f["mu"], f["mu_static"], f["wear_k_mm3_per_Nm"]) == ("constant", 0.05, 0.10, 3e-4)
+    assert "mu_slow" not in f
+    with pytest.raises(SceneError, match=r'friction.liner = \'teflon\': must be one of "ptfe", '
+                                         r'"ptfe-lubricated", "ptfe-composite", "uhmwpe"'):
+        fpd.load_scene(lab(friction={"liner": "teflon"}))
+    # the TFP does not model breakaway: a preset's mu_static is not used there
+    f = fpd.load_scene("tfp-elcentro", friction={"liner": "ptfe"}).friction("S1")
+    assert "mu_static" not in f and f["wear_k_mm3_per_Nm"] == 3e-4 and f["law"] == "kumar2015"
