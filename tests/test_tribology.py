@@ -289,3 +289,31 @@ def test_liner_presets_apply_and_override_key_by_key():
     # the TFP does not model breakaway: a preset's mu_static is not used there
     f = fpd.load_scene("tfp-elcentro", friction={"liner": "ptfe"}).friction("S1")
     assert "mu_static" not in f and f["wear_k_mm3_per_Nm"] == 3e-4 and f["law"] == "kumar2015"
+
+
+def test_compare_liners_tabulates_each_preset(tmp_path):
+    """`fpd compare --liners`: one row per preset with the five quantities; on the
+    test machine (the displacement imposed) the friction work follows the
+    presets' friction (lubricated PTFE least, dry PTFE most), the peak
+    displacement is the programme's, and the wear column is the run's own."""
+    import csv
+    import json
+    from fpd.frontends import cli
+    from fpd.mechanics.friction import LINERS
+    out = tmp_path / "cl"
+    assert cli.main(["compare", "lab-sine", "--liners", "--fast", "--out", str(out), "--quiet"]) == 0
+    with open(out / "liners.csv") as fh:
+        rows = {r["liner"]: r for r in csv.DictReader(fh)}
+    assert list(rows) == list(LINERS)
+    for r in rows.values():
+        assert r["status"] == "ok"
+        assert float(r["peak_u_m"]) == pytest.approx(0.25, rel=1e-9)
+        assert abs(float(r["residual_u_m"])) < 1e-9
+        assert float(r["peak_T_C"]) > 20.0
+    work = {k: float(r["friction_work_J"]) for k, r in rows.items()}
+    assert work["ptfe-lubricated"] < work["uhmwpe"] < work["ptfe-composite"] < work["ptfe"]
+    assert rows["ptfe-lubricated"]["max_wear_m"] in ("", "nan")      # no wear coefficient
+    assert float(rows["ptfe"]["max_wear_m"]) > 100 * float(rows["ptfe-composite"]["max_wear_m"]) > 0.0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["study"] == "compare-liners" and len(s["rows"]) == len(LINERS)
+    assert "| ptfe |" in (out / "liners.md").read_text()
