@@ -298,9 +298,9 @@ def build(scene: Scene) -> Simulation:
 
 def _set_static(scene: Scene, mech) -> None:
     """The surfaces' static (breakaway) coefficients into a DFP/SFP stepper (when any is given)."""
-    mus = tuple(static_mu(scene.friction(side)) for side in ("lower", "upper"))
-    if any(m > 0.0 for m in mus):
-        mech.set_static(*mus)
+    (m1, r1), (m2, r2) = (static_mu(scene.friction(side)) for side in ("lower", "upper"))
+    if m1 > 0.0 or m2 > 0.0 or r1 > 0.0 or r2 > 0.0:
+        mech.set_static(m1, m2, r1, r2)
 
 
 # -- bidirectional runs (model.md 8) ----------------------------------------------------

@@ -117,6 +117,10 @@ KEYS: dict[str, tuple[str, str]] = {
                                "force it must carry exceeds mu_static N, then the sliding law applies until it "
                                "sticks again. Must be >= the sliding mu at rest (20 degC); absent: the sliding mu "
                                "holds. DFP and SFP (ground motions and the test machines)."),
+    "friction.static_ratio": ("", "The static coefficient as a ratio (>= 1) to the sliding law at rest: a stuck "
+                                  "surface holds up to static_ratio times mu(T, p, v = 0), so the breakaway follows "
+                                  "the temperature and pressure as the law does. With mu_static the larger holds. "
+                                  "DFP and SFP."),
     "friction.wear_k_mm3_per_Nm": ("mm3/(N m)", "Archard wear coefficient k_w of the surface: the wear depth "
                                                 "grows by k_w p ds (p = N / contact area, ds the sliding path). "
                                                 "Absent: no wear columns."),

@@ -152,10 +152,12 @@ class _Base(TwoInterfaces):
         w = math.sqrt(wx * wx + wy * wy + S[K.S_WZ] ** 2)
         self.S[K.S_SV1], self.S[K.S_SV2] = C[K.C_R1] * w, C[K.C_R2] * w
 
-    def set_static(self, mu_s1: float, mu_s2: float) -> None:
-        """The static (breakaway) coefficients of the lower and upper surface
-        (0: none; bidirectional_kernel C_MUS1, C_MUS2)."""
+    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
+        """The static (breakaway) coefficients of the lower and upper surface,
+        and as ratios to the sliding mu at rest (0: none; bidirectional_kernel
+        C_MUS1, C_MUS2, C_MUR1, C_MUR2)."""
         self.C[K.C_MUS1], self.C[K.C_MUS2] = float(mu_s1), float(mu_s2)
+        self.C[K.C_MUR1], self.C[K.C_MUR2] = float(ratio1), float(ratio2)
 
     def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0) -> None:
         """The slide capacities (arc from each surface's centre, m; the SFP's
@@ -381,10 +383,10 @@ class BidirectionalTestMachine(_Base):
         self._UDD = np.ascontiguousarray(programme.udd, dtype=float)
         self.normal_force = "seated"
 
-    def set_static(self, mu_s1: float, mu_s2: float) -> None:
+    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
         """As the stepper's; the bearing starts at rest (stuck) before the
         programme launches it, so its first step breaks it away."""
-        super().set_static(mu_s1, mu_s2)
+        super().set_static(mu_s1, mu_s2, ratio1, ratio2)
         self.S[K.S_MODE] = K.STICK
 
     def ground_position(self):

@@ -73,7 +73,9 @@ C_VERT = 33
 # the static (breakaway) coefficients of the lower and upper surface (0: none): a stuck
 # pad holds until its drive exceeds the cap with them (friction_kernel.holding_mu)
 C_MUS1, C_MUS2 = 34, 35
-N_C = 36
+# the static coefficients as ratios to the sliding mu at rest (0: none)
+C_MUR1, C_MUR2 = 36, 37
+N_C = 38
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -481,10 +483,10 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     w0x, w0y, w0z = S[S_WX], S[S_WY], S[S_WZ]
     moving = w0x != 0.0 or w0y != 0.0 or w0z != 0.0
-    if not moving and (C[C_MUS1] > mu1 or C[C_MUS2] > mu2):
+    hm1, hm2 = holding_mu(mu1, C[C_MUS1], C[C_MUR1]), holding_mu(mu2, C[C_MUS2], C[C_MUR2])
+    if not moving and (hm1 > mu1 or hm2 > mu2):
         # at rest: the stick trial with the static cap; a drive beyond it breaks
         # the pad away and the step slides with the sliding cap
-        hm1, hm2 = holding_mu(mu1, C[C_MUS1]), holding_mu(mu2, C[C_MUS2])
         v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
             C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, hm1, hm2, False)
         if v1x == 0.0 and v1y == 0.0 and v1z == 0.0:
@@ -926,10 +928,10 @@ def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
     S[S_FX], S[S_FY], S[S_N1], S[S_N2] = Fb[0], Fb[1], Fb[2], Fb[3]
     S[S_FF1] = mu1 * Fb[2]
     S[S_FF2] = mu2 * Fb[3]
-    if S[S_MODE] == STICK and ang != 0.0 and (C[C_MUS1] > mu1 or C[C_MUS2] > mu2):
+    hm1, hm2 = holding_mu(mu1, C[C_MUS1], C[C_MUR1]), holding_mu(mu2, C[C_MUS2], C[C_MUR2])
+    if S[S_MODE] == STICK and ang != 0.0 and (hm1 > mu1 or hm2 > mu2):
         # breakaway from rest: the restraint carries the static cap at the step's
         # start; the step's row reports that force, the largest of the step
-        hm1, hm2 = holding_mu(mu1, C[C_MUS1]), holding_mu(mu2, C[C_MUS2])
         Fs = machine_point(C, U[i, 0], U[i, 1], UD[i, 0], UD[i, 1], UDD[i, 0], UDD[i, 1],
                            t0[0], t0[1], t0[2], hm1, hm2)
         S[S_FX], S[S_FY] = Fs[0], Fs[1]

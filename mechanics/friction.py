@@ -108,7 +108,7 @@ LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table":
 
 
 # keys of a surface beside its law's (schema.scene.SURFACE_KEYS): read by surface_of
-SURFACE_KEYS = ("mu_static", "wear_k_mm3_per_Nm", "wear_T_C", "wear_k_T_mm3_per_Nm", "liner")
+SURFACE_KEYS = ("mu_static", "static_ratio", "wear_k_mm3_per_Nm", "wear_T_C", "wear_k_T_mm3_per_Nm", "liner")
 
 # liner presets: name -> {"values": the [friction] keys it sets, "sources": where each comes from}.
 # Representative values inside the ranges the sources report (docs/liners.md says which
@@ -154,10 +154,11 @@ def make_law(spec: dict):
     return LAWS[spec["law"]](**kw)
 
 
-def static_mu(spec: dict) -> float:
-    """The surface's static (breakaway) coefficient; 0.0 when none is given
-    (friction_kernel.holding_mu: the sliding mu holds a stuck surface)."""
-    return float(spec.get("mu_static", 0.0))
+def static_mu(spec: dict) -> tuple:
+    """The surface's static (breakaway) coefficient and its ratio to the
+    sliding mu at rest; 0.0 each when not given (friction_kernel.holding_mu:
+    the sliding mu holds a stuck surface)."""
+    return float(spec.get("mu_static", 0.0)), float(spec.get("static_ratio", 0.0))
 
 
 MM3_PER_NM = 1e-9          # 1 mm^3 / (N m) in m^2 / N

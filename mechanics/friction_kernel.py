@@ -78,13 +78,19 @@ def law_mu(P, T_C, p_Pa, v_mps):
     return P[M0 + i] + w * (P[M0 + i + 1] - P[M0 + i])
 
 
-def holding_mu(mu, mu_s):
-    """The coefficient that caps a stuck surface's friction: the static
-    coefficient mu_s, never below the sliding mu (mu_s = 0: none given, the
-    sliding mu holds it)."""
-    if mu_s > mu:
-        return mu_s
-    return mu
+def holding_mu(mu, mu_s, ratio):
+    """The coefficient that caps a stuck surface's friction: the larger of the
+    static coefficient mu_s and ratio times the sliding mu (the law at rest,
+    at the surface's temperature and pressure: a static coefficient that
+    follows them), never below the sliding mu (mu_s = ratio = 0: none given,
+    the sliding mu holds it)."""
+    h = mu
+    if mu_s > h:
+        h = mu_s
+    r = ratio * mu
+    if r > h:
+        h = r
+    return h
 
 
 def wear_step(K, T_C, dW, mu, N, area, PW, i, ni):

@@ -255,10 +255,12 @@ class SeatedTestMachine(_SeatedState):
         self.theta_dot = 0.0
         self.E_input = self.E_kin + self.E_pot
 
-    def set_static(self, mu_s1: float, mu_s2: float) -> None:
-        """The static (breakaway) coefficients of the lower and upper interface
-        (0: none; seated_kernel CMUS1, CMUS2)."""
+    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
+        """The static (breakaway) coefficients of the lower and upper interface,
+        and as ratios to the sliding mu at rest (0: none; seated_kernel CMUS1,
+        CMUS2, CMUR1, CMUR2)."""
         self.C[K.CMUS1], self.C[K.CMUS2] = float(mu_s1), float(mu_s2)
+        self.C[K.CMUR1], self.C[K.CMUR2] = float(ratio1), float(ratio2)
 
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         return K.machine_step(self.C, self.S, self._u, self._ud, self._udd, self._sm, self._uds, self._udds,

@@ -26,7 +26,9 @@ CMUS1, CMUS2 = 14, 15
 # the compliant link (docs/model.md, "Stick-slip"): the spring's stiffness (0: a rigid
 # machine), the plate's mass, sub-steps per step
 CLINK, CMPL, CNSUB = 16, 17, 18
-N_CONST = 19
+# the static coefficients as ratios to the sliding mu at rest (0: none)
+CMUR1, CMUR2 = 19, 20
+N_CONST = 21
 N_VALUES = 17             # len(seated.SEATED_COLUMNS)
 
 
@@ -191,7 +193,7 @@ def link_step(C, S, U, GV, mu1, mu2):
     u = L * math.sin(th)
     v = L * math.cos(th) * S[THD]
     moved = False
-    hm1, hm2 = holding_mu(mu1, C[CMUS1]), holding_mu(mu2, C[CMUS2])
+    hm1, hm2 = holding_mu(mu1, C[CMUS1], C[CMUR1]), holding_mu(mu2, C[CMUS2], C[CMUR2])
     for j in range(ns):
         um0 = U[i0] + (U[i1] - U[i0]) * (j / ns)
         um1 = U[i0] + (U[i1] - U[i0]) * ((j + 1) / ns)
@@ -279,12 +281,12 @@ def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, GV, mu1, mu2):
     # the vertical actuator's work beyond the weight's (zero with the load held at M g)
     ML, g = C[CM] * L, C[CG]
     S[EIN] -= 0.5 * (ML * (GV[i0] - g) * math.sin(th0) + ML * (GV[i1] - g) * math.sin(th)) * dth
-    if S[MODE] == STICK and sgn != 0.0 and (C[CMUS1] > mu1 or C[CMUS2] > mu2):
+    hm1, hm2 = holding_mu(mu1, C[CMUS1], C[CMUR1]), holding_mu(mu2, C[CMUS2], C[CMUR2])
+    if S[MODE] == STICK and sgn != 0.0 and (hm1 > mu1 or hm2 > mu2):
         # breakaway: the bearing at rest holds until the restraint carries the
         # static cap at the step's start; the step's row reports that force,
         # the largest of the step (the sliding law takes over once it moves)
-        F = machine_point(C, U[i0], UD[i0], UDD[i0], GV[i0], holding_mu(mu1, C[CMUS1]),
-                          holding_mu(mu2, C[CMUS2]), sgn)[3]
+        F = machine_point(C, U[i0], UD[i0], UDD[i0], GV[i0], hm1, hm2, sgn)[3]
     S[TH], S[THD], S[SF], S[N1], S[N2] = th, thd, F, N1_, N2_
     S[W1] += dW1
     S[W2] += dW2

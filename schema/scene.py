@@ -112,6 +112,7 @@ def _wear_table(x):
 # coefficient (constant, or a table in temperature) and a liner preset (mechanics.friction.LINERS)
 SURFACE_KEYS = {
     "mu_static": ("float", None, _mu),
+    "static_ratio": ("float", None, _atleast(1)),
     "wear_k_mm3_per_Nm": ("float", None, _nonneg),
     "wear_T_C": ("floats", None, None),
     "wear_k_T_mm3_per_Nm": ("floats", None, _wear_table),
@@ -390,9 +391,10 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
         merged = dict(base)
         merged.update(over)
         where = f"friction.{side}" if over else "friction"
-        if no_static is not None and "mu_static" in merged:
-            ctx.fail(f"friction.{side}.mu_static" if "mu_static" in over else "friction.mu_static",
-                     merged["mu_static"], f"breakaway friction is modelled for the DFP and SFP only, not {no_static}")
+        for key in ("mu_static", "static_ratio"):
+            if no_static is not None and key in merged:
+                ctx.fail(f"friction.{side}.{key}" if key in over else f"friction.{key}", merged[key],
+                         f"breakaway friction is modelled for the DFP and SFP only, not {no_static}")
         if "liner" in merged:
             merged = _liner(ctx, where, merged, base, over)
             if no_static is not None:
@@ -403,7 +405,10 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
         schema = FRICTION_KEYS[law]
         if "law" in over and law != base.get("law", "constant"):
             # the side replaces the law: of the base table it takes only the keys its law has
+            # (and the surface's own: breakaway, wear, a preset's)
+            carried = {k: v for k, v in merged.items() if k in SURFACE_KEYS or k == "liner"}
             merged = {k: v for k, v in base.items() if k in schema}
+            merged.update(carried)
             merged.update(over)
         surface = {k: merged.pop(k) for k in list(merged) if k in SURFACE_KEYS or k == "liner"}
         # a key of the base table that belongs to another law is an error

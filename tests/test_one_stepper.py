@@ -132,7 +132,8 @@ def test_planar_columns_are_signed():
                   "solver.duration=8", "thermal.model=lumped"]),
     # tribology: breakaway and wear (a table in T) under a record, on the machine, and the
     # machine's compliant link (stick-slip); wear on the flat bearing and the TFP
-    ("default", ["solver.duration=4", "friction.mu_static=0.1", "friction.wear_T_C=[0.0, 200.0]",
+    ("default", ["solver.duration=4", "friction.mu_static=0.07", "friction.static_ratio=1.5",
+                 "friction.wear_T_C=[0.0, 200.0]",
                  "friction.wear_k_T_mm3_per_Nm=[1e-6, 4e-6]"]),
     ("lab-sine", ["friction.mu_static=0.09", "friction.wear_k_mm3_per_Nm=2e-6", "thermal.model=lumped"]),
     ("lab-sine", ["friction.mu_static=0.09", 'loading.waveform="triangle"', "loading.link_stiffness_N_per_m=5e7",

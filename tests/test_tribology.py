@@ -317,3 +317,27 @@ def test_compare_liners_tabulates_each_preset(tmp_path):
     s = json.loads((out / "summary.json").read_text())
     assert s["study"] == "compare-liners" and len(s["rows"]) == len(LINERS)
     assert "| ptfe |" in (out / "liners.md").read_text()
+
+
+def test_static_ratio_follows_the_temperature():
+    """static_ratio = 1.6 with a law falling with T, the plates starting at 60 degC:
+    the breakaway force is the statics with 1.6 mu(60 degC) = 1.6 x 0.042, the
+    sliding force afterwards the statics with the sliding mu (within 0.5 %)."""
+    fr = {"law": "linear", "mu0": 0.05, "T0_C": 20.0, "slope_per_C": -2e-4, "static_ratio": 1.6}
+    sc, res = _run(lab(friction=fr, thermal={"model": "lumped", "T0_C": 60.0},
+                       loading={"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 0.05, "cycles": 0.5}))
+    Fs, _ = _caps(sc, 1.6 * 0.042)
+    assert res["F_N"][1] == pytest.approx(Fs, rel=5e-3)
+    Fk, _ = _caps(sc, float(res["mu1"][2]))
+    assert res["F_N"][2] == pytest.approx(Fk, rel=5e-3)
+    assert res["mu1"][1] == pytest.approx(0.042, rel=1e-9)
+    with pytest.raises(SceneError, match="friction.static_ratio = 0.9: must be >= 1"):
+        fpd.load_scene(lab(friction=dict(fr, static_ratio=0.9)))
+
+
+def test_surface_keys_carry_over_a_side_with_its_own_law():
+    sc = fpd.load_scene(lab(friction={"law": "constant", "mu": 0.05, "mu_static": 0.08, "wear_k_mm3_per_Nm": 1e-6,
+                                      "upper": {"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.07}}))
+    up = sc.friction("upper")
+    assert (up["law"], up["mu_static"], up["wear_k_mm3_per_Nm"]) == ("constantinou", 0.08, 1e-6)
+    assert "mu" not in up
