@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from fpd.mechanics.friction import make_law
+from fpd.mechanics.friction import make_law, static_mu
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC
 from fpd.thermal.params import PlateParams
 
@@ -31,6 +31,15 @@ class Simulation:
     heat_power: tuple = (0.0, 0.0)    # thermal-only scenes: power per plate (W)
     substeps: int = 1
     info: dict = field(default_factory=dict)
+
+    # per interface the Archard wear coefficient's law (mechanics.friction.wear_laws), or None: no wear
+    wear: tuple | None = None
+
+    def __post_init__(self):
+        if self.mechanics is not None and self.wear is None:
+            from fpd.mechanics.friction import wear_laws
+            sides = TFP_SURFACES if len(self.laws) == 4 else ("lower", "upper")
+            self.wear = wear_laws([self.scene.friction(s) for s in sides])
 
     @property
     def areas(self) -> tuple:
@@ -72,6 +81,8 @@ def loading_of(scene: Scene, dt: float):
         return gm
     if ld["kind"] == "harmonic":
         return gmod.harmonic_ground_motion(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
+    if ld["kind"] == "displacement" and ld["waveform"] == "triangle":
+        return gmod.triangle_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "displacement":
         return gmod.sine_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "pulse":
@@ -282,6 +293,8 @@ def build(scene: Scene) -> Simulation:
         except AxialError as exc:
             raise SceneError(f"{exc} (loading.vertical_file)") from None
         mech = SeatedTestMachine(geom, loading, ld["vertical"], axial if axial.varying else None)
+        if ld.get("link_stiffness_N_per_m"):
+            mech.set_link(ld["link_stiffness_N_per_m"], ld["link_mass_kg"])
     else:
         # one DFP/SFP stepper: a planar ground motion is the 3D stepper's with the
         # y component absent (signed planar columns), both models, both schemes
@@ -297,11 +310,19 @@ def build(scene: Scene) -> Simulation:
                           "scaled_pga_g": loading.record.pga_g * ld["scale"] * _target_factor(ld, loading.record),
                           "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    _set_static(scene, mech)
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled loop now, not after the run's folder is made (coupling/fast_loop.py)
     return sim
+
+
+def _set_static(scene: Scene, mech) -> None:
+    """The surfaces' static (breakaway) coefficients into a DFP/SFP stepper (when any is given)."""
+    (m1, r1), (m2, r2) = (static_mu(scene.friction(side)) for side in ("lower", "upper"))
+    if m1 > 0.0 or m2 > 0.0 or r1 > 0.0 or r2 > 0.0:
+        mech.set_static(m1, m2, r1, r2)
 
 
 # -- bidirectional runs (model.md 8) ----------------------------------------------------
@@ -399,6 +420,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
             info["record"]["angle_deg"] = ld["angle_deg"]
     info["bidirectional"] = {"normal_force": mech.normal_force}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    _set_static(scene, mech)
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
     sim = Simulation(scene, dt, n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
     from .fast_loop import warm

@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 
 from fpd.mechanics import dev_two_phase as dev     # rebound per device (fpd.kernels.compiled(bind=))
-from fpd.mechanics.friction_kernel import law_mu
+from fpd.mechanics.friction_kernel import law_mu, wear_step
 from fpd.thermal import column_kernel as ck
 from fpd.thermal import lumped_kernel as lk
 
@@ -36,7 +36,8 @@ __jit_options__ = {"inline": "always"}
 KIND_NONE, KIND_LUMPED, KIND_FE1D = 0, 1, 2
 # ctl (int64)
 C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT, C_NVAL, C_2D, C_TRACK, C_HOT = range(13)
-N_CTL = 13
+C_WEAR = 13             # 1: the wear columns (path_i, then wear_i) end the row
+N_CTL = 14
 # ctl[C_STATUS]
 RUNNING, DONE, REPLAY, ROW_FAILED, FULL, LOOK = 0, 1, 2, 3, 4, 5
 
@@ -156,7 +157,7 @@ def track_row(row, n_track, SX, SN, LI, SL):
 
 
 def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is, Ps, T, hot, mu, mun, dW,
-              buf, row, ctl, SX, SN, LI, SL):
+              buf, row, ctl, SX, SN, LI, SL, WL, PW):
     """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
     (DONE; REPLAY: step ctl[C_NDONE] + 1 is for the Python loop, the state is
     as before it; ROW_FAILED: that step's row, in ``row``, is not finite;
@@ -173,10 +174,13 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
     mun, dW: room for N floats. The row: the device's ctl[C_NVAL] values,
     then mu_i, and with plates T_i, E_stored_J, E_air_J. With ctl[C_TRACK]
     (rows kept less often than every step) every step's row goes through
-    track_row (SX, SN, LI, SL)."""
+    track_row (SX, SN, LI, SL). With ctl[C_WEAR]: WL[i] the wear coefficient's
+    row, PW the paths then the depths (friction_kernel.wear_step, at the
+    temperature the step's mu was evaluated at), the row's last 2 N values."""
     n0, n_end = ctl[C_NDONE], ctl[C_NEND]
     k, n_rows, every, last_row, N = ctl[C_K], ctl[C_NROWS], ctl[C_EVERY], ctl[C_LAST], ctl[C_N]
     heat = ctl[C_HEAT] != 0
+    wear = ctl[C_WEAR] != 0
     nv, two_d, track = ctl[C_NVAL], ctl[C_2D], ctl[C_TRACK] != 0
     hot_every = ctl[C_HOT]
     ni = T.shape[0]
@@ -209,6 +213,9 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
             break
         for i in range(ni):
             mu[i] = mun[i]
+        if wear:
+            for i in range(ni):
+                wear_step(WL[i], T[i], dW[i], mu[i], dev.normal(C, S, i), areas[i], PW, i, ni)
         if heat:
             for i in range(ni):
                 cx, cy = dev.centre(C, S, i)
@@ -222,6 +229,12 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
             if heat:
                 for i in range(ni):
                     row[nv + ni + i] = T[i]
+            if wear:
+                nw = nv + ni
+                if heat:
+                    nw += ni + 2
+                for j in range(2 * ni):
+                    row[nw + j] = PW[j]
             if track:
                 track_row(row, n_track, SX, SN, LI, SL)
         if kept_step:

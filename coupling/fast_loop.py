@@ -139,7 +139,24 @@ def loop_columns(sim) -> list:
     cols = list(sim.mechanics.columns) + [f"mu{i + 1}" for i in range(n)]
     if any(p is not None for p in sim.plates):
         cols += [f"T{i + 1}_C" for i in range(n)] + ["E_stored_J", "E_air_J"]
+    if getattr(sim, "wear", None) is not None:
+        cols += [f"path{i + 1}_m" for i in range(n)] + [f"wear{i + 1}_m" for i in range(n)]
     return cols
+
+
+# the loop's wear columns (loop_columns: the first N of each, N the interfaces)
+WEAR_COLUMNS = tuple(f"path{i}_m" for i in range(1, 5)) + tuple(f"wear{i}_m" for i in range(1, 5))
+
+
+def wear_state(sim):
+    """(rows, state) of the loop's wear (friction_kernel.wear_step): per
+    interface the wear coefficient's row, and the paths then the depths
+    (float64, shared by the compiled and the Python loop); None without wear."""
+    if getattr(sim, "wear", None) is None:
+        return None
+    if getattr(sim, "wear_PW", None) is None:
+        sim.wear_PW = np.zeros(2 * len(sim.plates))
+    return tuple(np.array(w.P) for w in sim.wear), sim.wear_PW
 
 
 def warm(sim) -> None:
@@ -195,6 +212,12 @@ class CompiledLoop:
         self.ctl[eng.C_HEAT] = any(k != "none" for k in kinds)
         self.ctl[eng.C_NVAL] = len(mech.columns)
         self.ctl[eng.C_2D] = 1 if getattr(mech, "two_d", False) else 0
+        wear = wear_state(sim)
+        if wear is None:             # stand-ins of the same types
+            self.WL, self.PW = self.LW, np.zeros(0)
+        else:
+            self.WL, self.PW = wear
+            self.ctl[eng.C_WEAR] = 1
         self.row = np.zeros(len(cols))
         # per plate: (Mb, Ab, FAC, V, I, P) and whether P is a copy; then six tuples over the plates
         self.plates, codes = plate_arrays(sim.plates, kinds, eng)
@@ -209,8 +232,8 @@ class CompiledLoop:
 
     def _args(self, buf):
         return (self.C, self.S, self.S0, self.L, self.X, self.sim.dt, self.LW, self.areas, self.eta,
-                self.kind_codes, *self.plate_args, self.T, self.hot, self.mu, self.mun, self.dW, buf, self.row, self.ctl,
-                *self.track)
+                self.kind_codes, *self.plate_args, self.T, self.hot, self.mu, self.mun, self.dW, buf, self.row,
+                self.ctl, *self.track, self.WL, self.PW)
 
     def _call(self, buf):
         """run_chunk from ctl[C_NDONE] to ctl[C_NEND] (0 to 0: just the dispatch)."""

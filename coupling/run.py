@@ -14,11 +14,12 @@ import time
 
 import numpy as np
 
+from fpd.mechanics.friction_kernel import wear_step
 from fpd.mechanics.phases import PHASES, MechanicsFailure
 
 from .build import Simulation
 from .engine_kernel import hotter
-from .fast_loop import _plate_kind, compiled_loop, loop_columns
+from .fast_loop import _plate_kind, compiled_loop, loop_columns, wear_state
 from .recording import MemoryHistory, signals_held
 
 # canonical column order (docs/reference.md), every device; extra diagnostic columns follow
@@ -267,11 +268,18 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     T = [p.surface_temperature() if p is not None else pp.T0_C for p, pp in zip(plates, sim.plate_params)]
     mu = [0.0] * ni
     values = mech.values if mech else None
+    # Archard wear (friction_kernel.wear_step): the state the compiled loop shares
+    wear = wear_state(sim) if mech else None
+    if wear is not None:
+        WL, PW = wear
+        PW[:] = 0.0
 
     def row(n):
         r = values() + tuple(mu) if mech else (n * dt,)
         if heat:
             r += tuple(T) + (sum(p.stored_heat() for _, p in live), sum(p.heat_lost() for _, p in live))
+        if wear is not None:
+            r += tuple(PW.tolist())
         return r
 
     if mech:
@@ -369,6 +377,10 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                     Tg = Tn
                 total_iter += it
                 worst_iter = max(worst_iter, it)
+                if wear is not None:
+                    Nw = mech.N
+                    for i in range(ni):
+                        wear_step(WL[i], Tg[i], dW[i], mu[i], Nw[i], areas[i], PW, i, ni)
                 T = Tn
                 if heat and sub > 1:
                     old = new

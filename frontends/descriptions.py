@@ -117,6 +117,28 @@ KEYS: dict[str, tuple[str, str]] = {
     "friction.kumar2015.use_velocity": ("", "Apply the velocity factor k_v (else 1)."),
     "friction.table.T_C": ("degC", "Temperatures of the table, strictly increasing."),
     "friction.table.mu": ("", "mu at each T_C (piecewise linear between, constant beyond the ends)."),
+    "friction.mu_static": ("", "Static (breakaway) coefficient of the surface: a stuck surface holds until the "
+                               "force it must carry exceeds mu_static N, then the sliding law applies until it "
+                               "sticks again. Must be >= the sliding mu at rest (20 degC); absent: the sliding mu "
+                               "holds. DFP and SFP (ground motions and the test machines)."),
+    "friction.static_ratio": ("", "The static coefficient as a ratio (>= 1) to the sliding law at rest: a stuck "
+                                  "surface holds up to static_ratio times mu(T, p, v = 0), so the breakaway follows "
+                                  "the temperature and pressure as the law does. With mu_static the larger holds. "
+                                  "DFP and SFP."),
+    "friction.wear_k_mm3_per_Nm": ("mm3/(N m)", "Archard wear coefficient k_w of the surface: the wear depth "
+                                                "grows by k_w p ds (p = N / contact area, ds the sliding path). "
+                                                "Absent: no wear columns."),
+    "friction.wear_T_C": ("degC", "Temperatures of a wear-coefficient table (strictly increasing; with "
+                                  "wear_k_T_mm3_per_Nm): k_w(T) piecewise linear, constant beyond the ends; "
+                                  "replaces wear_k_mm3_per_Nm."),
+    "friction.wear_k_T_mm3_per_Nm": ("mm3/(N m)", "k_w at each wear_T_C (>= 0)."),
+    "friction.liner": ("", "A liner preset (docs/liners.md): its law, coefficients and wear coefficient, each "
+                           "overridable key by key in the same table."),
+    "friction.constantinou.mu_slow": ("", "mu at rest (sliding speed 0) of the velocity law of Constantinou, Mokha "
+                                          "and Reinhorn (1990): mu = mu_fast - (mu_fast - mu_slow) exp(-a |v|)."),
+    "friction.constantinou.mu_fast": ("", "mu at high sliding speed of the Constantinou law."),
+    "friction.constantinou.a_s_per_m": ("s/m", "Rate parameter a of the Constantinou law (mu has covered 1 - 1/e "
+                                               "of its way from mu_slow to mu_fast at |v| = 1/a)."),
 
     # [loading]
     "loading.kind": ("", '"record": ground acceleration record; "harmonic": sinusoidal ground motion; '
@@ -201,7 +223,8 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'the bearing there is input at t = 0); "figure-eight": '
                                           'u = A (sin w t, sin(2 w t) / 2); A = amplitude_m, w = 2 pi '
                                           'frequency_Hz. circle and figure-eight are bidirectional orbits '
-                                          '(DFP, SFP; docs/bidirectional.md, section 3).'),
+                                          '(DFP, SFP; docs/bidirectional.md, section 3). "triangle": constant '
+                                          'speed 4 A f from 0 towards +A, to -A and back (planar DFP, SFP).'),
     "loading.displacement.direction_deg": ("deg", "DFP, SFP: direction of the sine in the plane, from x towards y; "
                                                   "non-zero makes the run bidirectional. Not used by circle "
                                                   "and figure-eight."),
@@ -235,6 +258,12 @@ KEYS: dict[str, tuple[str, str]] = {
                                                           '(> 0; required).'),
     "loading.displacement.vertical_phase_deg": ("deg", 'vertical = "sine": the phase of the axial load\'s sine '
                                                         'at t = 0 (default 0: N(0) = W, rising).'),
+    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP, planar machine): a spring "
+                                                          "of this stiffness between the machine's imposed position "
+                                                          "and the plate, which then moves by its own dynamics "
+                                                          "(stick-slip; docs/model.md 11.3). F_N is the link's force. "
+                                                          "Needs link_mass_kg."),
+    "loading.displacement.link_mass_kg": ("kg", "The mass of the plate the compliant link drives."),
     "loading.displacement.vertical_file": ("", 'vertical = "series": a text file of (time s, load N) rows, two '
                                                'numbers a line (whitespace or a comma; # comments), times '
                                                'increasing, loads > 0, covering the run from t = 0; linear '
@@ -407,6 +436,16 @@ COLUMNS: dict[str, tuple[str, str]] = {
                   "in proportion to their caps)."),
     "W4_J": ("J", "TFP: cumulative friction work on S4 (an arrest loss of the outer coordinate shared with S1 "
                   "in proportion to their caps)."),
+    "path1_m": ("m", "With wear: accumulated sliding path of the lower interface (a TFP: S1), the friction "
+                     "work over mu N step by step."),
+    "path2_m": ("m", "With wear: accumulated sliding path of the upper interface (a TFP: S2)."),
+    "path3_m": ("m", "TFP with wear: accumulated sliding path of S3."),
+    "path4_m": ("m", "TFP with wear: accumulated sliding path of S4."),
+    "wear1_m": ("m", "With wear: Archard wear depth of the lower interface (a TFP: S1), the sum of "
+                     "k_w(T) (N / contact area) d(path) (k_w at the temperature the step's mu used)."),
+    "wear2_m": ("m", "With wear: Archard wear depth of the upper interface (a TFP: S2)."),
+    "wear3_m": ("m", "TFP with wear: Archard wear depth of S3."),
+    "wear4_m": ("m", "TFP with wear: Archard wear depth of S4."),
     "phase": ("", "State at the end of the step: stick, slip or tilt (the pad rocks or lands); a TFP: stick, "
                   "inner (S2 + S3 slide), outer (S1 + S4) or inner+outer (all four)."),
     "regime": ("", "TFP: sliding regime of the step as a code (Fenz-Constantinou numbering): 0 stick, 1 = I "
@@ -530,6 +569,11 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_F_N": ("N", "Peak |F_N| (bidirectional: the peak resultant)."),
     "friction_work_J.lower": ("J", "Friction work on the lower interface (final W1_J)."),
     "friction_work_J.upper": ("J", "Friction work on the upper interface (final W2_J)."),
+    "wear.lower.path_m": ("m", "With wear: the lower interface's sliding path (final path1_m); a TFP: "
+                               "wear.S1 .. wear.S4."),
+    "wear.lower.depth_m": ("m", "With wear: the lower interface's Archard wear depth (final wear1_m)."),
+    "wear.upper.path_m": ("m", "With wear: the upper interface's sliding path (final path2_m)."),
+    "wear.upper.depth_m": ("m", "With wear: the upper interface's Archard wear depth (final wear2_m)."),
     "friction_work_J.S1": ("J", "TFP: friction work on S1 (final W1_J)."),
     "friction_work_J.S2": ("J", "TFP: friction work on S2 (final W2_J)."),
     "friction_work_J.S3": ("J", "TFP: friction work on S3 (final W3_J)."),

@@ -152,6 +152,13 @@ class _Base(TwoInterfaces):
         w = math.sqrt(wx * wx + wy * wy + S[K.S_WZ] ** 2)
         self.S[K.S_SV1], self.S[K.S_SV2] = C[K.C_R1] * w, C[K.C_R2] * w
 
+    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
+        """The static (breakaway) coefficients of the lower and upper surface,
+        and as ratios to the sliding mu at rest (0: none; bidirectional_kernel
+        C_MUS1, C_MUS2, C_MUR1, C_MUR2)."""
+        self.C[K.C_MUS1], self.C[K.C_MUS2] = float(mu_s1), float(mu_s2)
+        self.C[K.C_MUR1], self.C[K.C_MUR2] = float(ratio1), float(ratio2)
+
     def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0) -> None:
         """The slide capacities (arc from each surface's centre, m; the SFP's
         d1 only) and the rim's restitution: the axis's tilt is bounded by
@@ -394,6 +401,12 @@ class BidirectionalTestMachine(_Base):
             S[K.S_N2] = geom.mass * self._GV[0] * -nz
             S[K.S_N1] = S[K.S_N2] + geom.pad_mass * geom.g * -nz
         self.normal_force = "seated"
+
+    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
+        """As the stepper's; the bearing starts at rest (stuck) before the
+        programme launches it, so its first step breaks it away."""
+        super().set_static(mu_s1, mu_s2, ratio1, ratio2)
+        self.S[K.S_MODE] = K.STICK
 
     def ground_position(self):
         # the lower plate moves by -u

@@ -49,6 +49,7 @@ docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
+from .friction_kernel import holding_mu
 from .two_phase_kernel import _sinc as sinc, pivot_angle, rocking_increment   # the planar stepper's, one source
 
 __kernel__ = True
@@ -73,7 +74,12 @@ C_VERT = 33
 # the bearing): the load N(t) per grid point over M in the programme's GV, the superstructure
 # without inertia (C_I without M L^2), the moving parts' inertial first moment S - M L
 C_AXIAL, C_SIN = 34, 35
-N_C = 36
+# the static (breakaway) coefficients of the lower and upper surface (0: none): a stuck
+# pad holds until its drive exceeds the cap with them (friction_kernel.holding_mu)
+C_MUS1, C_MUS2 = 36, 37
+# the static coefficients as ratios to the sliding mu at rest (0: none)
+C_MUR1, C_MUR2 = 38, 39
+N_C = 40
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -481,8 +487,20 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     w0x, w0y, w0z = S[S_WX], S[S_WY], S[S_WZ]
     moving = w0x != 0.0 or w0y != 0.0 or w0z != 0.0
-    v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
-        C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, mid and moving)
+    hm1, hm2 = holding_mu(mu1, C[C_MUS1], C[C_MUR1]), holding_mu(mu2, C[C_MUS2], C[C_MUR2])
+    if not moving and (hm1 > mu1 or hm2 > mu2):
+        # at rest: the stick trial with the static cap; a drive beyond it breaks
+        # the pad away and the step slides with the sliding cap
+        v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+            C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, hm1, hm2, False)
+        if v1x == 0.0 and v1y == 0.0 and v1z == 0.0:
+            mu1, mu2 = hm1, hm2
+        else:
+            v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+                C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, False)
+    else:
+        v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+            C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, mid and moving)
     if moving and (arrest or v1x * w0x + v1y * w0y + v1z * w0z <= 0.0):
         tau, d, ex, ey, ez, N1a, N2a, plane = _arrest(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, cap, mu1, mu2)
         if not plane or (mid and not tau < h):
@@ -936,6 +954,14 @@ def machine_step(C, S, U, UD, UDD, GV, i, mu1, mu2):
     S[S_FX], S[S_FY], S[S_N1], S[S_N2] = Fb[0], Fb[1], Fb[2], Fb[3]
     S[S_FF1] = mu1 * Fb[2]
     S[S_FF2] = mu2 * Fb[3]
+    hm1, hm2 = holding_mu(mu1, C[C_MUS1], C[C_MUR1]), holding_mu(mu2, C[C_MUS2], C[C_MUR2])
+    if S[S_MODE] == STICK and ang != 0.0 and (hm1 > mu1 or hm2 > mu2):
+        # breakaway from rest: the restraint carries the static cap at the step's
+        # start; the step's row reports that force, the largest of the step
+        Fs = machine_point(C, U[i, 0], U[i, 1], UD[i, 0], UD[i, 1], UDD[i, 0], UDD[i, 1],
+                           t0[0], t0[1], t0[2], hm1, hm2, gva)
+        S[S_FX], S[S_FY] = Fs[0], Fs[1]
+        S[S_FF1], S[S_FF2] = hm1 * Fs[2], hm2 * Fs[3]
     S[S_DS1], S[S_DS2], S[S_DPHI] = R1 * ang, R2 * ang, ang
     S[S_SLIP1] += R1 * ang
     S[S_SLIP2] += R2 * ang

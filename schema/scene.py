@@ -100,7 +100,30 @@ FRICTION_KEYS = {
                                          "a_s_per_m": ("float", _pos), "use_pressure": ("bool", None),
                                          "use_temperature": ("bool", None), "use_velocity": ("bool", None)}),
     "table": _law_keys("table", {"T_C": ("floats", None), "mu": ("floats", None)}),
+    "constantinou": _law_keys("constantinou", {"mu_slow": ("float", _mu), "mu_fast": ("float", _mu),
+                                               "a_s_per_m": ("float", _pos)}),
 }
+
+def _wear_table(x):
+    return None if all(v >= 0 for v in x) else "every entry must be >= 0"
+
+
+# keys of every law (per surface, as the law's own): the static coefficient, the wear
+# coefficient (constant, or a table in temperature) and a liner preset (mechanics.friction.LINERS)
+SURFACE_KEYS = {
+    "mu_static": ("float", None, _mu),
+    "static_ratio": ("float", None, _atleast(1)),
+    "wear_k_mm3_per_Nm": ("float", None, _nonneg),
+    "wear_T_C": ("floats", None, None),
+    "wear_k_T_mm3_per_Nm": ("floats", None, _wear_table),
+}
+
+
+def liner_names() -> list:
+    """The liner presets' names (mechanics.friction.LINERS)."""
+    from fpd.mechanics.friction import LINERS
+    return list(LINERS)
+
 
 def _plate_default(name):
     """Defaults of the [thermal] keys are PlateParams' (one source of truth)."""
@@ -153,7 +176,7 @@ LOADING_KEYS = {
                "dt": ("float", None, _pos)},
     "harmonic": {"amplitude_m": ("float", REQUIRED, _pos), "frequency_Hz": ("float", REQUIRED, _pos),
                  "cycles": ("float", REQUIRED, _pos)},
-    "displacement": {"waveform": (("sine", "circle", "figure-eight"), "sine", None),
+    "displacement": {"waveform": (("sine", "circle", "figure-eight", "triangle"), "sine", None),
                      "amplitude_m": ("float", REQUIRED, _pos),
                      "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos),
                      "direction_deg": ("float", 0.0, None),
@@ -164,7 +187,10 @@ LOADING_KEYS = {
                      "vertical_amplitude_ratio": ("float", None, _pos),
                      "vertical_frequency_Hz": ("float", None, _pos),
                      "vertical_phase_deg": ("float", None, None),
-                     "vertical_file": ("str", None, None)},
+                     "vertical_file": ("str", None, None),
+                     # a compliant link between the machine and the plate (a spring; the plate's mass)
+                     "link_stiffness_N_per_m": ("float", None, _pos),
+                     "link_mass_kg": ("float", None, _pos)},
     "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
               "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
@@ -351,7 +377,10 @@ def _describe(spec) -> str:
 
 
 # -- the sections with structure -------------------------------------------------
-def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
+def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
+    """Per side the law and its keys, the surface keys and a liner preset's.
+    ``no_static``: the device (named) does not model breakaway: mu_static in the
+    scene is refused, a preset's is not used."""
     if given is None:
         ctx.missing("friction", "the scene needs a [friction] table (law and its keys)")
     if not isinstance(given, dict):
@@ -365,14 +394,26 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
         merged = dict(base)
         merged.update(over)
         where = f"friction.{side}" if over else "friction"
+        for key in ("mu_static", "static_ratio"):
+            if no_static is not None and key in merged:
+                ctx.fail(f"friction.{side}.{key}" if key in over else f"friction.{key}", merged[key],
+                         f"breakaway friction is modelled for the DFP and SFP only, not {no_static}")
+        if "liner" in merged:
+            merged = _liner(ctx, where, merged, base, over)
+            if no_static is not None:
+                merged.pop("mu_static", None)
         law = merged.get("law", "constant")
         if not isinstance(law, str) or law not in FRICTION_KEYS:
             ctx.fail(f"{where}.law", law, "must be one of " + ", ".join(f'"{k}"' for k in FRICTION_KEYS))
         schema = FRICTION_KEYS[law]
         if "law" in over and law != base.get("law", "constant"):
             # the side replaces the law: of the base table it takes only the keys its law has
+            # (and the surface's own: breakaway, wear, a preset's)
+            carried = {k: v for k, v in merged.items() if k in SURFACE_KEYS or k == "liner"}
             merged = {k: v for k, v in base.items() if k in schema}
+            merged.update(carried)
             merged.update(over)
+        surface = {k: merged.pop(k) for k in list(merged) if k in SURFACE_KEYS or k == "liner"}
         # a key of the base table that belongs to another law is an error
         # only if the override does not replace the law
         for key, value in merged.items():
@@ -381,7 +422,8 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
                 other = [n for n, s in FRICTION_KEYS.items() if key in s]
                 if other:
                     ctx.fail(f"{owner}.{key}", value, f'belongs to law "{other[0]}", not "{law}"')
-                ctx.unknown(f"{owner}.{key}", value, list(schema) + ["law"] + list(sides))
+                ctx.unknown(f"{owner}.{key}", value, list(schema) + ["law"] + list(SURFACE_KEYS) + ["liner"]
+                            + list(sides))
         res = _table(ctx, where, {k: v for k, v in merged.items() if k != "law"}, schema)
         if law == "table":
             T, mu = res["T_C"], res["mu"]
@@ -393,8 +435,53 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
                 if not 0 <= m < 1:
                     ctx.fail(f"{where}.mu", mu, "every entry must be in [0, 1)")
         res["law"] = law
+        liner = surface.pop("liner", None)
+        res.update(_table(ctx, where, surface, SURFACE_KEYS))
+        _surface_checks(ctx, where, res)
+        if liner is not None:
+            res["liner"] = liner
         out[side] = res
     return out
+
+
+def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
+    """A liner preset (mechanics.friction.LINERS) under the keys the scene gives:
+    the preset's law and values, each overridable key by key (a law given in the
+    scene replaces the preset's law and its keys)."""
+    from fpd.mechanics.friction import LINERS
+
+    name = merged["liner"]
+    owner = where if "liner" in over else "friction"
+    if not isinstance(name, str) or name not in LINERS:
+        ctx.fail(f"{owner}.liner", name, "must be one of " + ", ".join(f'"{k}"' for k in LINERS))
+    preset = {k: v for k, v in LINERS[name]["values"].items()}
+    if "law" in merged and merged["law"] != preset["law"]:
+        preset = {k: v for k, v in preset.items() if k in SURFACE_KEYS}
+    preset.update(merged)
+    return preset
+
+
+def _surface_checks(ctx: _Ctx, where: str, res: dict) -> None:
+    """The static coefficient against the sliding law at rest; the wear table's shape."""
+    from fpd.mechanics.friction import make_law
+
+    if "mu_static" in res:
+        law = make_law(res)
+        p_ref = res.get("p_ref_MPa", 0.0) * 1e6 if res["law"] == "kumar2015" else 0.0
+        mu0 = law(20.0, p_ref, 0.0)
+        if res["mu_static"] < mu0:
+            ctx.fail(f"{where}.mu_static", res["mu_static"],
+                     f"must be >= the sliding mu ({mu0:.6g} at rest and 20 degC)")
+    T, k = res.get("wear_T_C"), res.get("wear_k_T_mm3_per_Nm")
+    if (T is None) != (k is None):
+        given = "wear_T_C" if T is not None else "wear_k_T_mm3_per_Nm"
+        ctx.fail(f"{where}.{given}", T if T is not None else k,
+                 "needs its partner (wear_T_C and wear_k_T_mm3_per_Nm together)")
+    if T is not None:
+        if len(T) < 1 or len(T) != len(k):
+            ctx.fail(f"{where}.wear_k_T_mm3_per_Nm", k, f"must have as many entries as wear_T_C ({len(T)}), >= 1")
+        if any(b <= a for a, b in zip(T, T[1:])):
+            ctx.fail(f"{where}.wear_T_C", T, "must increase strictly")
 
 
 def _thermal(ctx: _Ctx, given, sides=TWO_SIDES, part_defaults=None) -> dict:
@@ -557,7 +644,7 @@ def is_bidirectional(data: dict) -> bool:
     if ld["kind"] == "record":
         return "path_y" in ld
     if ld["kind"] == "displacement":
-        return ld["waveform"] != "sine" or ld["direction_deg"] != 0.0
+        return ld["waveform"] not in ("sine", "triangle") or ld["direction_deg"] != 0.0
     return False
 
 
@@ -628,7 +715,7 @@ def _validate(raw: dict, path: str) -> Scene:
     dev = data["device"]
     if dev["kind"] == "TFP":
         tfp_device(ctx, data, raw)
-        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES)
+        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES, no_static="the TFP")
         data["thermal"] = _thermal(ctx, raw.get("thermal"), TFP_PARTS, {
             "slider_lower": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_lower"]},
             "slider_upper": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_upper"]}})
@@ -656,7 +743,8 @@ def _validate(raw: dict, path: str) -> Scene:
     if heat_only and raw.get("friction") is None:
         data["friction"] = _friction(ctx, {"law": "constant", "mu": 0.0})
     else:
-        data["friction"] = _friction(ctx, raw.get("friction"))
+        data["friction"] = _friction(ctx, raw.get("friction"),
+                                     no_static="the flat bearing" if dev["kind"] == "flat" else None)
     data["thermal"] = _thermal(ctx, raw.get("thermal"))
     if dev["kind"] == "flat":
         flat_cross_checks(ctx, data)
@@ -693,6 +781,20 @@ def _cross_checks(ctx: _Ctx, data: dict):
     if ld["kind"] == "displacement":
         if ld["amplitude_m"] >= geom.L:
             ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"must be < L = {geom.L:.4g} m")
+        if ld["waveform"] == "triangle" and ld["direction_deg"] != 0.0:
+            ctx.fail("loading.direction_deg", ld["direction_deg"], 'must be 0 with waveform = "triangle" (a planar '
+                     "programme)")
+        link = [k for k in ("link_stiffness_N_per_m", "link_mass_kg") if k in ld]
+        if len(link) == 1:
+            other = "link_mass_kg" if link[0] == "link_stiffness_N_per_m" else "link_stiffness_N_per_m"
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], f"needs loading.{other} too (the compliant link: a spring "
+                     "and the plate's mass)")
+        if link and (ld["waveform"] not in ("sine", "triangle") or ld["direction_deg"] != 0.0):
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link drives the planar machine only '
+                     '(waveform "sine" or "triangle", direction_deg = 0)')
+        if link and ld.get("vertical") not in (None, "constant"):
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link needs the vertical load held '
+                     '(loading.vertical = "constant")')
         if data["mechanics"]["model"] == "two-phase":
             # the test machine holds the superstructure: the seated model describes it
             data["mechanics"]["model"] = "seated"
@@ -1215,6 +1317,9 @@ def planar_only(ctx, data, device: str) -> None:
     if ld["kind"] == "displacement":
         if ld.get("waveform", "sine") != "sine":
             ctx.fail("loading.waveform", ld["waveform"], f'must be "sine": {why}')
+        for key in ("link_stiffness_N_per_m", "link_mass_kg"):
+            if key in ld:
+                ctx.fail(f"loading.{key}", ld[key], f"the compliant link is the DFP / SFP test machine's: {why}")
         if ld.get("direction_deg", 0.0) != 0.0:
             ctx.fail("loading.direction_deg", ld["direction_deg"], f"must be 0: {why}")
     if mech.get("normal_force") not in (None, "start"):

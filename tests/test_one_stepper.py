@@ -130,6 +130,17 @@ def test_planar_columns_are_signed():
                   "loading.vertical_frequency_Hz=0.8", "loading.vertical_phase_deg=30"]),
     ("lab-sine", ['loading.vertical="series"', 'loading.vertical_file="axial.txt"', "loading.cycles=2.9",
                   "solver.duration=8", "thermal.model=lumped"]),
+    # tribology: breakaway and wear (a table in T) under a record, on the machine, and the
+    # machine's compliant link (stick-slip); wear on the flat bearing and the TFP
+    ("default", ["solver.duration=4", "friction.mu_static=0.07", "friction.static_ratio=1.5",
+                 "friction.wear_T_C=[0.0, 200.0]",
+                 "friction.wear_k_T_mm3_per_Nm=[1e-6, 4e-6]"]),
+    ("lab-sine", ["friction.mu_static=0.09", "friction.wear_k_mm3_per_Nm=2e-6", "thermal.model=lumped"]),
+    ("lab-sine", ["friction.mu_static=0.09", 'loading.waveform="triangle"', "loading.link_stiffness_N_per_m=5e7",
+                  "loading.link_mass_kg=3000", "loading.amplitude_m=0.02", "solver.duration=2",
+                  "thermal.model=lumped"]),
+    ("flat-lab", ["friction.wear_k_mm3_per_Nm=2e-6"]),
+    ("tfp-elcentro", ["solver.duration=3", "friction.wear_k_mm3_per_Nm=2e-6"]),
 ])
 def test_compiled_engine_equals_the_pure_path_bit_for_bit(monkeypatch, tmp_path, scene, over):
     """The compiled engine (numba) and the pure path (FPD_NO_JIT: the Python
