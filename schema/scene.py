@@ -1175,15 +1175,18 @@ def planar_only(ctx, data, device: str) -> None:
     ld, mech = data["loading"], data["mechanics"]
     why = f"the {device} is planar in this version (bidirectional motion: a DFP or an SFP)"
     if ld["kind"] == "record":
-        # the vertical ground motion (model.md 10): the DFP and the SFP only
+        # the vertical ground motion (model.md 10): the DFP, the SFP and the TFP
+        vertical = device == "TFP"
         vwhy = (f"not yet for this device: the {device}'s stepper has no vertical ground motion "
-                "(a DFP or an SFP takes it)")
-        if ld.get("file_z") is not None:
+                "(a DFP, an SFP or a TFP takes it)")
+        if ld.get("file_z") is not None and not vertical:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
-        if ld.get("channels") is not None and (ld["channels"][1] or ld["channels"][2]):
+        if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not vertical)):
             ch = [c for c in ld["channels"] if c]
-            what = vwhy if ld["channels"][2] else why
-            ctx.fail("loading.channels", ch, f"must name one horizontal channel ([{ch[0]}]): {what}")
+            what = vwhy if ld["channels"][2] and not vertical else why
+            one = f"[{ch[0]}]" + (f" or [{ch[0]}, {ld['channels'][2]}] with the vertical one" if vertical
+                                  and ld["channels"][2] else "")
+            ctx.fail("loading.channels", ch, f"must name one horizontal channel ({one}): {what}")
         if ld.get("file_y") is not None:
             ctx.fail("loading.file_y", ld["file_y"], f"is not allowed: {why}")
         if ld.get("component") == "pair":

@@ -34,6 +34,7 @@ model = "none"
 """
 
 PULSE = Path(__file__).resolve().parent / "data" / "pulse_z.txt"   # -1.5 g from 1.001 to 1.2 s
+V2 = Path(__file__).resolve().parents[1] / "scenes" / "records" / "FERNDALE2022_CE89486.v2"
 
 
 def _compiled():
@@ -117,6 +118,9 @@ def test_planar_columns_are_signed():
     ("ferndale-3c", ["solver.duration=3", "loading.channels=[1, 2]", "loading.baseline=false",
                      f'loading.file_z="{PULSE}"']),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
+    # the TFP under a vertical record (Ferndale's vertical channel x 3 at El Centro's first 35 s)
+    ("tfp-elcentro", ["solver.duration=35", "thermal.model=lumped", "mechanics.model=two-phase",
+                      f'loading.file_z="{V2}"', "loading.scale=3"]),
     ("flat-lab", []),
     ("flat-lab", ["thermal.model=lumped"]),
     ("lab-sine", []),
