@@ -76,7 +76,8 @@ KEYS: dict[str, tuple[str, str]] = {
                        "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim."),
     "device.rim_restitution": ("", "DFP / SFP: coefficient of restitution of a rim impact: the velocity normal "
                                    "to the rim is stopped (0, the inelastic stop) or handed back times it; the "
-                                   "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J)."),
+                                   "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J). "
+                                   "Refused on the TFP (its rims stop inelastically)."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
     "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "

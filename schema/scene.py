@@ -1214,6 +1214,9 @@ def planar_only(ctx, data, device: str) -> None:
 
 def tfp_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "TFP")
+    if data["device"].get("rim_restitution", 0.0) != 0.0:
+        ctx.fail("device.rim_restitution", data["device"]["rim_restitution"],
+                 "not yet for the TFP: its rims stop inelastically (a DFP or an SFP takes a restitution)")
     from fpd.mechanics.tfp import tfp_geometry_errors
 
     geom = tfp_geometry(data)

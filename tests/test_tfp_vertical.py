@@ -180,3 +180,11 @@ def test_the_rocking_threshold_scales_with_g_plus_az():
 
     c0, c1 = threshold(0.0), threshold(-0.4 * G_ACC)
     assert c1 / c0 == pytest.approx(0.6, rel=1e-9)
+
+
+
+def test_rim_restitution_is_refused_on_the_tfp_in_one_line():
+    with pytest.raises(scn.SceneError, match=r"device.rim_restitution = 0.5: not yet for the TFP") as e:
+        scn.load("tfp-elcentro", ["device.rim_restitution=0.5"])
+    assert "\n" not in str(e.value)
+    assert scn.load("tfp-elcentro", ["device.rim_restitution=0"])["device"]["rim_restitution"] == 0.0
