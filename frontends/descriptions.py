@@ -74,10 +74,11 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.d2": ("m", "Slide capacity of the upper surface of a DFP (|R2 theta| <= d2; default "
                        "thermal.upper.plate_radius - pad radius), of S2 of a TFP (|R2 alpha| <= d2). The DFP's "
                        "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim."),
-    "device.rim_restitution": ("", "DFP / SFP: coefficient of restitution of a rim impact: the velocity normal "
+    "device.rim_restitution": ("", "DFP / SFP / TFP: coefficient of restitution of a rim impact: the velocity normal "
                                    "to the rim is stopped (0, the inelastic stop) or handed back times it; the "
                                    "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J). "
-                                   "Refused on the TFP (its rims stop inelastically)."),
+                                   "The TFP: at the arrival of phi or alpha at its rim (a coordinate stuck by "
+                                   "friction at that instant, or both arriving together, stop inelastically)."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
     "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "

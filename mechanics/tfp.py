@@ -64,6 +64,7 @@ class TFPGeometry:
     mass: float                    # superstructure M (kg)
     g: float = G_ACC
     kind: str = "TFP"
+    rim_restitution: float = 0.0   # Newton's e of a rim arrival (0: the inelastic stop)
 
     # -- lengths ---------------------------------------------------------------
     @property
@@ -159,6 +160,7 @@ class TFPGeometry:
         p[K.I_R1], p[K.I_R2], p[K.I_R3], p[K.I_R4] = self.R1, self.R2, self.R3, self.R4
         p[K.I_QMAX_PHI], p[K.I_QMAX_ALPHA] = self.qmax
         p[K.I_D1], p[K.I_D2], p[K.I_D3], p[K.I_D4] = self.d1, self.d2, self.d3, self.d4
+        p[K.I_REST] = self.rim_restitution
         p[K.I_MS_LO] = p[K.I_MS_UP] = self.slider_mass
         p[K.I_MPAD] = self.pad_mass
         p[K.I_A_SL], p[K.I_A_PAD], p[K.I_B_PAD], p[K.I_A_SU] = b[0][1], b[1][1], b[1][2], b[2][1]

@@ -400,6 +400,24 @@ def stuck_then_rim(mss, msr, mrr, vs, vr):
     return vs, k0 - ka, ka - 0.5 * mss * vs * vs
 
 
+def restitute(e, M, pf1, pf2, v1, v2, w):
+    """Newton's restitution e of a rim arrival whose inelastic stop left the
+    rates (v1, v2): the free momentum (pf1, pf2) is what the part would carry
+    without the rim (its reaction over the part and the stop both act on the
+    coordinate at the rim only), v_free = M^-1 pf; the stop's whole jump
+    d = v - v_free is taken (1 + e) times: w = v + e d, so the coordinate
+    leaves the rim at -e times its free rate. d is M-orthogonal to v (the
+    impulse is on the rim's coordinate, whose rate in v is 0), so the energy
+    handed back is e^2 (1/2) d^T M d: the impact takes (1 - e^2) of the
+    kinetic energy normal to the rim, (1/2) d^T M d. Returns that energy."""
+    solve2(M[0], M[1], M[2], pf1, pf2, w)
+    d1 = v1 - w[0]
+    d2 = v2 - w[1]
+    w[0] = v1 + e * d1
+    w[1] = v2 + e * d2
+    return e * e * 0.5 * (M[0] * d1 * d1 + 2.0 * M[1] * d1 * d2 + M[2] * d2 * d2)
+
+
 def rim_lock(m11, m12, m22, v1, v2, o1, o2, w):
     """The inelastic rim impact at the end of a step: a coordinate k on its
     rim (o_k = +1 or -1, the side of the rim; 0 off it) may not move into it.
@@ -520,7 +538,14 @@ def step(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
                 st[1] = o2 * qm2
             if o1 != 0.0 or o2 != 0.0:
                 mass_matrix(par, st[1], M)
-                out[O_RIM] += rim_lock(M[0], M[1], M[2], st[2], st[3], o1, o2, w)
+                v1 = st[2]
+                v2 = st[3]
+                out[O_RIM] += rim_lock(M[0], M[1], M[2], v1, v2, o1, o2, w)
+                if par[I_REST] != 0.0:
+                    # (no reaction in this part: the free momentum is M v)
+                    p1 = M[0] * v1 + M[1] * v2
+                    p2 = M[1] * v1 + M[2] * v2
+                    out[O_RIM] -= restitute(par[I_REST], M, p1, p2, w[0], w[1], w)
                 st[2] = w[0]
                 st[3] = w[1]
                 if o1 != 0.0:
@@ -791,6 +816,10 @@ def substep(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nob
             rim += l1
         else:
             arr_o += l1
+        if at1 and par[I_REST] != 0.0:
+            rim -= restitute(par[I_REST], M, pn1 + dt * nu1, pn2, v11, v21, w)
+            dxr += cx1 * (w[0] - v11) + cx2 * (w[1] - v21)
+            v11, v21 = w[0], w[1]
     elif z2:
         va = (M[0] * v11 + M[1] * v21) / M[0]
         if rim2:
@@ -802,6 +831,10 @@ def substep(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nob
             rim += l2
         else:
             arr_i += l2
+        if at2 and par[I_REST] != 0.0:
+            rim -= restitute(par[I_REST], M, pn1, pn2 + dt * nu2, v11, v21, w)
+            dxr += cx1 * (w[0] - v11) + cx2 * (w[1] - v21)
+            v11, v21 = w[0], w[1]
     if two:
         # phases 2 and 3: the phase-1 velocity field (every part along its
         # seated tangent at t_n, rates v1) re-seated at q(t_n+1), an
