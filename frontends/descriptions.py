@@ -79,6 +79,15 @@ KEYS: dict[str, tuple[str, str]] = {
                                    "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J). "
                                    "The TFP: at the arrival of phi or alpha at its rim (a coordinate stuck by "
                                    "friction at that instant, or both arriving together, stop inelastically)."),
+    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP under a ground motion: a rim of finite stiffness instead "
+                                            "of the rigid one: a spring on the slide past the capacity of each "
+                                            "surface that sets it, so the impact is a contact force (in F_N, "
+                                            "converging as dt shrinks) and the slide passes the capacity by its "
+                                            "compression; elastic (no rim loss: E_rim_J and J_rim_Ns stay 0, the "
+                                            "spring's energy is in E_pot_J); the rigid rim of rim_restitution = 1 "
+                                            "is its stiff limit. dt must resolve the contact, about pi sqrt(m / k). "
+                                            "Refused on the TFP, the flat bearing, the test machine and with "
+                                            "rim_restitution."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
     "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "

@@ -191,6 +191,8 @@ TABLES = {
         "d1": ("float", None, _pos),
         "d2": ("float", None, _pos),
         "rim_restitution": ("float", 0.0, _share),
+        # a rim of finite stiffness (DFP / SFP): a spring on the slide beyond the capacity (N/m)
+        "rim_stiffness_N_per_m": ("float", None, _pos),
         "d3": ("float", None, _pos),
         "d4": ("float", None, _pos),
         "slider_mass": ("float", None, _nonneg),
@@ -735,6 +737,14 @@ def _capacities(ctx: _Ctx, data: dict, geom) -> None:
             ctx.fail(f"device.{key}", dev[key], f"the footprint (radius {a:g} m) would pass the plate's edge: at most "
                      f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
     ld = data["loading"]
+    k = dev.get("rim_stiffness_N_per_m")
+    if k is not None:
+        if dev["rim_restitution"] != 0.0:
+            ctx.fail("device.rim_restitution", dev["rim_restitution"], "is a key of the rigid rim: a rim of finite "
+                     "stiffness (device.rim_stiffness_N_per_m) is elastic (leave rim_restitution out)")
+        if ld["kind"] == "displacement":
+            ctx.fail("device.rim_stiffness_N_per_m", k, "is for a ground motion: the test machine's programme "
+                     "stays within the capacity")
     if ld["kind"] == "displacement":
         arcs = [(key, dev[key] / (geom.R1 if key == "d1" else geom.R2)) for key, _ in keys]
         key, theta = min(arcs, key=lambda x: x[1])
@@ -1214,6 +1224,7 @@ def planar_only(ctx, data, device: str) -> None:
 
 def tfp_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "TFP")
+    rigid_rim_only(ctx, data, "TFP")
     from fpd.mechanics.tfp import tfp_geometry_errors
 
     geom = tfp_geometry(data)
@@ -1256,8 +1267,17 @@ def flat_device(ctx, data, raw) -> None:
         ctx.fail("loading.kind", "heat", 'a thermal-only scene ignores the device: use kind = "DFP" for it')
 
 
+def rigid_rim_only(ctx, data, device: str) -> None:
+    """A rim of finite stiffness is the DFP's and the SFP's (bidirectional_kernel)."""
+    k = data["device"].get("rim_stiffness_N_per_m")
+    if k is not None:
+        ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: the {device}'s rims are rigid "
+                 "(a DFP or an SFP takes a finite rim stiffness)")
+
+
 def flat_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "flat bearing")
+    rigid_rim_only(ctx, data, "flat bearing")
 
     ld, sol, dev = data["loading"], data["solver"], data["device"]
     if data["output"]["vtk_every"] > 0:
