@@ -1271,7 +1271,8 @@ def rigid_rim_only(ctx, data, device: str) -> None:
     """A rim of finite stiffness is the DFP's and the SFP's (bidirectional_kernel)."""
     k = data["device"].get("rim_stiffness_N_per_m")
     if k is not None:
-        ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: the {device}'s rims are rigid "
+        what = f"the {device} has no rims" if device == "flat bearing" else f"the {device}'s rims are rigid"
+        ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: {what} "
                  "(a DFP or an SFP takes a finite rim stiffness)")
 
 
