@@ -117,6 +117,9 @@ def test_planar_columns_are_signed():
     # a vertical pulse below -g: lift-off, flight and landing
     ("ferndale-3c", ["solver.duration=3", "loading.channels=[1, 2]", "loading.baseline=false",
                      f'loading.file_z="{PULSE}"']),
+    # the TFP's rims with a restitution (six arrivals on S2 / S3)
+    ("tfp-elcentro", ["solver.duration=12", "loading.scale=4", "device.rim_restitution=0.5",
+                      "thermal.model=lumped", "mechanics.model=seated"]),
     # a rim of finite stiffness
     ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9"]),
     ("impvall-bidirectional", ["solver.duration=8", "device.d1=0.04", "device.d2=0.04",
