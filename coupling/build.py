@@ -219,9 +219,10 @@ def record_info(scene: Scene, loading) -> dict:
 
 
 def rim_of(scene: Scene) -> tuple:
-    """(d1, d2, restitution) of a DFP / SFP (d2 None for the SFP)."""
+    """(d1, d2, restitution, stiffness) of a DFP / SFP (d2 None for the SFP;
+    stiffness None: the rigid rim)."""
     dev = scene["device"]
-    return dev["d1"], dev.get("d2"), dev["rim_restitution"]
+    return dev["d1"], dev.get("d2"), dev["rim_restitution"], dev.get("rim_stiffness_N_per_m")
 
 
 def plate_params(scene: Scene, side: str) -> PlateParams:
@@ -431,13 +432,22 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
 # -- the triple friction pendulum (model.md 6) and the flat bearing (model.md 7) ---------
 
 def build_tfp(scene: Scene) -> Simulation:
-    from fpd.mechanics.tfp import TFPStepper
+    from fpd.mechanics.tfp import TFPStepper, liftoff_step
     from fpd.schema.scene import tfp_geometry
 
     dt = scene["solver"]["dt"]
     geom = tfp_geometry(scene.data)
     loading = loading_of(scene, dt)
-    mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"])
+    gz = vertical_loading_of(scene, dt, loading)
+    if gz is not None:
+        k = liftoff_step(geom, gz.a_step)
+        if k is not None:
+            ld = scene["loading"]
+            key = "loading.file_z" if ld.get("file_z") is not None else "loading.channels"
+            raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
+                             f"t = {k * dt:.6g} s (g + a_z < 0): the TFP would lift off, which it does not model "
+                             "(a DFP or an SFP flies and lands); scale the vertical record down")
+    mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"], gz=gz)
     dev = scene["device"]
     feet = (dev["slider_diameter"] / 2, dev["pad_diameter"] / 2, dev["pad_diameter"] / 2, dev["slider_diameter"] / 2)
     pp = tuple(PlateParams(**scene.thermal(part), a_contact_m=a) for part, a in zip(TFP_PARTS, feet))
@@ -447,6 +457,8 @@ def build_tfp(scene: Scene) -> Simulation:
     info = {"device": "TFP", "capacity_m": geom.capacity}
     if hasattr(loading, "record"):
         info["record"] = record_info(scene, loading)
+    if gz is not None:
+        info["record_z"] = _record_info(gz, scene["loading"], loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made

@@ -78,9 +78,20 @@ KEYS: dict[str, tuple[str, str]] = {
                        "bearing: the superstructure's slip on the pad, |s2_m| <= d2 (default "
                        "thermal.upper.plate_radius - pad radius; more is refused); its test machine's amplitude "
                        "must be within d1 and d2."),
-    "device.rim_restitution": ("", "DFP / SFP / flat bearing: coefficient of restitution of a rim impact: the velocity normal "
+    "device.rim_restitution": ("", "DFP / SFP / TFP / flat bearing: coefficient of restitution of a rim impact: the velocity normal "
                                    "to the rim is stopped (0, the inelastic stop) or handed back times it; the "
-                                   "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J)."),
+                                   "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J). "
+                                   "The TFP: at the arrival of phi or alpha at its rim (a coordinate stuck by "
+                                   "friction at that instant, or both arriving together, stop inelastically)."),
+    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP under a ground motion: a rim of finite stiffness instead "
+                                            "of the rigid one: a spring on the slide past the capacity of each "
+                                            "surface that sets it, so the impact is a contact force (in F_N, "
+                                            "converging as dt shrinks) and the slide passes the capacity by its "
+                                            "compression; elastic (no rim loss: E_rim_J and J_rim_Ns stay 0, the "
+                                            "spring's energy is in E_pot_J); the rigid rim of rim_restitution = 1 "
+                                            "is its stiff limit. dt must resolve the contact, about pi sqrt(m / k). "
+                                            "Refused on the TFP, the flat bearing, the test machine and with "
+                                            "rim_restitution."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
     "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "
@@ -184,7 +195,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
                                   "components). The x record sets the length; after a shorter y record the "
                                   "ground stops accelerating in y (docs/bidirectional.md, section 4)."),
-    "loading.record.file_z": ("", "DFP, SFP, flat bearing: a record file of the vertical ground acceleration, positive up (path "
+    "loading.record.file_z": ("", "DFP, SFP, TFP, flat bearing: a record file of the vertical ground acceleration, positive up (path "
                                   "relative to the scene file, any format of file; a CSMIP V2 file: its vertical "
                                   "channel), scaled by scale (and the x record's target_pga_g factor) and "
                                   "baseline-corrected like x. Treated as the y component of a pair is: read on "
@@ -192,8 +203,8 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "solver.duration) sets the length, after a shorter vertical record the ground "
                                   "stops accelerating vertically. Every normal force, friction cap, the heat, the "
                                   "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
-                                  "(docs/model.md 10). Refused on the TFP (not yet for this device) and when the "
-                                  "record's channels already give z."),
+                                  "(docs/model.md 10). The TFP does not lift off: a record with g + a_z < 0 is "
+                                  "refused before the run. Refused when the record's channels already give z."),
     "loading.record.vertical_scale": ("", "DFP, SFP, flat bearing: the vertical ground acceleration as this "
                                           "factor times the horizontal (x) one as run (after scale, "
                                           "target_pga_g, baseline and the pair's angle), up; e.g. 0.67 for the "
@@ -201,7 +212,8 @@ KEYS: dict[str, tuple[str, str]] = {
                                           "P695 set member has no vertical otherwise); not with file_z or a "
                                           "record's vertical channel (one vertical component); non-zero. The "
                                           "run is then one under a vertical record (columns, lift-off, "
-                                          "docs/model.md 10; summary record_z names the copy)."),
+                                          "docs/model.md 10; summary record_z names the copy). Not yet for the "
+                                          "TFP (give file_z)."),
     "loading.record.channels": ("", "A three-channel CSMIP V2 record (record = \"ferndale-2022\", or a .v2 file): "
                                     "the channels to run, by number; horizontal channels go on x then y in the "
                                     "order given, the vertical one on z. Default: all three in file order ([1, 2, "

@@ -159,11 +159,14 @@ class _Base(TwoInterfaces):
         self.C[K.C_MUS1], self.C[K.C_MUS2] = float(mu_s1), float(mu_s2)
         self.C[K.C_MUR1], self.C[K.C_MUR2] = float(ratio1), float(ratio2)
 
-    def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0) -> None:
+    def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0,
+                stiffness: float | None = None) -> None:
         """The slide capacities (arc from each surface's centre, m; the SFP's
         d1 only) and the rim's restitution: the axis's tilt is bounded by
         min(d1 / R1, d2 / R2), the surface (or both) that sets it counts the
-        impacts (docs/model.md 9)."""
+        impacts (docs/model.md 9). ``stiffness`` (N/m): a rim of finite
+        stiffness instead of the rigid one, a spring on the slide beyond the
+        capacity of each surface that sets it (elastic: no loss at the rim)."""
         g = self.geom
         arcs = [d1 / g.R1] + ([d2 / g.R2] if (d2 is not None and g.kind == "DFP") else [])
         th = min(arcs)
@@ -171,6 +174,8 @@ class _Base(TwoInterfaces):
         C[K.C_THMAX], C[K.C_REST] = th, float(restitution)
         C[K.C_RIM1] = 1.0 if arcs[0] <= th * (1 + 1e-12) else 0.0
         C[K.C_RIM2] = 1.0 if len(arcs) > 1 and arcs[1] <= th * (1 + 1e-12) else 0.0
+        if stiffness:
+            C[K.C_KRIM] = float(stiffness) * (C[K.C_RIM1] * g.R1 ** 2 + C[K.C_RIM2] * g.R2 ** 2)
         self.capacity = (d1, d2 if g.kind == "DFP" else None)
 
     # -- protocol attributes ----------------------------------------------------

@@ -79,7 +79,10 @@ C_AXIAL, C_SIN = 34, 35
 C_MUS1, C_MUS2 = 36, 37
 # the static coefficients as ratios to the sliding mu at rest (0: none)
 C_MUR1, C_MUR2 = 38, 39
-N_C = 40
+# a rim of finite stiffness (docs/model.md 9): k sum R_i^2 over the surfaces that bound the tilt
+# (N m / rad^2), the axis's moment k R_i^2 (theta - thmax) beyond it; 0: the rigid rim
+C_KRIM = 40
+N_C = 41
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -172,7 +175,53 @@ def drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay, gv):
     fb = fx * bx + fy * by + fz * bz
     half = 0.5 * d
     De = sinc(half) * (fn * math.sin(half) - fe * math.cos(half))
+    if C[C_KRIM] != 0.0:
+        # the rim's spring beyond the capacity: along e its discrete gradient on the
+        # arc (work exactly V_rim(start) - V_rim(end)), across it the gradient at mid-arc
+        ke, kb = _rim_spring_drive(C, nx, ny, nz, ex, ey, ez, bx, by, bz, d)
+        De += ke
+        fb -= kb
     return De * ex - fb * bx, De * ey - fb * by, De * ez - fb * bz
+
+
+def rim_overlap(C, nx, ny, nz):
+    """The axis's tilt beyond the rim, (theta - thmax)_+ (rad)."""
+    o = math.atan2(hypot(nx, ny), -nz) - C[C_THMAX]
+    return o if o > 0.0 else 0.0
+
+
+def rim_spring_energy(C, nx, ny, nz):
+    """Energy stored in the rim of finite stiffness, C_KRIM (theta - thmax)_+^2 / 2."""
+    o = rim_overlap(C, nx, ny, nz)
+    return 0.5 * C[C_KRIM] * o * o
+
+
+def _rim_spring_drive(C, nx, ny, nz, ex, ey, ez, bx, by, bz, d):
+    """The rim spring's generalised force along e (the discrete gradient over
+    the arc of angle d from n, -(V(end) - V(start)) / d; the derivative when
+    d = 0) and across it (its component on b at mid-arc, the exact moment
+    -k o m . b with m the outward meridian)."""
+    k = C[C_KRIM]
+    if abs(d) > 1e-12:
+        c, s = math.cos(d), math.sin(d)
+        v0 = rim_spring_energy(C, nx, ny, nz)
+        v1 = rim_spring_energy(C, c * nx + s * ex, c * ny + s * ey, c * nz + s * ez)
+        ke = -(v1 - v0) / d
+    else:
+        o = rim_overlap(C, nx, ny, nz)
+        ke = 0.0
+        if o > 0.0:
+            r = hypot(nx, ny)
+            ke = -k * o * ((ex * nx + ey * ny) * (-nz) / r + ez * r)
+    q = 0.5 * d
+    c, s = math.cos(q), math.sin(q)
+    mx, my, mz = c * nx + s * ex, c * ny + s * ey, c * nz + s * ez
+    o = rim_overlap(C, mx, my, mz)
+    kb = 0.0
+    if o > 0.0:
+        r = hypot(mx, my)
+        kb = -k * o * ((bx * mx + by * my) * (-mz) / r + bz * r)
+    return ke, kb
 
 
 def _free_direction(C, nx, ny, nz, ax, ay, gv):
@@ -613,6 +662,16 @@ def rim(C, S, gv):
     thmax = C[C_THMAX]
     if thmax <= 0.0 or S[S_ROCK] != 0.0:
         return 0.0, 0.0
+    if C[C_KRIM] != 0.0:
+        # a rim of finite stiffness: a contact force in the drive, no impulse;
+        # an impact is counted when the axis passes the capacity
+        if rim_overlap(C, S[S_NX], S[S_NY], S[S_NZ]) > 0.0:
+            if S[S_ATRIM] == 0.0:
+                S[S_ATRIM] = 1.0
+                S[S_NRIM] += 1.0
+        else:
+            S[S_ATRIM] = 0.0
+        return 0.0, 0.0
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     r = hypot(nx, ny)
     th = math.atan2(r, -nz)
@@ -794,6 +853,8 @@ def _seated_energies(C, S):
         Ep += C[C_G] * (S[S_EZ] * dX - S[S_NZ] * dZ)
         return 0.5 * C[C_IP] * S[S_BETAD] * S[S_BETAD], Ep
     w2 = S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ]
+    if C[C_KRIM] != 0.0:
+        Ep += rim_spring_energy(C, S[S_NX], S[S_NY], S[S_NZ])
     return 0.5 * C[C_I] * w2, Ep
 
 

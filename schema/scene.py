@@ -220,6 +220,8 @@ TABLES = {
         "d1": ("float", None, _pos),
         "d2": ("float", None, _pos),
         "rim_restitution": ("float", 0.0, _share),
+        # a rim of finite stiffness (DFP / SFP): a spring on the slide beyond the capacity (N/m)
+        "rim_stiffness_N_per_m": ("float", None, _pos),
         "d3": ("float", None, _pos),
         "d4": ("float", None, _pos),
         "slider_mass": ("float", None, _nonneg),
@@ -840,6 +842,14 @@ def _capacities(ctx: _Ctx, data: dict, geom) -> None:
             ctx.fail(f"device.{key}", dev[key], f"the footprint (radius {a:g} m) would pass the plate's edge: at most "
                      f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
     ld = data["loading"]
+    k = dev.get("rim_stiffness_N_per_m")
+    if k is not None:
+        if dev["rim_restitution"] != 0.0:
+            ctx.fail("device.rim_restitution", dev["rim_restitution"], "is a key of the rigid rim: a rim of finite "
+                     "stiffness (device.rim_stiffness_N_per_m) is elastic (leave rim_restitution out)")
+        if ld["kind"] == "displacement":
+            ctx.fail("device.rim_stiffness_N_per_m", k, "is for a ground motion: the test machine's programme "
+                     "stays within the capacity")
     if ld["kind"] == "displacement":
         arcs = [(key, dev[key] / (geom.R1 if key == "d1" else geom.R2)) for key, _ in keys]
         key, theta = min(arcs, key=lambda x: x[1])
@@ -1245,7 +1255,7 @@ def tfp_geometry(data):
     return TFPGeometry(d["R1"], d["R2"], d["R3"], d["R4"], d["pad_height"], d["pad_diameter"],
                        d["slider_height_lower"], d["slider_height_upper"], d["slider_diameter"],
                        d["d1"], d["d2"], d["d3"], d["d4"], d["pad_mass"], d["slider_mass"],
-                       data["superstructure"]["mass"])
+                       data["superstructure"]["mass"], rim_restitution=d["rim_restitution"])
 
 
 def tfp_device(ctx, data, raw) -> None:
@@ -1279,18 +1289,21 @@ def planar_only(ctx, data, device: str) -> None:
     ld, mech = data["loading"], data["mechanics"]
     why = f"the {device} is planar in this version (bidirectional motion: a DFP or an SFP)"
     if ld["kind"] == "record":
-        # the vertical ground motion (model.md 10): the DFP and the SFP only
+        # the vertical ground motion (model.md 10): the DFP, the SFP, the TFP and the flat bearing
+        vertical = device in ("TFP", "flat bearing")
         vwhy = (f"not yet for this device: the {device}'s stepper has no vertical ground motion "
-                "(a DFP, an SFP or the flat bearing takes it)")
-        takes_z = device == "flat bearing"
-        if ld.get("file_z") is not None and not takes_z:
+                "(a DFP, an SFP, a TFP or the flat bearing takes it)")
+        if ld.get("file_z") is not None and not vertical:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
-        if ld.get("vertical_scale") is not None and not takes_z:
-            ctx.fail("loading.vertical_scale", ld["vertical_scale"], vwhy)
-        if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not takes_z)):
+        if ld.get("vertical_scale") is not None and device != "flat bearing":
+            ctx.fail("loading.vertical_scale", ld["vertical_scale"], f"not yet for the {device}: give its "
+                     "vertical record as loading.file_z (a DFP, an SFP or the flat bearing takes vertical_scale)")
+        if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not vertical)):
             ch = [c for c in ld["channels"] if c]
-            what = vwhy if ld["channels"][2] and not takes_z else why
-            ctx.fail("loading.channels", ch, f"must name one horizontal channel ([{ch[0]}]): {what}")
+            what = vwhy if ld["channels"][2] and not vertical else why
+            one = f"[{ch[0]}]" + (f" or [{ch[0]}, {ld['channels'][2]}] with the vertical one" if vertical
+                                  and ld["channels"][2] else "")
+            ctx.fail("loading.channels", ch, f"must name one horizontal channel ({one}): {what}")
         if ld.get("file_y") is not None:
             ctx.fail("loading.file_y", ld["file_y"], f"is not allowed: {why}")
         if ld.get("component") == "pair":
@@ -1328,6 +1341,7 @@ def planar_only(ctx, data, device: str) -> None:
 
 def tfp_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "TFP")
+    rigid_rim_only(ctx, data, "TFP")
     from fpd.mechanics.tfp import tfp_geometry_errors
 
     geom = tfp_geometry(data)
@@ -1395,8 +1409,18 @@ def _flat_capacities(ctx, data) -> None:
                      f"= {dev[key]:.4g} m (the machine's amplitude must stay within d1 and d2)")
 
 
+def rigid_rim_only(ctx, data, device: str) -> None:
+    """A rim of finite stiffness is the DFP's and the SFP's (bidirectional_kernel)."""
+    k = data["device"].get("rim_stiffness_N_per_m")
+    if k is not None:
+        what = f"the {device}'s rims are rigid"
+        ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: {what} "
+                 "(a DFP or an SFP takes a finite rim stiffness)")
+
+
 def flat_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "flat bearing")
+    rigid_rim_only(ctx, data, "flat bearing")
 
     ld, sol, dev = data["loading"], data["solver"], data["device"]
     if data["output"]["vtk_every"] > 0:

@@ -34,6 +34,7 @@ model = "none"
 """
 
 PULSE = Path(__file__).resolve().parent / "data" / "pulse_z.txt"   # -1.5 g from 1.001 to 1.2 s
+V2 = Path(__file__).resolve().parents[1] / "scenes" / "records" / "FERNDALE2022_CE89486.v2"
 
 
 def _compiled():
@@ -116,7 +117,17 @@ def test_planar_columns_are_signed():
     # a vertical pulse below -g: lift-off, flight and landing
     ("ferndale-3c", ["solver.duration=3", "loading.channels=[1, 2]", "loading.baseline=false",
                      f'loading.file_z="{PULSE}"']),
+    # the TFP's rims with a restitution (six arrivals on S2 / S3)
+    ("tfp-elcentro", ["solver.duration=12", "loading.scale=4", "device.rim_restitution=0.5",
+                      "thermal.model=lumped", "mechanics.model=seated"]),
+    # a rim of finite stiffness
+    ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9"]),
+    ("impvall-bidirectional", ["solver.duration=8", "device.d1=0.04", "device.d2=0.04",
+                               "device.rim_stiffness_N_per_m=1e9"]),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
+    # the TFP under a vertical record (Ferndale's vertical channel x 3 at El Centro's first 35 s)
+    ("tfp-elcentro", ["solver.duration=35", "thermal.model=lumped", "mechanics.model=two-phase",
+                      f'loading.file_z="{V2}"', "loading.scale=3"]),
     ("flat-lab", []),
     ("flat-lab", ["thermal.model=lumped"]),
     ("lab-sine", []),
