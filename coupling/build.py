@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from fpd.mechanics.friction import make_law
+from fpd.mechanics.friction import make_law, static_mu
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC
 from fpd.thermal.params import PlateParams
 
@@ -31,6 +31,15 @@ class Simulation:
     heat_power: tuple = (0.0, 0.0)    # thermal-only scenes: power per plate (W)
     substeps: int = 1
     info: dict = field(default_factory=dict)
+
+    # per interface the Archard wear coefficient's law (mechanics.friction.wear_laws), or None: no wear
+    wear: tuple | None = None
+
+    def __post_init__(self):
+        if self.mechanics is not None and self.wear is None:
+            from fpd.mechanics.friction import wear_laws
+            sides = TFP_SURFACES if len(self.laws) == 4 else ("lower", "upper")
+            self.wear = wear_laws([self.scene.friction(s) for s in sides])
 
     @property
     def areas(self) -> tuple:
@@ -72,6 +81,8 @@ def loading_of(scene: Scene, dt: float):
         return gm
     if ld["kind"] == "harmonic":
         return gmod.harmonic_ground_motion(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
+    if ld["kind"] == "displacement" and ld["waveform"] == "triangle":
+        return gmod.triangle_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "displacement":
         return gmod.sine_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "pulse":
@@ -139,6 +150,8 @@ def vertical_loading_of(scene: Scene, dt: float, gx):
     from fpd.mechanics import ground_motion as gmod
 
     ld = scene["loading"]
+    if ld["kind"] == "record" and ld.get("vertical_scale") is not None:
+        return scaled_vertical(gx, ld["vertical_scale"])
     if ld["kind"] != "record" or not ld.get("path_z"):
         return None
     key = "file_z" if ld.get("file_z") is not None else ("record" if "record" in ld else "file")
@@ -153,6 +166,26 @@ def vertical_loading_of(scene: Scene, dt: float, gx):
                                          baseline=ld["baseline"])
     gz.record = rec
     return gz
+
+
+def scaled_vertical(gx, k: float):
+    """The vertical ground motion as k times the horizontal x one, on its grid
+    (loading.vertical_scale: given by name only, never a default)."""
+    import dataclasses
+
+    import numpy as np
+    gz = dataclasses.replace(gx, name=f"{k:g} x {gx.name}", d=k * np.asarray(gx.d, dtype=float),
+                             v=k * np.asarray(gx.v, dtype=float), a=k * np.asarray(gx.a, dtype=float),
+                             a_step=k * np.asarray(gx.a_step, dtype=float))
+    gz.vertical_scale = k
+    return gz
+
+
+def vertical_info(gz, ld, gx) -> dict:
+    """summary.json's record_z: the vertical record's, or the scale of the horizontal one it copies."""
+    if hasattr(gz, "vertical_scale"):
+        return {"name": gz.name, "vertical_scale": gz.vertical_scale, "of": gx.name}
+    return _record_info(gz, ld, gx)
 
 
 def _record_info(g, ld, gx) -> dict:
@@ -186,9 +219,10 @@ def record_info(scene: Scene, loading) -> dict:
 
 
 def rim_of(scene: Scene) -> tuple:
-    """(d1, d2, restitution) of a DFP / SFP (d2 None for the SFP)."""
+    """(d1, d2, restitution, stiffness) of a DFP / SFP (d2 None for the SFP;
+    stiffness None: the rigid rim)."""
     dev = scene["device"]
-    return dev["d1"], dev.get("d2"), dev["rim_restitution"]
+    return dev["d1"], dev.get("d2"), dev["rim_restitution"], dev.get("rim_stiffness_N_per_m")
 
 
 def plate_params(scene: Scene, side: str) -> PlateParams:
@@ -260,6 +294,8 @@ def build(scene: Scene) -> Simulation:
         except AxialError as exc:
             raise SceneError(f"{exc} (loading.vertical_file)") from None
         mech = SeatedTestMachine(geom, loading, ld["vertical"], axial if axial.varying else None)
+        if ld.get("link_stiffness_N_per_m"):
+            mech.set_link(ld["link_stiffness_N_per_m"], ld["link_mass_kg"])
     else:
         # one DFP/SFP stepper: a planar ground motion is the 3D stepper's with the
         # y component absent (signed planar columns), both models, both schemes
@@ -268,18 +304,26 @@ def build(scene: Scene) -> Simulation:
         mech = BidirectionalStepper(geom, loading, None, normal_force=scene["mechanics"]["normal_force"],
                                     model=model, planar=True, rim=rim_of(scene), gz=gz)
         if gz is not None:
-            info["record_z"] = _record_info(gz, ld, loading)
+            info["record_z"] = vertical_info(gz, ld, loading)
     if hasattr(loading, "record"):
         info["record"] = {"name": loading.name, "points": len(loading.record.t), "dt_s": loading.record.dt,
                           "pga_g": loading.record.pga_g, "scale": ld["scale"],
                           "scaled_pga_g": loading.record.pga_g * ld["scale"] * _target_factor(ld, loading.record),
                           "baseline_b1_mps2": loading.baseline[0], "baseline_b2_mps3": loading.baseline[1]}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    _set_static(scene, mech)
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled loop now, not after the run's folder is made (coupling/fast_loop.py)
     return sim
+
+
+def _set_static(scene: Scene, mech) -> None:
+    """The surfaces' static (breakaway) coefficients into a DFP/SFP stepper (when any is given)."""
+    (m1, r1), (m2, r2) = (static_mu(scene.friction(side)) for side in ("lower", "upper"))
+    if m1 > 0.0 or m2 > 0.0 or r1 > 0.0 or r2 > 0.0:
+        mech.set_static(m1, m2, r1, r2)
 
 
 # -- bidirectional runs (model.md 8) ----------------------------------------------------
@@ -349,7 +393,14 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
     ld = scene["loading"]
     loading = bidirectional_loading_of(scene, dt)
     if ld["kind"] == "displacement":
-        mech = BidirectionalTestMachine(geom, loading)
+        axial = None
+        if ld["vertical"] != "riding-mass":
+            from fpd.mechanics.axial import AxialError, programme_of
+            try:
+                axial = programme_of(ld, geom.mass * geom.g)
+            except AxialError as exc:
+                raise SceneError(f"{exc} (loading.vertical_file)") from None
+        mech = BidirectionalTestMachine(geom, loading, axial=axial)
         n_steps = loading.n_steps
     else:
         gx, gy = loading
@@ -358,8 +409,10 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
         mech = BidirectionalStepper(geom, gx, gy, normal_force=scene["mechanics"]["normal_force"], model=model,
                                     rim=rim_of(scene), gz=gz)
         n_steps = gx.n_steps
+        if gz is not None and hasattr(gz, "vertical_scale"):
+            info["record_z"] = vertical_info(gz, ld, gx)
         for comp, g in (("record", gx), ("record_y", gy), ("record_z", gz)):
-            if g is not None and hasattr(g, "record"):
+            if g is not None and hasattr(g, "record") and not hasattr(g, "vertical_scale"):
                 info[comp] = {"name": g.name, "points": len(g.record.t), "dt_s": g.record.dt,
                               "pga_g": g.record.pga_g, "scale": ld["scale"],
                               "scaled_pga_g": g.record.pga_g * ld["scale"] * _target_factor(ld, gx.record),
@@ -368,6 +421,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
             info["record"]["angle_deg"] = ld["angle_deg"]
     info["bidirectional"] = {"normal_force": mech.normal_force}
     laws = (make_law(scene.friction("lower")), make_law(scene.friction("upper")))
+    _set_static(scene, mech)
     plates = tuple(make_plate(p, dt / substeps) for p in pp)
     sim = Simulation(scene, dt, n_steps, geom, mech, laws, plates, pp, substeps=substeps, info=info)
     from .fast_loop import warm
@@ -378,7 +432,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
 # -- the triple friction pendulum (model.md 6) and the flat bearing (model.md 7) ---------
 
 def build_tfp(scene: Scene) -> Simulation:
-    from fpd.mechanics.tfp import TFPStepper
+    from fpd.mechanics.tfp import TFPStepper, liftoff_step
     from fpd.schema.scene import tfp_geometry
 
     dt = scene["solver"]["dt"]
@@ -387,7 +441,16 @@ def build_tfp(scene: Scene) -> Simulation:
     if is_bidirectional(scene.data):
         return _build_tfp3d(scene, dt, geom)
     loading = loading_of(scene, dt)
-    mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"])
+    gz = vertical_loading_of(scene, dt, loading)
+    if gz is not None:
+        k = liftoff_step(geom, gz.a_step)
+        if k is not None:
+            ld = scene["loading"]
+            key = "loading.file_z" if ld.get("file_z") is not None else "loading.channels"
+            raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
+                             f"t = {k * dt:.6g} s (g + a_z < 0): the TFP would lift off, which it does not model "
+                             "(a DFP or an SFP flies and lands); scale the vertical record down")
+    mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"], gz=gz)
     dev = scene["device"]
     feet = (dev["slider_diameter"] / 2, dev["pad_diameter"] / 2, dev["pad_diameter"] / 2, dev["slider_diameter"] / 2)
     pp = tuple(PlateParams(**scene.thermal(part), a_contact_m=a) for part, a in zip(TFP_PARTS, feet))
@@ -397,6 +460,8 @@ def build_tfp(scene: Scene) -> Simulation:
     info = {"device": "TFP", "capacity_m": geom.capacity}
     if hasattr(loading, "record"):
         info["record"] = record_info(scene, loading)
+    if gz is not None:
+        info["record_z"] = _record_info(gz, scene["loading"], loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made
@@ -449,7 +514,15 @@ def build_flat(scene: Scene) -> Simulation:
     dev = scene["device"]
     geom = FlatGeometry(dev["pad_height"], dev["pad_diameter"], dev["pad_mass"], scene["superstructure"]["mass"])
     loading = loading_of(scene, dt)
-    mech = FlatStepper(geom, loading)
+    gz = vertical_loading_of(scene, dt, loading)
+    axial = None
+    if scene["loading"]["kind"] == "displacement":
+        from fpd.mechanics.axial import AxialError, programme_of
+        try:
+            axial = programme_of(scene["loading"], geom.weight)
+        except AxialError as exc:
+            raise SceneError(f"{exc} (loading.vertical_file)") from None
+    mech = FlatStepper(geom, loading, gz=gz, rim=(dev["d1"], dev["d2"], dev["rim_restitution"]), axial=axial)
     sub = scene["coupling"]["substeps"]
     pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
     plates = tuple(make_plate(p, dt / sub) for p in pp)
@@ -457,6 +530,8 @@ def build_flat(scene: Scene) -> Simulation:
     info = {"device": "flat", "mu_tip_closed_form": geom.mu_tip()}
     if hasattr(loading, "record"):
         info["record"] = record_info(scene, loading)
+    if gz is not None:
+        info["record_z"] = vertical_info(gz, scene["loading"], loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made

@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 
 from fpd.mechanics import dev_two_phase as dev     # rebound per device (fpd.kernels.compiled(bind=))
-from fpd.mechanics.friction_kernel import law_mu
+from fpd.mechanics.friction_kernel import law_mu, wear_step
 from fpd.thermal import column_kernel as ck
 from fpd.thermal import lumped_kernel as lk
 
@@ -35,10 +35,11 @@ __jit_options__ = {"inline": "always"}
 
 KIND_NONE, KIND_LUMPED, KIND_FE1D = 0, 1, 2
 # ctl (int64)
-C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT, C_NVAL, C_2D, C_TRACK = range(12)
-N_CTL = 12
+C_NDONE, C_NEND, C_K, C_NROWS, C_EVERY, C_LAST, C_STATUS, C_N, C_HEAT, C_NVAL, C_2D, C_TRACK, C_HOT = range(13)
+C_WEAR = 13             # 1: the wear columns (path_i, then wear_i) end the row
+N_CTL = 14
 # ctl[C_STATUS]
-RUNNING, DONE, REPLAY, ROW_FAILED, FULL = 0, 1, 2, 3, 4
+RUNNING, DONE, REPLAY, ROW_FAILED, FULL, LOOK = 0, 1, 2, 3, 4, 5
 
 
 def plate_step(kind, Mb, Ab, FAC, V, I, P, power_W, centre_m):
@@ -104,13 +105,28 @@ def keep_row(buf, row, k, n_rows, n, last_row):
     return RUNNING, k, last_row
 
 
+def hotter(T, hot):
+    """Is some interface's temperature T[i] above hot[i], its highest at the
+    earlier looks at the plate fields? (hot[i] raised to it.) A look at the
+    fields (outputs/hottest.py) is taken only then: with lumped and fe1d
+    plates, heated at the sliding face, no field is hotter than the face
+    has been (the maximum principle), so a look while every face is cooler
+    than at an earlier look cannot find a hotter field."""
+    up = False
+    for i in range(len(T)):
+        if T[i] > hot[i]:
+            hot[i] = T[i]
+            up = True
+    return up
+
+
 def end_chunk(ctl, status, n, n_end, k, last_row):
     """The counters after a chunk that ended with status at step n: the
-    steps done (n_end when DONE, n when FULL, else n - 1: step n is the
-    Python loop's or failed), rows kept, the last row's step, the status."""
+    steps done (n_end when DONE, n when FULL or LOOK, else n - 1: step n is
+    the Python loop's or failed), rows kept, the last row's step, the status."""
     if status == DONE:
         ctl[C_NDONE] = n_end
-    elif status == FULL:
+    elif status == FULL or status == LOOK:
         ctl[C_NDONE] = n
     else:
         ctl[C_NDONE] = n - 1
@@ -140,12 +156,14 @@ def track_row(row, n_track, SX, SN, LI, SL):
             SL[1] = e
 
 
-def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is, Ps, T, mu, mun, dW,
-              buf, row, ctl, SX, SN, LI, SL):
+def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is, Ps, T, hot, mu, mun, dW,
+              buf, row, ctl, SX, SN, LI, SL, WL, PW):
     """Steps ctl[C_NDONE] + 1 .. ctl[C_NEND]; ctl[C_STATUS] says how it ended
     (DONE; REPLAY: step ctl[C_NDONE] + 1 is for the Python loop, the state is
     as before it; ROW_FAILED: that step's row, in ``row``, is not finite;
-    FULL: buf has no room left after step ctl[C_NDONE]: the caller empties it).
+    FULL: buf has no room left after step ctl[C_NDONE]: the caller empties it;
+    LOOK: the caller looks at the plate fields after step ctl[C_NDONE], a
+    multiple of ctl[C_HOT] (0: no looks) where ``hotter(T, hot)``).
 
     C, S: the device's constants and state (S0: room for a copy), L, X its
     loading and scratch (tuples of arrays); per interface i: LW[i] its
@@ -156,11 +174,15 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
     mun, dW: room for N floats. The row: the device's ctl[C_NVAL] values,
     then mu_i, and with plates T_i, E_stored_J, E_air_J. With ctl[C_TRACK]
     (rows kept less often than every step) every step's row goes through
-    track_row (SX, SN, LI, SL)."""
+    track_row (SX, SN, LI, SL). With ctl[C_WEAR]: WL[i] the wear coefficient's
+    row, PW the paths then the depths (friction_kernel.wear_step, at the
+    temperature the step's mu was evaluated at), the row's last 2 N values."""
     n0, n_end = ctl[C_NDONE], ctl[C_NEND]
     k, n_rows, every, last_row, N = ctl[C_K], ctl[C_NROWS], ctl[C_EVERY], ctl[C_LAST], ctl[C_N]
     heat = ctl[C_HEAT] != 0
+    wear = ctl[C_WEAR] != 0
     nv, two_d, track = ctl[C_NVAL], ctl[C_2D], ctl[C_TRACK] != 0
+    hot_every = ctl[C_HOT]
     ni = T.shape[0]
     n_track = nv + ni
     if heat:
@@ -191,6 +213,9 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
             break
         for i in range(ni):
             mu[i] = mun[i]
+        if wear:
+            for i in range(ni):
+                wear_step(WL[i], T[i], dW[i], mu[i], dev.normal(C, S, i), areas[i], PW, i, ni)
         if heat:
             for i in range(ni):
                 cx, cy = dev.centre(C, S, i)
@@ -204,6 +229,12 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
             if heat:
                 for i in range(ni):
                     row[nv + ni + i] = T[i]
+            if wear:
+                nw = nv + ni
+                if heat:
+                    nw += ni + 2
+                for j in range(2 * ni):
+                    row[nw + j] = PW[j]
             if track:
                 track_row(row, n_track, SX, SN, LI, SL)
         if kept_step:
@@ -219,5 +250,8 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
             if kept != RUNNING:
                 status = kept
                 break
+        if hot_every > 0 and n % hot_every == 0 and hotter(T, hot):
+            status = LOOK
+            break
     end_chunk(ctl, status, n, n_end, k, last_row)
     return status

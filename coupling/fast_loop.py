@@ -30,6 +30,8 @@ import numpy as np
 
 from fpd import kernels
 
+from . import engine_kernel
+
 CHUNK = 2048                 # steps per call at most (progress bar, Ctrl-C latency)
 enabled = True               # False: always the Python loop (tests compare the two)
 
@@ -137,7 +139,24 @@ def loop_columns(sim) -> list:
     cols = list(sim.mechanics.columns) + [f"mu{i + 1}" for i in range(n)]
     if any(p is not None for p in sim.plates):
         cols += [f"T{i + 1}_C" for i in range(n)] + ["E_stored_J", "E_air_J"]
+    if getattr(sim, "wear", None) is not None:
+        cols += [f"path{i + 1}_m" for i in range(n)] + [f"wear{i + 1}_m" for i in range(n)]
     return cols
+
+
+# the loop's wear columns (loop_columns: the first N of each, N the interfaces)
+WEAR_COLUMNS = tuple(f"path{i}_m" for i in range(1, 5)) + tuple(f"wear{i}_m" for i in range(1, 5))
+
+
+def wear_state(sim):
+    """(rows, state) of the loop's wear (friction_kernel.wear_step): per
+    interface the wear coefficient's row, and the paths then the depths
+    (float64, shared by the compiled and the Python loop); None without wear."""
+    if getattr(sim, "wear", None) is None:
+        return None
+    if getattr(sim, "wear_PW", None) is None:
+        sim.wear_PW = np.zeros(2 * len(sim.plates))
+    return tuple(np.array(w.P) for w in sim.wear), sim.wear_PW
 
 
 def warm(sim) -> None:
@@ -186,12 +205,19 @@ class CompiledLoop:
         self.areas = np.array(sim.areas, dtype=float)
         self.eta = np.array([p.heat_share for p in sim.plate_params], dtype=float)
         self.T, self.mu = np.zeros(ni), np.zeros(ni)
+        self.hot = np.full(ni, -np.inf)     # each face's highest temperature at the looks so far
         self.mun, self.dW = np.zeros(ni), np.zeros(ni)
         self.ctl = np.zeros(eng.N_CTL, dtype=np.int64)
         self.ctl[eng.C_NROWS], self.ctl[eng.C_EVERY], self.ctl[eng.C_N] = n_rows, every, N
         self.ctl[eng.C_HEAT] = any(k != "none" for k in kinds)
         self.ctl[eng.C_NVAL] = len(mech.columns)
         self.ctl[eng.C_2D] = 1 if getattr(mech, "two_d", False) else 0
+        wear = wear_state(sim)
+        if wear is None:             # stand-ins of the same types
+            self.WL, self.PW = self.LW, np.zeros(0)
+        else:
+            self.WL, self.PW = wear
+            self.ctl[eng.C_WEAR] = 1
         self.row = np.zeros(len(cols))
         # per plate: (Mb, Ab, FAC, V, I, P) and whether P is a copy; then six tuples over the plates
         self.plates, codes = plate_arrays(sim.plates, kinds, eng)
@@ -206,8 +232,8 @@ class CompiledLoop:
 
     def _args(self, buf):
         return (self.C, self.S, self.S0, self.L, self.X, self.sim.dt, self.LW, self.areas, self.eta,
-                self.kind_codes, *self.plate_args, self.T, self.mu, self.mun, self.dW, buf, self.row, self.ctl,
-                *self.track)
+                self.kind_codes, *self.plate_args, self.T, self.hot, self.mu, self.mun, self.dW, buf, self.row,
+                self.ctl, *self.track, self.WL, self.PW)
 
     def _call(self, buf):
         """run_chunk from ctl[C_NDONE] to ctl[C_NEND] (0 to 0: just the dispatch)."""
@@ -242,20 +268,20 @@ class CompiledLoop:
         self.T[:], self.mu[:] = T, mu
         self._pack()
         run_chunk = self.lj.run_chunk
+        ctl[lj.C_HOT] = hot_every if hottest is not None else 0
         args = self._args(buf)
-        events = (bar, hottest, hot_every, on_frame, frame_every)
+        events = (bar, hottest, on_frame, frame_every)
         out = Outcome()
         n = start
         events_of = 0                # the step whose events are running (Ctrl-C there: that step)
         try:
-            if pending:
+            if pending:              # the chunk stopped before its look at step n, if any
                 events_of = n
-                self._events(n, *events)
+                look = hottest is not None and n % hot_every == 0 and engine_kernel.hotter(self.T, self.hot)
+                self._events(n, *events, look)
                 events_of = 0
             while n < self.n_stop:
                 n_end = min(self.n_stop, (n // CHUNK + 1) * CHUNK)
-                if hottest is not None:
-                    n_end = min(n_end, (n // hot_every + 1) * hot_every)
                 if on_frame is not None and frame_every:
                     n_end = min(n_end, (n // frame_every + 1) * frame_every)
                 ctl[lj.C_NEND] = n_end
@@ -273,7 +299,7 @@ class CompiledLoop:
                     out.full = True
                     break
                 events_of = n
-                self._events(n, *events)
+                self._events(n, *events, status == lj.LOOK)
                 events_of = 0
         except KeyboardInterrupt:
             out.interrupted = True
@@ -290,13 +316,14 @@ class CompiledLoop:
             out.n = min(out.steps + 1, self.sim.n_steps)
         return out
 
-    def _events(self, n, bar, hottest, hot_every, on_frame, frame_every):
-        """simulate()'s events at the end of step n, in its order."""
+    def _events(self, n, bar, hottest, on_frame, frame_every, look):
+        """simulate()'s events at the end of step n, in its order (``look``:
+        at the plate fields, for ``hottest``)."""
         if on_frame is not None and frame_every and n % frame_every == 0 and int(self.ctl[self.lj.C_LAST]) == n:
             self._unpack(n)
             self.sim.frame_values = self._frame_values(self.row)
             on_frame(n, self.sim)
-        if hottest is not None and n % hot_every == 0:
+        if look:
             self._unpack(n)
             hottest.update(self.sim.plates, n * self.sim.dt)
         if bar is not None and n % 2048 == 0:

@@ -14,10 +14,12 @@ import time
 
 import numpy as np
 
+from fpd.mechanics.friction_kernel import wear_step
 from fpd.mechanics.phases import PHASES, MechanicsFailure
 
 from .build import Simulation
-from .fast_loop import compiled_loop, loop_columns
+from .engine_kernel import hotter
+from .fast_loop import _plate_kind, compiled_loop, loop_columns, wear_state
 from .recording import MemoryHistory, signals_held
 
 # canonical column order (docs/reference.md), every device; extra diagnostic columns follow
@@ -266,11 +268,18 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     T = [p.surface_temperature() if p is not None else pp.T0_C for p, pp in zip(plates, sim.plate_params)]
     mu = [0.0] * ni
     values = mech.values if mech else None
+    # Archard wear (friction_kernel.wear_step): the state the compiled loop shares
+    wear = wear_state(sim) if mech else None
+    if wear is not None:
+        WL, PW = wear
+        PW[:] = 0.0
 
     def row(n):
         r = values() + tuple(mu) if mech else (n * dt,)
         if heat:
             r += tuple(T) + (sum(p.stored_heat() for _, p in live), sum(p.heat_lost() for _, p in live))
+        if wear is not None:
+            r += tuple(PW.tolist())
         return r
 
     if mech:
@@ -295,6 +304,9 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
     status, message = "ok", ""
     total_iter, worst_iter = 0, 0
     hot_every = look_every(N)              # the plates' fields, ~2000 times a run
+    # ... when a face is hotter than at the earlier looks, with lumped and fe1d plates
+    # (engine_kernel.hotter: no hotter field otherwise); every time with the others
+    hot = [-math.inf] * ni if all(_plate_kind(p) in ("none", "lumped", "fe1d") for p in plates) else None
     old = mech.footprints() if mech else None
     # every step's extremes and ledger when not every step's row is kept
     tracker = StepTracker(cols, len(mech.columns) + ni * (2 if heat else 1)) if (mech and every > 1) else None
@@ -324,6 +336,8 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
             flush()                     # the buffer is full: as the loop below does
         if jit is not None and mech is not None:
             old = mech.footprints()
+        if jit is not None and hot is not None:
+            hot = jit.hot.tolist()      # the faces' highest temperatures at the engine's looks
         for n in range(n0 + 1, N + 1):
             if mech is None:                                    # thermal-only scene
                 for _ in range(sub):
@@ -363,6 +377,10 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                     Tg = Tn
                 total_iter += it
                 worst_iter = max(worst_iter, it)
+                if wear is not None:
+                    Nw = mech.N
+                    for i in range(ni):
+                        wear_step(WL[i], Tg[i], dW[i], mu[i], Nw[i], areas[i], PW, i, ni)
                 T = Tn
                 if heat and sub > 1:
                     old = new
@@ -382,7 +400,7 @@ def simulate(sim: Simulation, progress: bool = False, every: int = 1, inject_fai
                 if on_frame is not None and frame_every and n % frame_every == 0:
                     sim.frame_values = dict(zip(cols, r))   # the CSV row, for the VTK frame
                     on_frame(n, sim)
-            if hottest is not None and n % hot_every == 0:
+            if hottest is not None and n % hot_every == 0 and (hot is None or hotter(T, hot)):
                 hottest.update(plates, n * dt)
             if n % 2048 == 0:
                 bar.update(n)

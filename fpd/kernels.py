@@ -20,7 +20,12 @@ errors are returned as flags. It never imports numba.
 
 A kernel module may set ``__jit_options__`` (e.g. ``{"inline": "always"}``
 for small functions passed many arrays: numba then inlines them into their
-callers instead of calling them with reference-counted array arguments).
+callers instead of calling them with reference-counted array arguments),
+and name in ``__jit_no_inline__`` the functions of such a module that stay
+calls: numba types an inlined function again at every call site, so a
+function inlined at several sites (or inside another inlined one) costs its
+compile time several times over. Inline what runs every step; call what runs
+rarely.
 
 ``available()`` says whether the compiled path may be used (numba installed,
 ``FPD_NO_JIT`` unset) without importing numba.
@@ -37,6 +42,11 @@ JIT_OPTIONS = {"cache": True, "nogil": True, "error_model": "numpy"}
 _SUFFIX = "__njit"
 _compiled: dict[str, types.ModuleType] = {}
 _deps: dict[str, list] = {}          # the source files a compiled module depends on
+# the command line's own process (frontends/cli.py): the objects alive when numba is
+# first loaded (the modules imported, the scene's arrays) are frozen out of the
+# garbage collector's full passes (gc.freeze), which compiling triggers many times
+LEAN = False
+_frozen = False
 
 
 def available() -> bool:
@@ -69,6 +79,11 @@ def compiled(name: str, bind: dict | None = None) -> types.ModuleType:
     if key in _compiled:
         return _compiled[key]
     import numba
+    global _frozen
+    if LEAN and not _frozen:
+        import gc
+        gc.freeze()
+        _frozen = True
 
     pure = importlib.import_module(name)
     if not is_kernel_module(pure):
@@ -89,6 +104,7 @@ def compiled(name: str, bind: dict | None = None) -> types.ModuleType:
     _compiled[key] = mod                    # before rewiring: kernel modules may import each other
     options = dict(JIT_OPTIONS, **jit_options)
     options["cache"] = options["cache"] and not os.environ.get("FPD_JIT_NO_CACHE")
+    no_inline = set(getattr(pure, "__jit_no_inline__", ()))
     deps = [pure.__file__]
     for attr, val in list(vars(mod).items()):
         if attr.startswith("__"):
@@ -98,7 +114,8 @@ def compiled(name: str, bind: dict | None = None) -> types.ModuleType:
             if val.__module__ == spec.name:
                 if tag:                     # numba names its cache files after the qualname
                     val.__qualname__ += tag
-                mod.__dict__[attr] = numba.njit(**options)(val)
+                own = options if attr not in no_inline else {k: v for k, v in options.items() if k != "inline"}
+                mod.__dict__[attr] = numba.njit(**own)(val)
             elif is_kernel_module(owner):
                 mod.__dict__[attr] = getattr(compiled(val.__module__), val.__name__)
                 deps += _deps[val.__module__]

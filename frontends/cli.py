@@ -110,7 +110,8 @@ def _parser() -> argparse.ArgumentParser:
                     "Run the scene with the paper's lumped plate, fe1d (follow-pad and fixed-point) and axisym "
                     "plates side by side; write compare.csv, compare.md (when lumped would be right), plots/.",
                     "results/compare-<scene name>/",
-                    "  fpd compare default\n  fpd compare lab-sine --fast --out cmp\n"),
+                    "  fpd compare default\n  fpd compare lab-sine --fast --out cmp\n"
+                    "  fpd compare lab-sine --liners\n"),
         "converge": ("dt and mesh refinement, error against run time",
                      "Refine dt and each mesh direction separately; measure the error against the closed form "
                      "where the scene has one, Richardson's limit otherwise; write converge.csv, orders.csv "
@@ -124,6 +125,11 @@ def _parser() -> argparse.ArgumentParser:
         q.add_argument("scene", metavar="SCENE", help=_SCENE_HELP)
         _common(q, out_default)
         q.add_argument("--fast", action="store_true", help="a short version (what the tests run)")
+        if name == "compare":
+            q.add_argument("--liners", action="store_true",
+                           help="instead of the plate models: the scene once per liner preset (docs/liners.md), "
+                                "its [friction] replaced by the preset; write liners.csv, liners.md "
+                                "(default DIR results/compare-liners-<scene name>/)")
 
     s = sub.add_parser(
         "stability", formatter_class=_FMT, help="the stiff and extreme catalogue",
@@ -335,6 +341,16 @@ def main(argv=None) -> int:
         _parser().print_help()
         return EXIT_INPUT
     signal.signal(signal.SIGTERM, _sigterm)
+    if argv is None:
+        # the command's own process (not a caller's): the garbage collector
+        # runs less often (compiling the kernels and drawing allocate many
+        # small objects: about 8 % of a first run's compile), kernels and
+        # figures load lean (fpd/kernels.py, outputs/drawing.py)
+        import gc
+        gc.set_threshold(20_000, 50, 100)
+        from fpd import kernels
+        from fpd.outputs import drawing
+        kernels.LEAN = drawing.LEAN = True
     if not getattr(args, "quiet", False):
         from fpd import jitcache
         jitcache.enable()           # one line on stderr before the first compile of the kernels

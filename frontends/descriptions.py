@@ -70,13 +70,28 @@ KEYS: dict[str, tuple[str, str]] = {
     "device.d1": ("m", "Slide capacity of the lower surface (TFP: S1) before its rim, as the arc of the "
                        "footprint centre from the surface centre: a DFP / SFP |R1 theta| <= d1 (default: what the "
                        "plate allows, thermal.lower.plate_radius - pad radius; more is refused); a TFP "
-                       "|R1 phi| <= d1 (required)."),
+                       "|R1 phi| <= d1 (required); the flat bearing: the pad's slip on the lower plate, "
+                       "|s1_m| <= d1 (default and limit as the DFP's)."),
     "device.d2": ("m", "Slide capacity of the upper surface of a DFP (|R2 theta| <= d2; default "
                        "thermal.upper.plate_radius - pad radius), of S2 of a TFP (|R2 alpha| <= d2). The DFP's "
-                       "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim."),
-    "device.rim_restitution": ("", "DFP / SFP: coefficient of restitution of a rim impact: the velocity normal "
+                       "axis tilts at most min(d1 / R1, d2 / R2): the surface that sets it meets its rim. The flat "
+                       "bearing: the superstructure's slip on the pad, |s2_m| <= d2 (default "
+                       "thermal.upper.plate_radius - pad radius; more is refused); its test machine's amplitude "
+                       "must be within d1 and d2."),
+    "device.rim_restitution": ("", "DFP / SFP / TFP / flat bearing: coefficient of restitution of a rim impact: the velocity normal "
                                    "to the rim is stopped (0, the inelastic stop) or handed back times it; the "
-                                   "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J)."),
+                                   "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J). "
+                                   "The TFP: at the arrival of phi or alpha at its rim (a coordinate stuck by "
+                                   "friction at that instant, or both arriving together, stop inelastically)."),
+    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP under a ground motion: a rim of finite stiffness instead "
+                                            "of the rigid one: a spring on the slide past the capacity of each "
+                                            "surface that sets it, so the impact is a contact force (in F_N, "
+                                            "converging as dt shrinks) and the slide passes the capacity by its "
+                                            "compression; elastic (no rim loss: E_rim_J and J_rim_Ns stay 0, the "
+                                            "spring's energy is in E_pot_J); the rigid rim of rim_restitution = 1 "
+                                            "is its stiff limit. dt must resolve the contact, about pi sqrt(m / k). "
+                                            "Refused on the TFP, the flat bearing, the test machine and with "
+                                            "rim_restitution."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
     "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "
@@ -113,6 +128,28 @@ KEYS: dict[str, tuple[str, str]] = {
     "friction.kumar2015.use_velocity": ("", "Apply the velocity factor k_v (else 1)."),
     "friction.table.T_C": ("degC", "Temperatures of the table, strictly increasing."),
     "friction.table.mu": ("", "mu at each T_C (piecewise linear between, constant beyond the ends)."),
+    "friction.mu_static": ("", "Static (breakaway) coefficient of the surface: a stuck surface holds until the "
+                               "force it must carry exceeds mu_static N, then the sliding law applies until it "
+                               "sticks again. Must be >= the sliding mu at rest (20 degC); absent: the sliding mu "
+                               "holds. DFP and SFP (ground motions and the test machines)."),
+    "friction.static_ratio": ("", "The static coefficient as a ratio (>= 1) to the sliding law at rest: a stuck "
+                                  "surface holds up to static_ratio times mu(T, p, v = 0), so the breakaway follows "
+                                  "the temperature and pressure as the law does. With mu_static the larger holds. "
+                                  "DFP and SFP."),
+    "friction.wear_k_mm3_per_Nm": ("mm3/(N m)", "Archard wear coefficient k_w of the surface: the wear depth "
+                                                "grows by k_w p ds (p = N / contact area, ds the sliding path). "
+                                                "Absent: no wear columns."),
+    "friction.wear_T_C": ("degC", "Temperatures of a wear-coefficient table (strictly increasing; with "
+                                  "wear_k_T_mm3_per_Nm): k_w(T) piecewise linear, constant beyond the ends; "
+                                  "replaces wear_k_mm3_per_Nm."),
+    "friction.wear_k_T_mm3_per_Nm": ("mm3/(N m)", "k_w at each wear_T_C (>= 0)."),
+    "friction.liner": ("", "A liner preset (docs/liners.md): its law, coefficients and wear coefficient, each "
+                           "overridable key by key in the same table."),
+    "friction.constantinou.mu_slow": ("", "mu at rest (sliding speed 0) of the velocity law of Constantinou, Mokha "
+                                          "and Reinhorn (1990): mu = mu_fast - (mu_fast - mu_slow) exp(-a |v|)."),
+    "friction.constantinou.mu_fast": ("", "mu at high sliding speed of the Constantinou law."),
+    "friction.constantinou.a_s_per_m": ("s/m", "Rate parameter a of the Constantinou law (mu has covered 1 - 1/e "
+                                               "of its way from mu_slow to mu_fast at |v| = 1/a)."),
 
     # [loading]
     "loading.kind": ("", '"record": ground acceleration record; "harmonic": sinusoidal ground motion; '
@@ -158,16 +195,25 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
                                   "components). The x record sets the length; after a shorter y record the "
                                   "ground stops accelerating in y (docs/bidirectional.md, section 4)."),
-    "loading.record.file_z": ("", "DFP, SFP: a record file of the vertical ground acceleration, positive up (path "
+    "loading.record.file_z": ("", "DFP, SFP, TFP, flat bearing: a record file of the vertical ground acceleration, positive up (path "
                                   "relative to the scene file, any format of file; a CSMIP V2 file: its vertical "
                                   "channel), scaled by scale (and the x record's target_pga_g factor) and "
                                   "baseline-corrected like x. Treated as the y component of a pair is: read on "
                                   "its own sampling and integrated onto the solver grid; the x record (or "
                                   "solver.duration) sets the length, after a shorter vertical record the ground "
                                   "stops accelerating vertically. Every normal force, friction cap, the heat, the "
-                                  "pad's rocking check and the ledger see g + a_z (docs/model.md 10). Refused on "
-                                  "the TFP and the flat bearing (not yet for these devices) and when the record's "
-                                  "channels already give z."),
+                                  "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
+                                  "(docs/model.md 10). The TFP does not lift off: a record with g + a_z < 0 is "
+                                  "refused before the run. Refused when the record's channels already give z."),
+    "loading.record.vertical_scale": ("", "DFP, SFP, flat bearing: the vertical ground acceleration as this "
+                                          "factor times the horizontal (x) one as run (after scale, "
+                                          "target_pga_g, baseline and the pair's angle), up; e.g. 0.67 for the "
+                                          "common two-thirds rule. Only where named (never a default; a FEMA "
+                                          "P695 set member has no vertical otherwise); not with file_z or a "
+                                          "record's vertical channel (one vertical component); non-zero. The "
+                                          "run is then one under a vertical record (columns, lift-off, "
+                                          "docs/model.md 10; summary record_z names the copy). Not yet for the "
+                                          "TFP (give file_z)."),
     "loading.record.channels": ("", "A three-channel CSMIP V2 record (record = \"ferndale-2022\", or a .v2 file): "
                                     "the channels to run, by number; horizontal channels go on x then y in the "
                                     "order given, the vertical one on z. Default: all three in file order ([1, 2, "
@@ -189,7 +235,8 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'the bearing there is input at t = 0); "figure-eight": '
                                           'u = A (sin w t, sin(2 w t) / 2); A = amplitude_m, w = 2 pi '
                                           'frequency_Hz. circle and figure-eight are bidirectional orbits '
-                                          '(DFP, SFP; docs/bidirectional.md, section 3).'),
+                                          '(DFP, SFP; docs/bidirectional.md, section 3). "triangle": constant '
+                                          'speed 4 A f from 0 towards +A, to -A and back (planar DFP, SFP).'),
     "loading.displacement.direction_deg": ("deg", "DFP, SFP: direction of the sine in the plane, from x towards y; "
                                                   "non-zero makes the run bidirectional. Not used by circle "
                                                   "and figure-eight."),
@@ -203,13 +250,16 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'test machine (a sine along x); an orbit (circle, figure-eight, a '
                                           'turned sine) runs the bidirectional machine, which carries the '
                                           'riding mass: "riding-mass" (the default there; "constant" is refused). '
-                                          'The TFP and the flat bearing refuse the key (their machine passes '
-                                          'the superstructure\'s weight and inertia down the stack). '
+                                          'The TFP refuses the key (its machine passes the superstructure\'s '
+                                          'weight and inertia down the stack); the flat bearing\'s machine takes '
+                                          '"constant" (its default), "sine" and "series" (N2 = N(t), N1 = N(t) '
+                                          '+ m g: the pad keeps its weight; "riding-mass" is refused). '
                                           '"sine", "series": an axial-load programme N(t) held in force control '
                                           '(as "constant" with N(t) for M g in the normal forces, friction caps, '
                                           'heat, the restoring moment and the ledger; docs/test_machine.md, '
                                           '"Axial-load programme"): a sine about W, or a file of (t, N) rows; '
-                                          'the planar machine only ("not yet for an orbit").'),
+                                          'on an orbit too (the bidirectional machine then holds the load in '
+                                          'force control: "sine" and "series" only, "constant" is refused there).'),
     "loading.displacement.vertical_amplitude_N": ("N", 'vertical = "sine": the amplitude N_a of '
                                                        'N(t) = W + N_a sin(2 pi f_v t + phase), below W (the '
                                                        'bearing stays in compression). Exactly one of this and '
@@ -220,6 +270,12 @@ KEYS: dict[str, tuple[str, str]] = {
                                                           '(> 0; required).'),
     "loading.displacement.vertical_phase_deg": ("deg", 'vertical = "sine": the phase of the axial load\'s sine '
                                                         'at t = 0 (default 0: N(0) = W, rising).'),
+    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP, planar machine): a spring "
+                                                          "of this stiffness between the machine's imposed position "
+                                                          "and the plate, which then moves by its own dynamics "
+                                                          "(stick-slip; docs/model.md 11.3). F_N is the link's force. "
+                                                          "Needs link_mass_kg."),
+    "loading.displacement.link_mass_kg": ("kg", "The mass of the plate the compliant link drives."),
     "loading.displacement.vertical_file": ("", 'vertical = "series": a text file of (time s, load N) rows, two '
                                                'numbers a line (whitespace or a comma; # comments), times '
                                                'increasing, loads > 0, covering the run from t = 0; linear '
@@ -418,6 +474,16 @@ COLUMNS: dict[str, tuple[str, str]] = {
                   "in proportion to their caps)."),
     "W4_J": ("J", "TFP: cumulative friction work on S4 (an arrest loss of the outer coordinate shared with S1 "
                   "in proportion to their caps)."),
+    "path1_m": ("m", "With wear: accumulated sliding path of the lower interface (a TFP: S1), the friction "
+                     "work over mu N step by step."),
+    "path2_m": ("m", "With wear: accumulated sliding path of the upper interface (a TFP: S2)."),
+    "path3_m": ("m", "TFP with wear: accumulated sliding path of S3."),
+    "path4_m": ("m", "TFP with wear: accumulated sliding path of S4."),
+    "wear1_m": ("m", "With wear: Archard wear depth of the lower interface (a TFP: S1), the sum of "
+                     "k_w(T) (N / contact area) d(path) (k_w at the temperature the step's mu used)."),
+    "wear2_m": ("m", "With wear: Archard wear depth of the upper interface (a TFP: S2)."),
+    "wear3_m": ("m", "TFP with wear: Archard wear depth of S3."),
+    "wear4_m": ("m", "TFP with wear: Archard wear depth of S4."),
     "phase": ("", "State at the end of the step: stick, slip or tilt (the pad rocks or lands); a TFP: stick, "
                   "inner (S2 + S3 slide), outer (S1 + S4) or inner+outer (all four)."),
     "regime": ("", "TFP: sliding regime of the step as a code (Fenz-Constantinou numbering): 0 stick, 1 = I "
@@ -433,17 +499,22 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
     "az_mps2": ("m/s2", "Vertical ground acceleration, up (the step's mean, the field is g + az_mps2): a run with a "
                         "vertical record only (loading.file_z, or a three-channel record's vertical channel)."),
-    "lift_m": ("m", "DFP / SFP under a vertical record: height of the moving assembly (superstructure and pad) "
+    "lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: height of the moving assembly (superstructure and pad) "
                     "above its seated position, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
-                    "and flies until it lands (docs/model.md 10); z_m includes it."),
-    "n_lift": ("", "DFP / SFP under a vertical record: lift-offs so far."),
-    "t_flight_s": ("s", "DFP / SFP under a vertical record: time spent in flight so far (no contact: normal "
+                    "and flies until it lands (docs/model.md 10); z_m includes it. The flat bearing's "
+                    "assembly flies ballistically relative to the ground horizontally too (its slips go on, "
+                    "friction-free); the DFP / SFP's seated state is held in flight."),
+    "n_lift": ("", "DFP / SFP / flat bearing under a vertical record: lift-offs so far."),
+    "t_flight_s": ("s", "DFP / SFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "
                         "forces, friction, heat and the force on the ground are 0)."),
-    "E_land_J": ("J", "DFP / SFP under a vertical record: cumulative energy taken by the landings after a "
+    "E_land_J": ("J", "DFP / SFP / flat bearing under a vertical record: cumulative energy taken by the landings after a "
                       "lift-off (plastic: the assembly's vertical kinetic energy (M + m) z'^2 / 2 at touch-down)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
-                         "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N)."),
+                         "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
+                         "flat bearing: the sum of the step's impact impulses, the lower rim's on the pad and "
+                         "the upper rim's between pad and superstructure (a face resting on its rim is held: "
+                         "its reaction is part of F_N)."),
     "n_rim1": ("", "Rim impacts on the lower surface (TFP: S1) so far: arrivals at the rim (a DFP counts them on "
                    "the surface that bounds the slide, or on both)."),
     "n_rim2": ("", "Rim impacts on the upper surface of a DFP (TFP: S2) so far."),
@@ -455,12 +526,14 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground (in flight: the seated "
                      "motion's, suspended, and the flight's (M + m) z'^2 / 2)."),
     "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad, in flight + (M + m) g lift_m; a TFP: and the slider plates; "
-                     "the flat bearing: 0)."),
+                     "the flat bearing: 0 while seated)."),
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
                         "seated configuration at t_n+1 is stopped; first order in dt)."),
     "E_rim_J": ("J", "Cumulative energy taken by the rims: a TFP's inelastic impacts; a DFP / SFP's impacts "
-                     "((1 - e^2) of the kinetic energy normal to the rim) and contact."),
+                     "((1 - e^2) of the kinetic energy normal to the rim) and contact; the flat bearing's "
+                     "impacts (the lower rim stops the pad, mass m; the upper rim the slip between pad and "
+                     "superstructure, mass m M / (m + M); both at once: the exact impact of the pair)."),
     "E_stored_J": ("J", "Heat stored in the plates (above the initial temperature; a TFP: its four parts)."),
     "E_air_J": ("J", "Cumulative heat lost to the air (and through the back face)."),
     # two-phase diagnostics (docs/two_phase.md, section 5)
@@ -534,6 +607,11 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_F_N": ("N", "Peak |F_N| (bidirectional: the peak resultant)."),
     "friction_work_J.lower": ("J", "Friction work on the lower interface (final W1_J)."),
     "friction_work_J.upper": ("J", "Friction work on the upper interface (final W2_J)."),
+    "wear.lower.path_m": ("m", "With wear: the lower interface's sliding path (final path1_m); a TFP: "
+                               "wear.S1 .. wear.S4."),
+    "wear.lower.depth_m": ("m", "With wear: the lower interface's Archard wear depth (final wear1_m)."),
+    "wear.upper.path_m": ("m", "With wear: the upper interface's sliding path (final path2_m)."),
+    "wear.upper.depth_m": ("m", "With wear: the upper interface's Archard wear depth (final wear2_m)."),
     "friction_work_J.S1": ("J", "TFP: friction work on S1 (final W1_J)."),
     "friction_work_J.S2": ("J", "TFP: friction work on S2 (final W2_J)."),
     "friction_work_J.S3": ("J", "TFP: friction work on S3 (final W3_J)."),
@@ -544,22 +622,22 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
     "rim_loss_J": ("J", "Energy taken by the rims (final E_rim_J)."),
-    "lift_off.count": ("", "DFP / SFP under a vertical record: number of lift-offs (final n_lift)."),
-    "lift_off.flight_time_s": ("s", "DFP / SFP under a vertical record: total time in flight (final "
+    "lift_off.count": ("", "DFP / SFP / flat bearing under a vertical record: number of lift-offs (final n_lift)."),
+    "lift_off.flight_time_s": ("s", "DFP / SFP / flat bearing under a vertical record: total time in flight (final "
                                     "t_flight_s)."),
-    "lift_off.peak_lift_m": ("m", "DFP / SFP under a vertical record: the highest the moving assembly rose "
+    "lift_off.peak_lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: the highest the moving assembly rose "
                                   "above its seated position (peak lift_m)."),
-    "lift_off.landing_loss_J": ("J", "DFP / SFP under a vertical record: energy taken by the landings (final "
+    "lift_off.landing_loss_J": ("J", "DFP / SFP / flat bearing under a vertical record: energy taken by the landings (final "
                                      "E_land_J)."),
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
-    "rim_impacts.lower": ("", "DFP / SFP: number of rim impacts on the lower surface (final n_rim1)."),
-    "rim_impacts.upper": ("", "DFP: number of rim impacts on the upper surface (final n_rim2)."),
-    "capacity.*.capacity_m": ("m", "DFP / SFP: the surface's slide capacity (device.d1 / d2, or the plate's)."),
-    "capacity.*.peak_slide_m": ("m", "DFP / SFP: the largest arc of the footprint centre from the surface "
+    "rim_impacts.lower": ("", "DFP / SFP / flat bearing: number of rim impacts on the lower surface (final n_rim1)."),
+    "rim_impacts.upper": ("", "DFP / flat bearing: number of rim impacts on the upper surface (final n_rim2)."),
+    "capacity.*.capacity_m": ("m", "DFP / SFP / flat bearing: the surface's slide capacity (device.d1 / d2, or the plate's)."),
+    "capacity.*.peak_slide_m": ("m", "DFP / SFP / flat bearing: the largest arc of the footprint centre from the surface "
                                      "centre (peak |s1_m| / |s2_m|)."),
-    "capacity.*.ratio": ("", "DFP / SFP: peak slide / capacity (1: the rim was reached)."),
-    "capacity.*.impacts": ("", "DFP / SFP: rim impacts counted on the surface."),
-    "capacity_ratio": ("", "DFP / SFP: the largest capacity ratio of the surfaces (1: the rim was reached)."),
+    "capacity.*.ratio": ("", "DFP / SFP / flat bearing: peak slide / capacity (1: the rim was reached)."),
+    "capacity.*.impacts": ("", "DFP / SFP / flat bearing: rim impacts counted on the surface."),
+    "capacity_ratio": ("", "DFP / SFP / flat bearing: the largest capacity ratio of the surfaces (1: the rim was reached)."),
     "rim_impacts.S1": ("", "TFP: number of rim impacts on S1 (final n_rim1)."),
     "rim_impacts.S2": ("", "TFP: number of rim impacts on S2 (final n_rim2)."),
     "rim_impacts.S3": ("", "TFP: number of rim impacts on S3 (final n_rim3)."),
@@ -631,7 +709,10 @@ SUMMARY: dict[str, tuple[str, str]] = {
                                    "the pair is scaled as one and keeps its proportions)."),
     "record_y.baseline_b1_mps2": ("m/s2", "Bidirectional record: b1 of the y record's baseline correction."),
     "record_y.baseline_b2_mps3": ("m/s3", "Bidirectional record: b2 of the y record's baseline correction."),
-    "record_z.name": ("", "Vertical record (loading.file_z, or the three-channel record and its channel)."),
+    "record_z.name": ("", "Vertical record (loading.file_z, or the three-channel record and its channel; "
+                          "with loading.vertical_scale: \"k x <the x record>\")."),
+    "record_z.vertical_scale": ("", "loading.vertical_scale: the vertical is this factor times the x record."),
+    "record_z.of": ("", "loading.vertical_scale: the horizontal (x) record the vertical copies."),
     "record_z.points": ("", "Vertical record: samples."),
     "record_z.dt_s": ("s", "Vertical record: sampling interval."),
     "record_z.pga_g": ("g", "Vertical record: peak vertical ground acceleration (unscaled)."),

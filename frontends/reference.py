@@ -40,6 +40,8 @@ def scene_keys() -> list[tuple[str, str, tuple]]:
     out.append(("friction.law", "friction.law", (tuple(scn.FRICTION_KEYS), "constant", None)))
     for law, schema in scn.FRICTION_KEYS.items():
         out += [(f"friction.{k}", f"friction.{law}.{k}", spec) for k, spec in schema.items()]
+    out.append(("friction.liner", "friction.liner", (tuple(scn.liner_names()), None, None)))
+    out += [(f"friction.{k}", f"friction.{k}", spec) for k, spec in scn.SURFACE_KEYS.items()]
     out.append(("loading.kind", "loading.kind", (tuple(scn.LOADING_KEYS), scn.REQUIRED, None)))
     for kind, schema in scn.LOADING_KEYS.items():
         out += [(f"loading.{k}", f"loading.{kind}.{k}", spec) for k, spec in schema.items()]
@@ -92,6 +94,7 @@ COLUMN_SOURCES = (
     "fpd.mechanics.tfp:TWO_PHASE_COLUMNS",
     "fpd.mechanics.tfp3d:COLUMNS",
     "fpd.mechanics.flat:COLUMNS",
+    "fpd.coupling.fast_loop:WEAR_COLUMNS",
 )
 
 
@@ -301,6 +304,10 @@ def generate() -> str:
         out.append(f'#### `law = "{law}"`\n')
         out += key_table([k for k in keys if k[1].startswith(f"friction.{law}.")])
         out.append("")
+    out.append("#### Every law: breakaway, wear, liner presets\n")
+    out.append("Per surface beside the law's keys (docs/liners.md has the presets and their sources):\n")
+    out += key_table([k for k in keys if k[1] == "friction.liner" or k[1][len("friction."):] in scn.SURFACE_KEYS])
+    out.append("")
     out.append("### `[loading]`\n")
     out.append("`kind` picks the keys. Packaged records (`record = ...`): "
                + ", ".join(f"`\"{r}\"` ({f})" for r, f in scn.RECORDS.items())

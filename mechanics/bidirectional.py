@@ -152,11 +152,21 @@ class _Base(TwoInterfaces):
         w = math.sqrt(wx * wx + wy * wy + S[K.S_WZ] ** 2)
         self.S[K.S_SV1], self.S[K.S_SV2] = C[K.C_R1] * w, C[K.C_R2] * w
 
-    def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0) -> None:
+    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
+        """The static (breakaway) coefficients of the lower and upper surface,
+        and as ratios to the sliding mu at rest (0: none; bidirectional_kernel
+        C_MUS1, C_MUS2, C_MUR1, C_MUR2)."""
+        self.C[K.C_MUS1], self.C[K.C_MUS2] = float(mu_s1), float(mu_s2)
+        self.C[K.C_MUR1], self.C[K.C_MUR2] = float(ratio1), float(ratio2)
+
+    def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0,
+                stiffness: float | None = None) -> None:
         """The slide capacities (arc from each surface's centre, m; the SFP's
         d1 only) and the rim's restitution: the axis's tilt is bounded by
         min(d1 / R1, d2 / R2), the surface (or both) that sets it counts the
-        impacts (docs/model.md 9)."""
+        impacts (docs/model.md 9). ``stiffness`` (N/m): a rim of finite
+        stiffness instead of the rigid one, a spring on the slide beyond the
+        capacity of each surface that sets it (elastic: no loss at the rim)."""
         g = self.geom
         arcs = [d1 / g.R1] + ([d2 / g.R2] if (d2 is not None and g.kind == "DFP") else [])
         th = min(arcs)
@@ -164,6 +174,8 @@ class _Base(TwoInterfaces):
         C[K.C_THMAX], C[K.C_REST] = th, float(restitution)
         C[K.C_RIM1] = 1.0 if arcs[0] <= th * (1 + 1e-12) else 0.0
         C[K.C_RIM2] = 1.0 if len(arcs) > 1 and arcs[1] <= th * (1 + 1e-12) else 0.0
+        if stiffness:
+            C[K.C_KRIM] = float(stiffness) * (C[K.C_RIM1] * g.R1 ** 2 + C[K.C_RIM2] * g.R2 ** 2)
         self.capacity = (d1, d2 if g.kind == "DFP" else None)
 
     # -- protocol attributes ----------------------------------------------------
@@ -366,7 +378,13 @@ class BidirectionalTestMachine(_Base):
     (mechanics.orbits.OrbitProgramme). F_N components are the restraint's
     horizontal force; the normal forces include its axial share."""
 
-    def __init__(self, geom: DeviceGeometry, programme, jit: bool | None = None):
+    def __init__(self, geom: DeviceGeometry, programme, jit: bool | None = None, axial=None):
+        """axial: None (the superstructure rides on the bearing with its weight
+        and inertia), or an axial-load programme (mechanics.axial.AxialProgramme:
+        "constant" W, "sine", "series") the vertical actuator holds in force
+        control: the superstructure has no inertia, N(t) takes the place of
+        M g in the normal forces and the restoring moment, and the
+        actuator's work beyond the weight's is input."""
         u0, v0 = programme.u[0], programme.ud[0]
         self._setup(geom, programme.dt, programme.n_steps, True, jit,
                     u0=(float(u0[0]), float(u0[1])), v0=(float(v0[0]), float(v0[1])), seated=True)
@@ -374,7 +392,26 @@ class BidirectionalTestMachine(_Base):
         self._U = np.ascontiguousarray(programme.u, dtype=float)
         self._UD = np.ascontiguousarray(programme.ud, dtype=float)
         self._UDD = np.ascontiguousarray(programme.udd, dtype=float)
+        self._GV = np.full(1, geom.g)
+        self.axial = axial
+        if axial is not None:
+            self._GV = np.ascontiguousarray(axial.at(np.asarray(programme.t, dtype=float)) / geom.mass, dtype=float)
+            C, S = self.C, self.S
+            C[K.C_AXIAL] = 1.0
+            C[K.C_I] = geom.I - geom.mass * geom.L ** 2
+            C[K.C_SIN] = geom.S - geom.mass * geom.L
+            Ek, Ep = _pure.energies(C, S)
+            S[K.S_EIN] = Ek + Ep        # the launch's kinetic energy without the held superstructure's
+            nz = S[K.S_NZ]
+            S[K.S_N2] = geom.mass * self._GV[0] * -nz
+            S[K.S_N1] = S[K.S_N2] + geom.pad_mass * geom.g * -nz
         self.normal_force = "seated"
+
+    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
+        """As the stepper's; the bearing starts at rest (stuck) before the
+        programme launches it, so its first step breaks it away."""
+        super().set_static(mu_s1, mu_s2, ratio1, ratio2)
+        self.S[K.S_MODE] = K.STICK
 
     def ground_position(self):
         # the lower plate moves by -u
@@ -390,7 +427,7 @@ class BidirectionalTestMachine(_Base):
         self.use_compiled()
         if not self.compiled:
             raise ImportError("numba is not available")
-        return self.C, self.S, (self._U, self._UD, self._UDD), (np.zeros(1),)
+        return self.C, self.S, (self._U, self._UD, self._UDD, self._GV), (np.zeros(1),)
 
     def engine_pull(self, S) -> None:
         """Nothing to copy: the engine steps the stepper's own state."""
@@ -403,6 +440,6 @@ class BidirectionalTestMachine(_Base):
             raise IndexError(f"all {self.n_steps} steps of the loading are taken")
         S = self.S
         W1, W2 = S[K.S_W1], S[K.S_W2]
-        self._K.machine_step(self.C, S, self._U, self._UD, self._UDD, self.n, mu1, mu2)
+        self._K.machine_step(self.C, S, self._U, self._UD, self._UDD, self._GV, self.n, mu1, mu2)
         self.n += 1
         return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)

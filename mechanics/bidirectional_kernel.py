@@ -49,6 +49,7 @@ docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
+from .friction_kernel import holding_mu
 from .two_phase_kernel import _sinc as sinc, pivot_angle, rocking_increment   # the planar stepper's, one source
 
 __kernel__ = True
@@ -69,7 +70,19 @@ C_PLANAR = 28
 C_THMAX, C_REST, C_RIM1, C_RIM2 = 29, 30, 31, 32
 # 1: the loading has a vertical component (the column az_mps2 follows the others)
 C_VERT = 33
-N_C = 34
+# the orbit machine's vertical actuator in force control (1.0; 0: the superstructure rides on
+# the bearing): the load N(t) per grid point over M in the programme's GV, the superstructure
+# without inertia (C_I without M L^2), the moving parts' inertial first moment S - M L
+C_AXIAL, C_SIN = 34, 35
+# the static (breakaway) coefficients of the lower and upper surface (0: none): a stuck
+# pad holds until its drive exceeds the cap with them (friction_kernel.holding_mu)
+C_MUS1, C_MUS2 = 36, 37
+# the static coefficients as ratios to the sliding mu at rest (0: none)
+C_MUR1, C_MUR2 = 38, 39
+# a rim of finite stiffness (docs/model.md 9): k sum R_i^2 over the surfaces that bound the tilt
+# (N m / rad^2), the axis's moment k R_i^2 (theta - thmax) beyond it; 0: the rigid rim
+C_KRIM = 40
+N_C = 41
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -162,7 +175,53 @@ def drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay, gv):
     fb = fx * bx + fy * by + fz * bz
     half = 0.5 * d
     De = sinc(half) * (fn * math.sin(half) - fe * math.cos(half))
+    if C[C_KRIM] != 0.0:
+        # the rim's spring beyond the capacity: along e its discrete gradient on the
+        # arc (work exactly V_rim(start) - V_rim(end)), across it the gradient at mid-arc
+        ke, kb = _rim_spring_drive(C, nx, ny, nz, ex, ey, ez, bx, by, bz, d)
+        De += ke
+        fb -= kb
     return De * ex - fb * bx, De * ey - fb * by, De * ez - fb * bz
+
+
+def rim_overlap(C, nx, ny, nz):
+    """The axis's tilt beyond the rim, (theta - thmax)_+ (rad)."""
+    o = math.atan2(hypot(nx, ny), -nz) - C[C_THMAX]
+    return o if o > 0.0 else 0.0
+
+
+def rim_spring_energy(C, nx, ny, nz):
+    """Energy stored in the rim of finite stiffness, C_KRIM (theta - thmax)_+^2 / 2."""
+    o = rim_overlap(C, nx, ny, nz)
+    return 0.5 * C[C_KRIM] * o * o
+
+
+def _rim_spring_drive(C, nx, ny, nz, ex, ey, ez, bx, by, bz, d):
+    """The rim spring's generalised force along e (the discrete gradient over
+    the arc of angle d from n, -(V(end) - V(start)) / d; the derivative when
+    d = 0) and across it (its component on b at mid-arc, the exact moment
+    -k o m . b with m the outward meridian)."""
+    k = C[C_KRIM]
+    if abs(d) > 1e-12:
+        c, s = math.cos(d), math.sin(d)
+        v0 = rim_spring_energy(C, nx, ny, nz)
+        v1 = rim_spring_energy(C, c * nx + s * ex, c * ny + s * ey, c * nz + s * ez)
+        ke = -(v1 - v0) / d
+    else:
+        o = rim_overlap(C, nx, ny, nz)
+        ke = 0.0
+        if o > 0.0:
+            r = hypot(nx, ny)
+            ke = -k * o * ((ex * nx + ey * ny) * (-nz) / r + ez * r)
+    q = 0.5 * d
+    c, s = math.cos(q), math.sin(q)
+    mx, my, mz = c * nx + s * ex, c * ny + s * ey, c * nz + s * ez
+    o = rim_overlap(C, mx, my, mz)
+    kb = 0.0
+    if o > 0.0:
+        r = hypot(mx, my)
+        kb = -k * o * ((bx * mx + by * my) * (-mz) / r + bz * r)
+    return ke, kb
 
 
 def _free_direction(C, nx, ny, nz, ax, ay, gv):
@@ -477,8 +536,20 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     w0x, w0y, w0z = S[S_WX], S[S_WY], S[S_WZ]
     moving = w0x != 0.0 or w0y != 0.0 or w0z != 0.0
-    v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
-        C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, mid and moving)
+    hm1, hm2 = holding_mu(mu1, C[C_MUS1], C[C_MUR1]), holding_mu(mu2, C[C_MUS2], C[C_MUR2])
+    if not moving and (hm1 > mu1 or hm2 > mu2):
+        # at rest: the stick trial with the static cap; a drive beyond it breaks
+        # the pad away and the step slides with the sliding cap
+        v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+            C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, hm1, hm2, False)
+        if v1x == 0.0 and v1y == 0.0 and v1z == 0.0:
+            mu1, mu2 = hm1, hm2
+        else:
+            v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+                C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, False)
+    else:
+        v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+            C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, mid and moving)
     if moving and (arrest or v1x * w0x + v1y * w0y + v1z * w0z <= 0.0):
         tau, d, ex, ey, ez, N1a, N2a, plane = _arrest(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, cap, mu1, mu2)
         if not plane or (mid and not tau < h):
@@ -590,6 +661,16 @@ def rim(C, S, gv):
     rim when the step began: the rim's reaction, part of the force)."""
     thmax = C[C_THMAX]
     if thmax <= 0.0 or S[S_ROCK] != 0.0:
+        return 0.0, 0.0
+    if C[C_KRIM] != 0.0:
+        # a rim of finite stiffness: a contact force in the drive, no impulse;
+        # an impact is counted when the axis passes the capacity
+        if rim_overlap(C, S[S_NX], S[S_NY], S[S_NZ]) > 0.0:
+            if S[S_ATRIM] == 0.0:
+                S[S_ATRIM] = 1.0
+                S[S_NRIM] += 1.0
+        else:
+            S[S_ATRIM] = 0.0
         return 0.0, 0.0
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     r = hypot(nx, ny)
@@ -772,6 +853,8 @@ def _seated_energies(C, S):
         Ep += C[C_G] * (S[S_EZ] * dX - S[S_NZ] * dZ)
         return 0.5 * C[C_IP] * S[S_BETAD] * S[S_BETAD], Ep
     w2 = S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ]
+    if C[C_KRIM] != 0.0:
+        Ep += rim_spring_energy(C, S[S_NX], S[S_NY], S[S_NZ])
     return 0.5 * C[C_I] * w2, Ep
 
 
@@ -811,7 +894,7 @@ def run_steps(C, S, AX, AY, AZ, h, mu1, mu2, n0, n1, out):
 
 # -- the bearing-test machine: a prescribed orbit u(t) = (ux, uy) --------------------
 
-def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2):
+def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2, gv):
     """Restraint force (Fx, Fy) and normal forces at one instant of a
     prescribed relative motion u, u', u'' (the lower plate moves by -u, the
     superstructure is held horizontally and rides on its weight), with the
@@ -822,6 +905,10 @@ def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2):
     with a_g = -u'' the lower plate's acceleration and cap = sum mu_i R_i N_i,
     N_i = N_i0 + F . n_h (the restraint's axial share). Linear in F: solved
     in the tangent basis. The planar SeatedTestMachine is the case u_y = 0.
+    With C[C_AXIAL] the vertical actuator holds N = M gv in force control
+    (gv = g: the weight; docs/test_machine.md "Axial-load programme"): the
+    superstructure has no inertia, N2 = N (-n_z) + F . n_h, and its weight
+    M g in S g becomes N (S g + M L (gv - g)); gv is read only then.
     Returns (Fx, Fy, N1, N2, nx, ny, nz, wx, wy, wz)."""
     L, I, S, g = C[C_L], C[C_I], C[C_S], C[C_G]
     nx, ny = ux / L, uy / L
@@ -834,15 +921,22 @@ def machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2):
     gax, gay = -ax, -ay                       # the lower plate's acceleration
     # the seated normal forces (unclipped: the machine's formula is linear in F)
     g_axis = -(gax * nx + gay * ny + g * nz)
-    N2_0 = C[C_M] * (g_axis + L * w2)
+    Sin = S
+    Sg = S * g
+    if C[C_AXIAL] != 0.0:
+        N2_0 = C[C_M] * gv * -nz
+        Sin = C[C_SIN]
+        Sg = S * g + C[C_M] * L * (gv - g)
+    else:
+        N2_0 = C[C_M] * (g_axis + L * w2)
     N1_0 = N2_0 + C[C_MP] * (g_axis + C[C_RHO] * w2)
     k = mu1 * C[C_R1] + mu2 * C[C_R2]
     cap0 = mu1 * C[C_R1] * N1_0 + mu2 * C[C_R2] * N2_0
     t1, t2 = tangent_basis(nx, ny, nz)
     # right-hand side, a 3-vector in the tangent plane (normal parts drop in the dots)
-    rx = I * qx + S * gax + cap0 * tx
-    ry = I * qy + S * gay + cap0 * ty
-    rz = I * qz + S * g + cap0 * tz
+    rx = I * qx + Sin * gax + cap0 * tx
+    ry = I * qy + Sin * gay + cap0 * ty
+    rz = I * qz + Sg + cap0 * tz
     b1 = rx * t1[0] + ry * t1[1] + rz * t1[2]
     b2 = rx * t2[0] + ry * t2[1] + rz * t2[2]
     tt1 = tx * t1[0] + ty * t1[1] + tz * t1[2]
@@ -877,13 +971,15 @@ def _slip_tangent(nx, ny, nz, wx, wy, dx, dy, dz):
     return _chord_tangent(nx, ny, nz, dx, dy, dz)
 
 
-def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
+def machine_step(C, S, U, UD, UDD, GV, i, mu1, mu2):
     """Grid point i -> i+1 of the prescribed orbit (U, UD, UDD: (n+1, 2)
-    arrays of u, u', u''). Friction work per interface: mu_i R_i times the
+    arrays of u, u', u''; GV: the axial load over M per grid point, read
+    with C[C_AXIAL] only). Friction work per interface: mu_i R_i times the
     normal force averaged over the step times the angle between the axes
     (the great-circle arc); the input work: the generalised force of the
     restraint and of the moving plate's d'Alembert force, trapezoidal over
-    the chord. Returns the flag."""
+    the chord, and in force control the actuator's work beyond the weight's,
+    -(N - M g) dz with dz = L dn_z (trapezoidal). Returns the flag."""
     L = C[C_L]
     n0x, n0y = U[i, 0] / L, U[i, 1] / L
     n1x, n1y = U[i + 1, 0] / L, U[i + 1, 1] / L
@@ -894,22 +990,39 @@ def machine_step(C, S, U, UD, UDD, i, mu1, mu2):
     ang = 2.0 * math.asin(0.5 * chord)
     t0 = _slip_tangent(n0x, n0y, n0z, UD[i, 0] / L, UD[i, 1] / L, dx, dy, dz)
     t1 = _slip_tangent(n1x, n1y, n1z, UD[i + 1, 0] / L, UD[i + 1, 1] / L, dx, dy, dz)
+    gva = C[C_G]
+    gvb = C[C_G]
+    Sin = C[C_S]
+    if C[C_AXIAL] != 0.0:
+        gva = GV[i]
+        gvb = GV[i + 1]
+        Sin = C[C_SIN]
     Fa = machine_point(C, U[i, 0], U[i, 1], UD[i, 0], UD[i, 1], UDD[i, 0], UDD[i, 1],
-                       t0[0], t0[1], t0[2], mu1, mu2)
+                       t0[0], t0[1], t0[2], mu1, mu2, gva)
     Fb = machine_point(C, U[i + 1, 0], U[i + 1, 1], UD[i + 1, 0], UD[i + 1, 1], UDD[i + 1, 0],
-                       UDD[i + 1, 1], t1[0], t1[1], t1[2], mu1, mu2)
+                       UDD[i + 1, 1], t1[0], t1[1], t1[2], mu1, mu2, gvb)
     R1, R2 = C[C_R1], C[C_R2]
     S[S_W1] += mu1 * 0.5 * (Fa[2] + Fb[2]) * R1 * ang
     S[S_W2] += mu2 * 0.5 * (Fa[3] + Fb[3]) * R2 * ang
     # generalised force Q = L F + S u'' (the plate's d'Alembert force is -S a_g = S u'')
-    qa = (L * Fa[0] + C[C_S] * UDD[i, 0], L * Fa[1] + C[C_S] * UDD[i, 1])
-    qb = (L * Fb[0] + C[C_S] * UDD[i + 1, 0], L * Fb[1] + C[C_S] * UDD[i + 1, 1])
+    qa = (L * Fa[0] + Sin * UDD[i, 0], L * Fa[1] + Sin * UDD[i, 1])
+    qb = (L * Fb[0] + Sin * UDD[i + 1, 0], L * Fb[1] + Sin * UDD[i + 1, 1])
     S[S_EIN] += 0.5 * ((qa[0] + qb[0]) * dx + (qa[1] + qb[1]) * dy)
+    if C[C_AXIAL] != 0.0:
+        S[S_EIN] -= 0.5 * C[C_M] * L * ((gva - C[C_G]) + (gvb - C[C_G])) * dz
     S[S_NX], S[S_NY], S[S_NZ] = Fb[4], Fb[5], Fb[6]
     S[S_WX], S[S_WY], S[S_WZ] = Fb[7], Fb[8], Fb[9]
     S[S_FX], S[S_FY], S[S_N1], S[S_N2] = Fb[0], Fb[1], Fb[2], Fb[3]
     S[S_FF1] = mu1 * Fb[2]
     S[S_FF2] = mu2 * Fb[3]
+    hm1, hm2 = holding_mu(mu1, C[C_MUS1], C[C_MUR1]), holding_mu(mu2, C[C_MUS2], C[C_MUR2])
+    if S[S_MODE] == STICK and ang != 0.0 and (hm1 > mu1 or hm2 > mu2):
+        # breakaway from rest: the restraint carries the static cap at the step's
+        # start; the step's row reports that force, the largest of the step
+        Fs = machine_point(C, U[i, 0], U[i, 1], UD[i, 0], UD[i, 1], UDD[i, 0], UDD[i, 1],
+                           t0[0], t0[1], t0[2], hm1, hm2, gva)
+        S[S_FX], S[S_FY] = Fs[0], Fs[1]
+        S[S_FF1], S[S_FF2] = hm1 * Fs[2], hm2 * Fs[3]
     S[S_DS1], S[S_DS2], S[S_DPHI] = R1 * ang, R2 * ang, ang
     S[S_SLIP1] += R1 * ang
     S[S_SLIP2] += R2 * ang

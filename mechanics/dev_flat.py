@@ -3,9 +3,10 @@ sees it: the device interface of mechanics/dev_two_phase.py, two interfaces
 (the pad's lower face on the lower plate, its upper face under the
 superstructure).
 
-L = (a, u, ud, xg): the ground acceleration per step, the machine's
+L = (a, u, ud, xg, az): the ground acceleration per step, the machine's
 programme (u, u' per grid point; one zero for a ground motion), the ground
-position per grid point (one zero in the machine); X = (out, w):
+position per grid point (one zero in the machine), the vertical ground
+acceleration per step (one zero without a vertical record); X = (out, w):
 flat_kernel.step's scratch. Everything is the stepper's own kernel
 (flat_kernel.advance, values).
 """
@@ -34,7 +35,7 @@ def centre(C, S, i):
 
 
 def step(C, S, L, X, n, dt, mu, dW):
-    flag = fk.advance(C, S, L[0], L[1], L[2], mu[0], mu[1], X[0], X[1])
+    flag = fk.advance(C, S, L[0], L[4], L[1], L[2], mu[0], mu[1], X[0], X[1])
     out = X[0]
     dW[0] = out[fk.O_W1]
     dW[1] = out[fk.O_W2]

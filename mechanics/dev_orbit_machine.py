@@ -3,8 +3,9 @@ BidirectionalTestMachine: a seated DFP/SFP driven along u(t) = (ux, uy)) as
 the coupled engine sees it: the device interface of
 mechanics/dev_two_phase.py.
 
-L = (U, UD, UDD): the programme's u, u', u'' per grid point ((n + 1, 2)
-arrays; the lower plate moves by -u); X unused; footprint centres in 2D
+L = (U, UD, UDD, GV): the programme's u, u', u'' per grid point ((n + 1, 2)
+arrays; the lower plate moves by -u) and the axial load over M per grid
+point (one g when the superstructure rides); X unused; footprint centres in 2D
 (bidirectional_kernel.centres). Everything is the stepper's own kernel
 (bidirectional_kernel.machine_step, values).
 """
@@ -17,7 +18,7 @@ __kernel__ = True
 
 def step(C, S, L, X, n, dt, mu, dW):
     w1, w2 = S[bk.S_W1], S[bk.S_W2]
-    flag = bk.machine_step(C, S, L[0], L[1], L[2], n - 1, mu[0], mu[1])
+    flag = bk.machine_step(C, S, L[0], L[1], L[2], L[3], n - 1, mu[0], mu[1])
     dW[0] = S[bk.S_W1] - w1
     dW[1] = S[bk.S_W2] - w2
     return flag

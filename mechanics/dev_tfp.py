@@ -2,9 +2,10 @@
 sees it: the device interface of mechanics/dev_two_phase.py, four interfaces
 S1..S4 (lower plate, lower slider plate, upper slider plate, upper plate).
 
-L = (a, u, ud, xg, dd): the ground acceleration per step, the machine's
+L = (a, u, ud, xg, dd, az): the ground acceleration per step, the machine's
 programme (u, u' per step; zeros for a ground motion), the ground position
-per row, and dd = (d1, d2, d3, d4, machine); X = (out, M, w, tmp, sc): the
+per row, dd = (d1, d2, d3, d4, machine), the vertical ground acceleration
+per step (read only when C[I_VERT] is set); X = (out, M, w, tmp, sc): the
 stepper's scratch.
 """
 from fpd.mechanics import tfp_kernel as tk
@@ -33,7 +34,10 @@ def centre(C, S, i):
 
 def step(C, S, L, X, n, dt, mu, dW):
     machine = int(L[4][4])
-    fail = tk.advance(C, S, dt, L[0][n - 1], mu[0], mu[1], mu[2], mu[3], machine, L[1][n], L[2][n],
+    az = 0.0
+    if C[tk.I_VERT] != 0.0:
+        az = L[5][n - 1]
+    fail = tk.advance(C, S, dt, L[0][n - 1], az, mu[0], mu[1], mu[2], mu[3], machine, L[1][n], L[2][n],
                       X[0], X[1], X[2], X[3], X[4])
     for i in range(4):
         dW[i] = S[tk.S_DW + i]

@@ -33,6 +33,10 @@ from .phases import STICK, MechanicsFailure
 ENGINE_WORTH_STEPS = 60_000     # from here a mechanics-only run loads numba for the compiled engine
 COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J",
            "phase", "E_input_J", "E_kin_J", "E_pot_J", "tip_ratio")
+# with a vertical ground record (model.md 10): as the DFP's (mechanics/bidirectional.py)
+VERTICAL_COLUMNS = ("az_mps2", "lift_m", "n_lift", "t_flight_s", "E_land_J")
+# with rims (capacities d1, d2: model.md 7), before the vertical ones
+RIM_COLUMNS = ("E_rim_J", "J_rim_Ns", "n_rim1", "n_rim2")
 
 
 @dataclass(frozen=True)
@@ -60,7 +64,7 @@ class FlatGeometry:
         """N D + m g D / 2 about the trailing bottom corner (N m): flat_kernel's."""
         C = [0.0] * K.N_PAR
         C[K.I_MPAD], C[K.I_D], C[K.I_G] = self.pad_mass, self.pad_diameter, self.g
-        return K.resisting_moment(C, N_top)
+        return K.resisting_moment(C, N_top, self.g)
 
     def mu_tip(self, mu_lower: float | None = None) -> float:
         """Closed-form tipping threshold of the top face's mu (quasi-static, pad
@@ -74,6 +78,10 @@ class FlatGeometry:
 
 
 class PadTipped(MechanicsFailure):
+    pass
+
+
+class MachinePastRim(MechanicsFailure):
     pass
 
 
@@ -98,7 +106,15 @@ class FlatStepper(TwoInterfaces):
     phase, tip = _slot(K.S_PHASE, int), _slot(K.S_TIP)
     slip_v1, slip_v2 = _slot(K.S_SV1), _slot(K.S_SV2)
 
-    def __init__(self, geom: FlatGeometry, loading):
+    def __init__(self, geom: FlatGeometry, loading, gz=None, rim: tuple | None = None, axial=None):
+        """gz: the vertical ground motion (up) on the loading's grid, or None
+        (model.md 10: every normal force, friction cap and the tipping check
+        see g + a_z; g + a_z < 0 lifts the assembly off). rim: (d1, d2,
+        restitution), the capacities of the lower and the upper face (m,
+        > 0), or None: unbounded plates. axial: the test machine's axial-load
+        programme (mechanics.axial.AxialProgramme) held in force control on
+        the superstructure (N2 = N(t), N1 = N(t) + m g; the step's mean
+        of the programme at its two grid points), or None: the weight M g."""
         self.geom = geom
         self.dt = loading.dt
         self.n_steps = loading.n_steps
@@ -110,14 +126,31 @@ class FlatStepper(TwoInterfaces):
         else:
             self._a, self._xg = float_array(loading.a_step), float_array(loading.d)
             self._u = self._ud = float_array(np.zeros(1))
+        if gz is not None and (self.machine or gz.n_steps != loading.n_steps or gz.dt != loading.dt):
+            raise ValueError("the vertical ground motion must be on the horizontal record's grid (no test machine)")
+        self.ground_z = gz
+        self._az = float_array(gz.a_step) if gz is not None else float_array(np.zeros(1))
+        self.axial = axial if axial is not None and axial.varying else None
+        if self.axial is not None:
+            if not self.machine:
+                raise ValueError("an axial-load programme is the test machine's")
+            N = self.axial.at(np.asarray(loading.t, dtype=float))
+            self._az = float_array(0.5 * (N[:-1] + N[1:]))
+        self.columns = COLUMNS + (RIM_COLUMNS if rim is not None else ()) + (
+            VERTICAL_COLUMNS if gz is not None else ())
         self.C = C = [0.0] * K.N_PAR
         C[K.I_MPAD], C[K.I_MSUP], C[K.I_H], C[K.I_D] = geom.pad_mass, geom.mass, geom.pad_height, geom.pad_diameter
         C[K.I_G], C[K.I_DT], C[K.I_MACH] = geom.g, self.dt, 1.0 if self.machine else 0.0
+        C[K.I_VERT] = 1.0 if gz is not None else (2.0 if self.axial is not None else 0.0)
+        if rim is not None:
+            if not (rim[0] > 0.0 and rim[1] > 0.0 and 0.0 <= rim[2] <= 1.0):
+                raise ValueError(f"rim: capacities must be > 0 and the restitution in [0, 1], not {rim}")
+            C[K.I_CAP1], C[K.I_CAP2], C[K.I_REST] = float(rim[0]), float(rim[1]), float(rim[2])
         self.S = [0.0] * K.N_S
         self.out = [0.0] * K.N_OUT
         self._w = [0.0] * 2
-        self.N2 = geom.weight
-        self.N1 = geom.weight + geom.pad_mass * geom.g
+        self.N2 = geom.weight if self.axial is None else float(self.axial.at(0.0))
+        self.N1 = self.N2 + geom.pad_mass * geom.g
         self.phase = STICK
         if self.machine and self._ud[0] != 0.0:
             self.S[K.S_V2] = self._ud[0]          # launched on the top face; its kinetic energy is input
@@ -138,16 +171,28 @@ class FlatStepper(TwoInterfaces):
 
     @property
     def E_kin(self) -> float:
-        return K.kinetic(self.C, float(self.S[K.S_V1]), float(self.S[K.S_V2]))
+        return K.energies(self.C, self.S)[0]
+
+    @property
+    def E_pot(self) -> float:
+        return K.energies(self.C, self.S)[1]
+
+    @property
+    def E_land(self) -> float:
+        return float(self.S[K.S_ELAND])
 
     def xg(self) -> float:
         return K.ground(self.C, self._u, self._xg, self.n)
 
+    @property
+    def E_rim(self) -> float:
+        return float(self.S[K.S_ERIM])
+
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin + self.W1 + self.W2)
+        return self.E_in - (self.E_kin + self.E_pot + self.W1 + self.W2 + self.E_land + self.E_rim)
 
     def values(self) -> tuple:
-        row = [0.0] * K.N_VALUES
+        row = [0.0] * len(self.columns)
         K.values(self.C, self.S, self.xg(), row)
         row[11] = int(row[11])
         return tuple(row)
@@ -162,15 +207,19 @@ class FlatStepper(TwoInterfaces):
 
     def step(self, mu1: float, mu2: float) -> tuple:
         o = self.out
-        if K.advance(self.C, self.S, self._a, self._u, self._ud, mu1, mu2, o, self._w) != 0.0:
+        if K.advance(self.C, self.S, self._a, self._az, self._u, self._ud, mu1, mu2, o, self._w) != 0.0:
             self.raise_error()
         return o[K.O_W1], o[K.O_W2]
 
     def raise_error(self) -> None:
         """The exception the step's error flag S[S_ERR] stands for."""
         g, S = self.geom, self.S
+        if S[K.S_ERR] == K.ERR_RIM:
+            raise MachinePastRim(f"the machine drove a face past its rim (s1 = {S[K.S_Q1]:.4g} m, d1 = "
+                                 f"{self.C[K.I_CAP1]:.4g} m; s2 = {S[K.S_Q2]:.4g} m, d2 = {self.C[K.I_CAP2]:.4g} m)")
         raise PadTipped(f"the pad tips: friction couple {S[K.S_DEM]:.4g} N m > N D + m g D/2 = "
-                        f"{K.resisting_moment(self.C, self.N2):.4g} N m (closed form: mu > {g.mu_tip():.4g})")
+                        f"{K.resisting_moment(self.C, self.N2, g.g + float(S[K.S_AZ])):.4g} N m "
+                        f"(closed form: mu > {g.mu_tip():.4g})")
 
     # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
     engine_device = "fpd.mechanics.dev_flat"
@@ -178,10 +227,11 @@ class FlatStepper(TwoInterfaces):
     def engine_state(self):
         """(C, S, L, X) as the engine reads them: float64 copies of the
         constants and state, the loading (a per step, u, u' per grid point,
-        the ground position per grid point) and step()'s scratch (out, w)."""
+        the ground position per grid point, a_z per step) and step()'s
+        scratch (out, w)."""
         f = (lambda x: np.asarray(x, dtype=float))
         return (f(self.C), f(self.S), (as_float64(self._a), as_float64(self._u), as_float64(self._ud),
-                                       as_float64(self._xg)), (np.zeros(K.N_OUT), np.zeros(2)))
+                                       as_float64(self._xg), as_float64(self._az)), (np.zeros(K.N_OUT), np.zeros(2)))
 
     def engine_pull(self, S) -> None:
         """The state into the engine's copy (before a chunk)."""

@@ -67,6 +67,17 @@ class Kumar2015(_Law):
 
 
 @dataclass(frozen=True)
+class Constantinou1990(_Law):
+    """Constantinou, Mokha and Reinhorn (1990): mu = mu_fast - (mu_fast -
+    mu_slow) exp(-a |v|): mu_slow at rest, mu_fast at high sliding speed."""
+
+    mu_slow: float
+    mu_fast: float
+    a_s_per_m: float = 100.0
+    kind = _k.LAW_CONSTANTINOU
+
+
+@dataclass(frozen=True)
 class Table(_Law):
     """Piecewise linear in T through (T_C[i], mu[i]), constant beyond the ends."""
 
@@ -92,12 +103,83 @@ class Table(_Law):
         return mu
 
 
-LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table": Table}
+LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table": Table,
+        "constantinou": Constantinou1990}
+
+
+# keys of a surface beside its law's (schema.scene.SURFACE_KEYS): read by surface_of
+SURFACE_KEYS = ("mu_static", "static_ratio", "wear_k_mm3_per_Nm", "wear_T_C", "wear_k_T_mm3_per_Nm", "liner")
+
+# liner presets: name -> {"values": the [friction] keys it sets, "sources": where each comes from}.
+# Representative values inside the ranges the sources report (docs/liners.md says which
+# and how); starting points for comparisons, not design values.
+_MOKHA = "Mokha, Constantinou and Reinhorn (1990), J. Struct. Eng. 116(2); Constantinou, Mokha and Reinhorn (1990)"
+_DOLCE = "Dolce, Cardone and Croatto (2005), Bull. Earthquake Eng. 3"
+_BLANCHET = "Blanchet and Kennedy (1992), Wear 153"
+_KURTZ = "Kurtz (ed.), UHMWPE Biomaterials Handbook"
+_PLACEHOLDER = "none: a placeholder to be replaced by the product's own test (docs/liners.md)"
+LINERS: dict = {
+    "ptfe": {
+        "values": {"law": "constantinou", "mu_slow": 0.04, "mu_fast": 0.10, "a_s_per_m": 100.0,
+                   "mu_static": 0.10, "wear_k_mm3_per_Nm": 3e-4},
+        "sources": {"law": _MOKHA, "mu_slow": _MOKHA, "mu_fast": _MOKHA, "a_s_per_m": _MOKHA,
+                    "mu_static": _MOKHA, "wear_k_mm3_per_Nm": _BLANCHET},
+    },
+    "ptfe-lubricated": {
+        "values": {"law": "constantinou", "mu_slow": 0.01, "mu_fast": 0.03, "a_s_per_m": 100.0,
+                   "mu_static": 0.03},
+        "sources": {"law": _MOKHA, "mu_slow": _DOLCE, "mu_fast": _DOLCE, "a_s_per_m": _MOKHA,
+                    "mu_static": _DOLCE},
+    },
+    "ptfe-composite": {
+        "values": {"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.07, "a_s_per_m": 100.0,
+                   "mu_static": 0.07, "wear_k_mm3_per_Nm": 1e-6},
+        "sources": {"law": _MOKHA, "mu_slow": _PLACEHOLDER, "mu_fast": _PLACEHOLDER, "a_s_per_m": _MOKHA,
+                    "mu_static": _PLACEHOLDER, "wear_k_mm3_per_Nm": _BLANCHET},
+    },
+    "uhmwpe": {
+        "values": {"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.06, "a_s_per_m": 100.0,
+                   "mu_static": 0.06, "wear_k_mm3_per_Nm": 1e-6},
+        "sources": {"law": _MOKHA, "mu_slow": _PLACEHOLDER, "mu_fast": _PLACEHOLDER, "a_s_per_m": _MOKHA,
+                    "mu_static": _PLACEHOLDER, "wear_k_mm3_per_Nm": _KURTZ},
+    },
+}
 
 
 def make_law(spec: dict):
     """A law from a validated ``[friction]`` table (keys already checked)."""
-    kw = {k: v for k, v in spec.items() if k != "law"}
+    kw = {k: v for k, v in spec.items() if k != "law" and k not in SURFACE_KEYS}
     if spec["law"] == "table":
         kw = {"T_C": tuple(kw["T_C"]), "mu": tuple(kw["mu"])}
     return LAWS[spec["law"]](**kw)
+
+
+def static_mu(spec: dict) -> tuple:
+    """The surface's static (breakaway) coefficient and its ratio to the
+    sliding mu at rest; 0.0 each when not given (friction_kernel.holding_mu:
+    the sliding mu holds a stuck surface)."""
+    return float(spec.get("mu_static", 0.0)), float(spec.get("static_ratio", 0.0))
+
+
+MM3_PER_NM = 1e-9          # 1 mm^3 / (N m) in m^2 / N
+
+
+def wear_law(spec: dict):
+    """The surface's Archard wear coefficient k_w(T) in m^2/N as a law (its row
+    P is what friction_kernel.wear_step reads): the table (wear_T_C,
+    wear_k_T_mm3_per_Nm) if given, else the constant wear_k_mm3_per_Nm, else
+    None (no wear given)."""
+    if spec.get("wear_T_C") is not None:
+        return Table(tuple(spec["wear_T_C"]), tuple(k * MM3_PER_NM for k in spec["wear_k_T_mm3_per_Nm"]))
+    if spec.get("wear_k_mm3_per_Nm") is not None:
+        return Constant(spec["wear_k_mm3_per_Nm"] * MM3_PER_NM)
+    return None
+
+
+def wear_laws(specs) -> tuple | None:
+    """Per surface the wear law, or None when no surface gives wear (then no
+    wear columns); a surface without: k_w = 0 (its path is still counted)."""
+    laws = [wear_law(s) for s in specs]
+    if all(w is None for w in laws):
+        return None
+    return tuple(w if w is not None else Constant(0.0) for w in laws)

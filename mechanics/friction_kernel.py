@@ -9,6 +9,13 @@ compiled loop calls its numba copy (P a float64 array).
 Kumar, Whittaker and Constantinou (2015): mu = mu_ref k_p k_T k_v with
 k_p = 0.70^((p - p_ref) / 50 MPa), k_T = 0.79 (0.70^(T / 50 C) + 0.40),
 k_v = 1 - 0.5 exp(-a v); the constants below are the only copy.
+
+Constantinou, Mokha and Reinhorn (1990): mu = mu_fast - (mu_fast - mu_slow)
+exp(-a |v|), the velocity law bearing tests are fitted with.
+
+Breakaway (``holding_mu``): a stuck surface holds while the force it must
+carry stays within mu_s N, mu_s the static coefficient (never below the
+sliding mu); every stepper's stick test takes its cap from it.
 """
 from __future__ import annotations
 
@@ -16,7 +23,7 @@ import math
 
 __kernel__ = True
 
-LAW_CONSTANT, LAW_LINEAR, LAW_KUMAR, LAW_TABLE = 0, 1, 2, 3
+LAW_CONSTANT, LAW_LINEAR, LAW_KUMAR, LAW_TABLE, LAW_CONSTANTINOU = 0, 1, 2, 3, 4
 N_HEAD = 8                 # slots before a table's points: kind, n, ...
 
 # Kumar et al. (2015), Eqs. for k_p, k_T, k_v
@@ -44,6 +51,8 @@ def law_mu(P, T_C, p_Pa, v_mps):
         return mu
     if kind == LAW_CONSTANT:
         return P[1]
+    if kind == LAW_CONSTANTINOU:                # mu_slow, mu_fast, a
+        return P[2] - (P[2] - P[1]) * math.exp(-P[3] * abs(v_mps))
     if kind == LAW_LINEAR:                      # mu0 + slope (T - T0), never below mu_min
         x = P[1] + P[3] * (T_C - P[2])
         return x if x > P[4] else P[4]
@@ -67,3 +76,30 @@ def law_mu(P, T_C, p_Pa, v_mps):
         return math.nan
     w = (T_C - P[T0 + i]) / (P[T0 + i + 1] - P[T0 + i])
     return P[M0 + i] + w * (P[M0 + i + 1] - P[M0 + i])
+
+
+def holding_mu(mu, mu_s, ratio):
+    """The coefficient that caps a stuck surface's friction: the larger of the
+    static coefficient mu_s and ratio times the sliding mu (the law at rest,
+    at the surface's temperature and pressure: a static coefficient that
+    follows them), never below the sliding mu (mu_s = ratio = 0: none given,
+    the sliding mu holds it)."""
+    h = mu
+    if mu_s > h:
+        h = mu_s
+    r = ratio * mu
+    if r > h:
+        h = r
+    return h
+
+
+def wear_step(K, T_C, dW, mu, N, area, PW, i, ni):
+    """Archard wear of interface i over a step (of ni): the sliding path
+    ds = dW / (mu N) (the step's friction work dW at the coefficient mu and
+    normal force N) into PW[i], the depth k_w(T) (N / area) ds into
+    PW[ni + i]; K: the wear coefficient's row (a law row, m^2/N, in T only).
+    A step without friction work adds nothing."""
+    if dW > 0.0 and mu > 0.0 and N > 0.0:
+        ds = dW / (mu * N)
+        PW[i] += ds
+        PW[ni + i] += law_mu(K, T_C, 0.0, 0.0) * (N / area) * ds

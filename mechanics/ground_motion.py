@@ -677,6 +677,25 @@ def sine_programme(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> Disp
         udd_smooth=-amplitude_m * w * w * np.sin(w * tt))
 
 
+def triangle_programme(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> DisplacementProgramme:
+    """Test machine: a triangle wave of amplitude A (constant speed 4 A f,
+    starting from 0 towards +A) for the given number of cycles, then at rest."""
+    t, tt, on, w = _sine_grid(frequency_Hz, cycles, dt, duration)
+
+    def wave(x):
+        p = np.mod(x * frequency_Hz, 1.0)
+        u = np.where(p < 0.25, 4.0 * p, np.where(p < 0.75, 2.0 - 4.0 * p, 4.0 * p - 4.0))
+        ud = np.where((p < 0.25) | (p >= 0.75), 1.0, -1.0) * 4.0 * frequency_Hz
+        return amplitude_m * u, amplitude_m * ud
+
+    u, ud = wave(tt)
+    _, ud_s = wave(t)
+    zero = np.zeros_like(t)
+    return DisplacementProgramme(
+        name=f"triangle {amplitude_m:g} m {frequency_Hz:g} Hz x {cycles:g}", dt=dt, t=t,
+        u=u, ud=np.where(on, ud, 0.0), udd=zero, ud_smooth=ud_s, udd_smooth=zero)
+
+
 def pulse_ground_motion(shape, velocity_mps, period_s, t0_s, duration, dt) -> GroundMotion:
     """Analytic ground velocity pulses (near-fault and impulsive loadings).
 

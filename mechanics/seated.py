@@ -234,6 +234,34 @@ class SeatedTestMachine(_SeatedState):
     def xg(self) -> float:
         return -self._u[self.n]
 
+    LINK_STEP = 0.02      # omega h per sub-step of the compliant link (velocity Verlet: phase error ~ (omega h)^2 / 24)
+
+    def set_link(self, stiffness: float, plate_mass: float) -> None:
+        """Drive the plate through a compliant link (seated_kernel.link_step):
+        a spring of ``stiffness`` (N/m) between the machine and the plate of
+        mass ``plate_mass`` (kg); the bearing starts at rest at the programme's
+        start. Sub-steps keep omega h <= LINK_STEP, omega the link's frequency
+        with the bearing's restoring stiffness and inertia at u = 0."""
+        C = self.C
+        C[K.CLINK], C[K.CMPL] = float(stiffness), float(plate_mass)
+        gv = float(self._gv[0])
+        B = K.machine_point(C, 0.0, 0.0, 1.0, gv, 0.0, 0.0, 0.0)[3]
+        Kb = K.machine_point(C, 1e-6 * self._L, 0.0, 0.0, gv, 0.0, 0.0, 0.0)[3] / (1e-6 * self._L)
+        m = plate_mass + B
+        if not m > 0.0:
+            raise ValueError(f"the plate's mass with the bearing's ({m:g} kg) must be > 0")
+        omega = math.sqrt((stiffness + Kb) / m)
+        C[K.CNSUB] = float(max(1, math.ceil(self.dt * omega / self.LINK_STEP)))
+        self.theta_dot = 0.0
+        self.E_input = self.E_kin + self.E_pot
+
+    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
+        """The static (breakaway) coefficients of the lower and upper interface,
+        and as ratios to the sliding mu at rest (0: none; seated_kernel CMUS1,
+        CMUS2, CMUR1, CMUR2)."""
+        self.C[K.CMUS1], self.C[K.CMUS2] = float(mu_s1), float(mu_s2)
+        self.C[K.CMUR1], self.C[K.CMUR2] = float(ratio1), float(ratio2)
+
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         return K.machine_step(self.C, self.S, self._u, self._ud, self._udd, self._sm, self._uds, self._udds,
                               self._gv, mu1, mu2)

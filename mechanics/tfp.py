@@ -40,6 +40,8 @@ COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
 # the two-phase model's own columns (docs/model.md 6.6), after COLUMNS
 TWO_PHASE_COLUMNS = ("E_reseat_J", "beta1_rad", "beta2_rad", "gamma1_rad", "gamma2_rad",
                      "diagonal", "diagonal_plates", "phases")
+# a loading with a vertical component (docs/model.md 10): the step's vertical ground acceleration, last
+VERTICAL_COLUMNS = ("az_mps2",)
 
 
 @dataclass(frozen=True)
@@ -62,6 +64,7 @@ class TFPGeometry:
     mass: float                    # superstructure M (kg)
     g: float = G_ACC
     kind: str = "TFP"
+    rim_restitution: float = 0.0   # Newton's e of a rim arrival (0: the inelastic stop)
 
     # -- lengths ---------------------------------------------------------------
     @property
@@ -157,6 +160,7 @@ class TFPGeometry:
         p[K.I_R1], p[K.I_R2], p[K.I_R3], p[K.I_R4] = self.R1, self.R2, self.R3, self.R4
         p[K.I_QMAX_PHI], p[K.I_QMAX_ALPHA] = self.qmax
         p[K.I_D1], p[K.I_D2], p[K.I_D3], p[K.I_D4] = self.d1, self.d2, self.d3, self.d4
+        p[K.I_REST] = self.rim_restitution
         p[K.I_MS_LO] = p[K.I_MS_UP] = self.slider_mass
         p[K.I_MPAD] = self.pad_mass
         p[K.I_A_SL], p[K.I_A_PAD], p[K.I_B_PAD], p[K.I_A_SU] = b[0][1], b[1][1], b[1][2], b[2][1]
@@ -205,6 +209,14 @@ class TFPFailure(MechanicsFailure):
     pass
 
 
+def liftoff_step(geom: TFPGeometry, az):
+    """The first step whose vertical field g + a_z is negative (the stack
+    would leave its lower plate), or None."""
+    import numpy as np
+    k = np.flatnonzero(geom.g + np.asarray(az, dtype=float) < 0.0)
+    return int(k[0]) if len(k) else None
+
+
 class TFPStepper:
     """The rigid TFP under a ground motion (GroundMotion) or in the test
     machine (DisplacementProgramme: the superstructure's relative displacement
@@ -216,12 +228,26 @@ class TFPStepper:
     n_interfaces = 4
     drawing = "tfp"           # the VTK drawing (outputs/device_drawings.py)
 
-    def __init__(self, geom: TFPGeometry, loading, kernel=None, model: str = "seated"):
+    def __init__(self, geom: TFPGeometry, loading, kernel=None, model: str = "seated", gz=None):
         import numpy as np
         if model not in ("seated", "two-phase"):
             raise ValueError(f"model must be 'seated' or 'two-phase', not {model!r}")
         self.model = model
         self.columns = COLUMNS + (TWO_PHASE_COLUMNS if model == "two-phase" else ())
+        self.ground_z = gz
+        self._az = None
+        if gz is not None:
+            if hasattr(loading, "u"):
+                raise ValueError("the test machine takes no vertical ground motion")
+            if gz.n_steps != loading.n_steps or gz.dt != loading.dt:
+                raise ValueError("the vertical ground motion must share the horizontal one's time grid")
+            self._az = float_array(gz.a_step)
+            lift = liftoff_step(geom, self._az)
+            if lift is not None:
+                raise ValueError(f"g + a_z < 0 at t = {lift * loading.dt:.6g} s (a_z = "
+                                 f"{self._az[lift] / geom.g:.4g} g): the TFP would lift off, which is not "
+                                 "modelled for it (a DFP or an SFP flies and lands)")
+            self.columns = self.columns + VERTICAL_COLUMNS
         self.geom = geom
         self.k = kernel if kernel is not None else K
         self.dt = loading.dt
@@ -236,6 +262,7 @@ class TFPStepper:
             self._a = float_array(loading.a_step)
             self._xg = float_array(loading.d)
         self.par = geom.pack(two_phase=model == "two-phase")
+        self.par[K.I_VERT] = 1.0 if gz is not None else 0.0
         self.S = np.zeros(K.N_S)
         self.st = self.S[0:4]                   # a view: phi, alpha and their rates
         self.N = self.S[K.S_N:K.S_N + 4]         # a view: N1..N4
@@ -246,7 +273,7 @@ class TFPStepper:
         self._sc = np.zeros(4 + 2 * K.N_OUT)
         self.n = 0
         self.t = 0.0
-        K.normal_forces(self.par, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, self.N)
+        K.normal_forces(self.par, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, geom.g, 0.0, self.N)
         if self.machine and self._ud[0] != 0.0:
             # the machine launches the programme with u'(0) != 0 on the inner surfaces
             # (they slide first): that kinetic energy is input
@@ -343,7 +370,7 @@ class TFPStepper:
         """(C, S, L, X) as the engine reads them: the stepper's own parameter
         and state vectors, the loading (a per step; the machine's u, u' per
         step, zeros for a ground motion; xg per row; d1..d4 and the machine
-        flag), the stepper's scratch."""
+        flag; a_z per step), the stepper's scratch."""
         import numpy as np
         from .ground_motion import as_float64
         if self.machine:
@@ -354,7 +381,9 @@ class TFPStepper:
             U = UD = XG                 # (read only by the machine)
         g = self.geom
         DD = np.array([g.d1, g.d2, g.d3, g.d4, 1.0 if self.machine else 0.0])
-        return (self.par, self.S, (as_float64(self._a), U, UD, XG, DD),
+        A = as_float64(self._a)
+        AZ = as_float64(self._az) if self._az is not None else A     # (read only with par[I_VERT])
+        return (self.par, self.S, (A, U, UD, XG, DD, AZ),
                 (self.out, self._M, self._w, self._tmp, self._sc))
 
     def engine_pull(self, S) -> None:
@@ -366,19 +395,22 @@ class TFPStepper:
     # -- the step -----------------------------------------------------------------
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
         n = self.n
+        az = self._az[n] if self._az is not None else 0.0
         if self.machine:
-            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], mu1, mu2, mu3, mu4, 1, self._u[n + 1],
-                                  self._ud[n + 1], self.out, self._M, self._w, self._tmp, self._sc)
+            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], 0.0, mu1, mu2, mu3, mu4, 1,
+                                  self._u[n + 1], self._ud[n + 1], self.out, self._M, self._w, self._tmp, self._sc)
         else:
-            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], mu1, mu2, mu3, mu4, 0, 0.0, 0.0,
+            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], az, mu1, mu2, mu3, mu4, 0, 0.0, 0.0,
                                   self.out, self._M, self._w, self._tmp, self._sc)
         if fail == K.FAIL_CAPACITY:
             raise TFPFailure(f"the test machine drives the bearing past its displacement capacity "
                              f"{self.geom.capacity:.4g} m (all surfaces at their rims)")
         if fail == K.FAIL_ROCKING:
-            part = "pad" if K.rocking_start(self.par, self.phi, self.alpha, self._a[n]) == 1 else "slider plates"
+            gv = self.geom.g + az
+            part = "pad" if K.rocking_in_field(self.par, self.phi, self.alpha, self._a[n], gv) == 1 \
+                else "slider plates"
             raise TFPFailure(f"the {part} would start rocking on a corner "
-                             f"(ground acceleration {self._a[n] / self.geom.g:.3g} g beyond the restoring "
+                             f"(ground acceleration {self._a[n] / gv:.3g} (g + a_z) beyond the restoring "
                              "moment of Eq. 7): rocking of the TFP's parts is not modelled (docs/model.md 6.6)")
         if fail == K.FAIL_FIXED_POINT:
             raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "

@@ -52,7 +52,9 @@ I_TWO = 24                          # 1.0: the paper's two-phase model (docs/mod
 I_AP, I_AS, I_HP, I_TL, I_TU = 25, 26, 27, 28, 29   # pad and slider half-diameters, heights
 I_EPB, I_EPT, I_ESB, I_SQ4, I_L4 = 30, 31, 32, 33, 34   # corner heights (below), sqrt(R4^2 - a_s^2), l4
 I_D1, I_D2, I_D3, I_D4 = 35, 36, 37, 38   # slide capacities of S1..S4 (arc, m)
-N_PAR = 39
+I_VERT = 39                         # 1.0: a vertical ground motion (the az_mps2 column), 0.0: none
+I_REST = 40                         # Newton's restitution of a rim arrival (0: inelastic)
+N_PAR = 41
 
 # -- step output vector ----------------------------------------------------------
 O_DPHI, O_DALPHA, O_F, O_EIN, O_WO, O_WI, O_RIM, O_ITER, O_FAIL = 0, 1, 2, 3, 4, 5, 6, 7, 8
@@ -112,6 +114,15 @@ def u_dot(par, phi, alpha, v1, v2):
 def u_rel(par, phi, alpha):
     """Superstructure displacement relative to the ground, u = A sin phi + L_i sin psi."""
     return par[I_A] * math.sin(phi) + par[I_LI] * math.sin(phi + alpha)
+
+
+def rise(par, phi0, al0, phi1, al1):
+    """sum m z(q1) - sum m z(q0): the change of the first moment of the
+    heights, potential / g, without cancellation (cos a - cos b as a product)."""
+    hf = 0.5 * (phi1 - phi0)
+    hp = 0.5 * (phi1 + al1 - phi0 - al0)
+    return 2.0 * (par[I_P1] * math.sin(0.5 * (phi0 + phi1)) * math.sin(hf)
+                  + par[I_P2] * math.sin(0.5 * (phi0 + al0 + phi1 + al1)) * math.sin(hp))
 
 
 def uplift(par, phi, alpha):
@@ -301,13 +312,14 @@ def qp_line(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, d1, d2, e, x):
     return 0
 
 
-def normal_forces(par, phi, alpha, v1, v2, a1, a2, ag, F, N):
+def normal_forces(par, phi, alpha, v1, v2, a1, a2, ag, gv, F, N):
     """Normal forces N1..N4 (N[0..3]) along the axes through the surface
     centres, from the bodies' accelerations (generalised accelerations a1, a2,
-    ground acceleration ag) top down: the superstructure (minus the machine's
+    ground acceleration ag) in the vertical field gv = g + a_z (g without a
+    vertical ground motion) top down: the superstructure (minus the machine's
     horizontal force F), the upper slider, the pad, the lower slider.
     No tension across a contact: negative values are clipped to 0."""
-    g = par[I_G]
+    g = gv
     psi = phi + alpha
     vpsi = v1 + v2
     apsi = a1 + a2
@@ -388,6 +400,24 @@ def stuck_then_rim(mss, msr, mrr, vs, vr):
     return vs, k0 - ka, ka - 0.5 * mss * vs * vs
 
 
+def restitute(e, M, pf1, pf2, v1, v2, w):
+    """Newton's restitution e of a rim arrival whose inelastic stop left the
+    rates (v1, v2): the free momentum (pf1, pf2) is what the part would carry
+    without the rim (its reaction over the part and the stop both act on the
+    coordinate at the rim only), v_free = M^-1 pf; the stop's whole jump
+    d = v - v_free is taken (1 + e) times: w = v + e d, so the coordinate
+    leaves the rim at -e times its free rate. d is M-orthogonal to v (the
+    impulse is on the rim's coordinate, whose rate in v is 0), so the energy
+    handed back is e^2 (1/2) d^T M d: the impact takes (1 - e^2) of the
+    kinetic energy normal to the rim, (1/2) d^T M d. Returns that energy."""
+    solve2(M[0], M[1], M[2], pf1, pf2, w)
+    d1 = v1 - w[0]
+    d2 = v2 - w[1]
+    w[0] = v1 + e * d1
+    w[1] = v2 + e * d2
+    return e * e * 0.5 * (M[0] * d1 * d1 + 2.0 * M[1] * d1 * d2 + M[2] * d2 * d2)
+
+
 def rim_lock(m11, m12, m22, v1, v2, o1, o2, w):
     """The inelastic rim impact at the end of a step: a coordinate k on its
     rim (o_k = +1 or -1, the side of the rim; 0 off it) may not move into it.
@@ -427,7 +457,7 @@ def rim_lock(m11, m12, m22, v1, v2, o1, o2, w):
     return 0.5 * (m11 * d1 * d1 + 2.0 * m12 * d1 * d2 + m22 * d2 * d2)
 
 
-def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
+def step(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     """One step of the rigid TFP (see ``substep``), split at each rim impact.
 
     A coordinate that reaches its rim inside the step would otherwise be
@@ -444,7 +474,7 @@ def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     sc: scratch of length >= 4 + 2 N_OUT."""
     for i in range(4):
         sc[i] = st[i]
-    substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+    substep(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
     if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0:
         return
     acc = 4
@@ -465,7 +495,7 @@ def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
         for i in range(4):
             st[i] = sc[i]
         udp = u_dot(par, sc[0], sc[1], sc[2], sc[3])
-        substep(par, st, h, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 1)
+        substep(par, st, h, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 1)
         udf = u_dot(par, st[0], st[1], st[2], st[3])
         tau = 1.0
         d1 = out[O_DPHI]
@@ -488,10 +518,40 @@ def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
         for i in range(4):
             st[i] = sc[i]
         th = t0 + tau * (1.0 - t0)
-        substep(par, st, tau * h, ag, c_o, c_i, machine, u0 + th * (u1 - u0), ud0 + th * (ud1 - ud0),
+        substep(par, st, tau * h, ag, gv, c_o, c_i, machine, u0 + th * (u1 - u0), ud0 + th * (ud1 - ud0),
                 out, M, w, tmp, 0)
         if out[O_FAIL] != FAIL_NONE:
             return
+        if out[O_HIT_O] == 0.0 and out[O_HIT_I] == 0.0:
+            # the part ended on a rim only to round-off (the unclamped increment's
+            # tau is not exactly where the bounded motion meets it), still moving
+            # into it: the impact is here, not spread over the next part's bound
+            # reaction (which would reverse the velocity inside it, out of sight
+            # of the impulse)
+            o1 = 0.0
+            o2 = 0.0
+            if abs(abs(st[0]) - qm1) <= 1e-13 * qm1 and st[0] * st[2] > 0.0:
+                o1 = 1.0 if st[0] > 0.0 else -1.0
+                st[0] = o1 * qm1
+            if abs(abs(st[1]) - qm2) <= 1e-13 * qm2 and st[1] * st[3] > 0.0:
+                o2 = 1.0 if st[1] > 0.0 else -1.0
+                st[1] = o2 * qm2
+            if o1 != 0.0 or o2 != 0.0:
+                mass_matrix(par, st[1], M)
+                v1 = st[2]
+                v2 = st[3]
+                out[O_RIM] += rim_lock(M[0], M[1], M[2], v1, v2, o1, o2, w)
+                if par[I_REST] != 0.0:
+                    # (no reaction in this part: the free momentum is M v)
+                    p1 = M[0] * v1 + M[1] * v2
+                    p2 = M[1] * v1 + M[2] * v2
+                    out[O_RIM] -= restitute(par[I_REST], M, p1, p2, w[0], w[1], w)
+                st[2] = w[0]
+                st[3] = w[1]
+                if o1 != 0.0:
+                    out[O_HIT_O] = 1.0
+                if o2 != 0.0:
+                    out[O_HIT_I] = 1.0
         out[O_DX_RIM] = u_dot(par, st[0], st[1], st[2], st[3]) - udp - tau * (udf - udp)
         for i in range(N_OUT):
             if i != O_F and i != O_FAIL and i != O_NU_PHI and i != O_NU_ALPHA and i != O_ARRIVE:
@@ -503,7 +563,7 @@ def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
         for i in range(4):
             sc[sv + i] = st[i]
         # the rest, from the rim
-        substep(par, st, (1.0 - t0) * dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+        substep(par, st, (1.0 - t0) * dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
         if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0 or k == 2:
             break
         # the other coordinate meets its rim in the rest: split it too
@@ -519,10 +579,13 @@ def step(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     out[O_ARRIVE] = 1.0
 
 
-def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobounds):
+def substep(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobounds):
     """One step of the rigid TFP. st = [phi, alpha, v_phi, v_alpha] (updated).
 
-    ag: mean ground acceleration over the step; c_o = mu1 N1 R1 + mu4 N4 R4,
+    ag: mean ground acceleration over the step; gv: the vertical field
+    g + a_z (the step's mean vertical ground acceleration a_z, up; g without
+    one): it drives the discrete gradient of the heights, g of it is the
+    potential and a_z of it the vertical ground's input; c_o = mu1 N1 R1 + mu4 N4 R4,
     c_i = mu2 N2 R2 + mu3 N3 R3 (friction caps of the two coordinates);
     machine = 1: the superstructure's relative displacement is imposed,
     u(t_n+1) = u1, u'(t_n+1) = ud1 (test machine; F is its horizontal force).
@@ -608,7 +671,7 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
             dTa = 0.5 * (2.0 * K * w11 * w01 + K * (w11 * w02 + w12 * w01)) * math.sin(0.5 * (q20 + al1)) \
                 * sinc(0.5 * (al1 - q20))
         # discrete gradients of V and b
-        dgrad_cos_sin(g * par[I_P1], g * par[I_P2], q10, q20, phi1, al1, tmp, 0)
+        dgrad_cos_sin(gv * par[I_P1], gv * par[I_P2], q10, q20, phi1, al1, tmp, 0)
         G1 = -tmp[0]
         G2 = -dTa - tmp[1]
         dgrad_cos_sin(par[I_P1], par[I_P2], q10, q20, phi1, al1, tmp, 1)
@@ -688,6 +751,10 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
     cx1 = A * math.cos(phi1) + cx2
     dxr = 0.0
     ein = -ag * (moment_x(par, phi1, al1) - moment_x(par, q10, q20)) + F * e
+    if gv != g:
+        # the vertical ground's d'Alembert force -m a_z on the rise of the first
+        # moment of the heights, sum m z = P1 (1 - cos phi) + P2 (1 - cos psi)
+        ein -= (gv - g) * rise(par, q10, q20, phi1, al1)
     # velocity jumps at t_n+1 (impulses at fixed position, each one's kinetic
     # energy change booked where it belongs): a coordinate that stuck (dq = 0)
     # or stopped at its rim ends at rest
@@ -749,6 +816,10 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
             rim += l1
         else:
             arr_o += l1
+        if at1 and par[I_REST] != 0.0:
+            rim -= restitute(par[I_REST], M, pn1 + dt * nu1, pn2, v11, v21, w)
+            dxr += cx1 * (w[0] - v11) + cx2 * (w[1] - v21)
+            v11, v21 = w[0], w[1]
     elif z2:
         va = (M[0] * v11 + M[1] * v21) / M[0]
         if rim2:
@@ -760,6 +831,10 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
             rim += l2
         else:
             arr_i += l2
+        if at2 and par[I_REST] != 0.0:
+            rim -= restitute(par[I_REST], M, pn1, pn2 + dt * nu2, v11, v21, w)
+            dxr += cx1 * (w[0] - v11) + cx2 * (w[1] - v21)
+            v11, v21 = w[0], w[1]
     if two:
         # phases 2 and 3: the phase-1 velocity field (every part along its
         # seated tangent at t_n, rates v1) re-seated at q(t_n+1), an
@@ -825,15 +900,21 @@ def substep(par, st, dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobound
 S_F, S_W, S_EIN, S_ERIM, S_PHASE, S_REG, S_SLIDE, S_SV, S_DW, S_N = 4, 5, 9, 10, 11, 12, 13, 17, 21, 25
 S_ERS, S_B1, S_B2, S_G1, S_G2, S_DP, S_DS, S_NPH = 29, 30, 31, 32, 33, 34, 35, 36   # two-phase
 S_J, S_NHIT = 37, 38   # the step's rim impulse on the superstructure (N s); rim impacts of S1..S4 so far
-N_S = 42
+S_AZ = 42              # the step's vertical ground acceleration (m/s2, up)
+N_S = 43
 PHASE_STICK, PHASE_INNER, PHASE_OUTER, PHASE_BOTH = 0, 3, 4, 5
 N_ROW = 40          # len(mechanics.tfp.COLUMNS)
 N_ROW_TWO = 8       # len(mechanics.tfp.TWO_PHASE_COLUMNS)
+N_ROW_VERT = 1      # len(mechanics.tfp.VERTICAL_COLUMNS)
 
 
 def n_row(par):
-    """Columns of a row: the seated model's, plus the two-phase model's own."""
-    return N_ROW + N_ROW_TWO if par[I_TWO] != 0.0 else N_ROW
+    """Columns of a row: the seated model's, plus the two-phase model's own,
+    plus the vertical ground motion's."""
+    n = N_ROW + N_ROW_TWO if par[I_TWO] != 0.0 else N_ROW
+    if par[I_VERT] != 0.0:
+        n += N_ROW_VERT
+    return n
 
 
 def pad_pivot(par, dal):
@@ -881,7 +962,13 @@ def rocking_start(par, phi, alpha, ag):
     particle at the opposite top corner, as in the DFP), 2 if the slider
     plates and the pad as one body would about a corner on S1, 0 if neither
     (the restoring moment of the weights holds)."""
-    g = par[I_G]
+    return rocking_in_field(par, phi, alpha, ag, par[I_G])
+
+
+def rocking_in_field(par, phi, alpha, ag, gv):
+    """``rocking_start`` in the vertical field gv = g + a_z: the weights'
+    restoring moments scale with gv, so the threshold does."""
+    g = gv
     m_above = par[I_MSUP] + par[I_MS_UP]
     psi = phi + alpha
     c, s = math.cos(psi), math.sin(psi)
@@ -912,7 +999,7 @@ def rocking_start(par, phi, alpha, ag):
     return 0
 
 
-def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, out):
+def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, out):
     """The paper's phases of the step just taken (two-phase model): the
     re-seating loss, the phase-1 pivots (pad: beta1, slider plates: gamma1)
     and the re-seating rotations of phases 2 and 3 (beta2 = dalpha - beta1,
@@ -937,12 +1024,15 @@ def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, out):
         S[S_NPH] = 2.0            # Fig. 6: one pivot, one re-seating
     else:
         S[S_NPH] = 0.0
-    if S[S_NPH] == 0.0 and v00 == 0.0 and v01 == 0.0 and rocking_start(par, ph0, al0, ag) != 0:
+    if S[S_NPH] == 0.0 and v00 == 0.0 and v01 == 0.0 and rocking_in_field(par, ph0, al0, ag, gv) != 0:
         S[S_NPH] = -1.0
 
 
-def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc):
-    """One step of the stepper on its state vector S (layout S_*): normal
+def advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc):
+    """One step of the stepper on its state vector S (layout S_*) under the
+    step's mean ground accelerations ag (horizontal) and az (vertical, up; 0
+    without a vertical record): every normal force, friction cap, rocking
+    check and the discrete gradient of the heights see gv = g + az. Normal
     forces at the start of the step (weights, the ground's d'Alembert force,
     centripetal terms, the machine's force; without the generalised
     accelerations, see docs/model.md 6.2), caps, ``step``, the friction work of
@@ -950,7 +1040,9 @@ def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp
     their caps), the force F, phase, regime, sliding flags and speeds.
     Returns the failure flag (FAIL_*)."""
     N = S[S_N:S_N + 4]
-    normal_forces(par, S[0], S[1], S[2], S[3], 0.0, 0.0, ag, S[S_F], N)
+    gv = par[I_G] + az
+    S[S_AZ] = az
+    normal_forces(par, S[0], S[1], S[2], S[3], 0.0, 0.0, ag, gv, S[S_F] if machine == 1 else 0.0, N)
     R1, R2, R3, R4 = par[I_R1], par[I_R2], par[I_R3], par[I_R4]
     a1 = mu1 * N[0] * R1
     a4 = mu4 * N[3] * R4
@@ -959,12 +1051,12 @@ def advance(par, S, dt, ag, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp
     c_o = a1 + a4
     c_i = a2 + a3
     ph0, al0, v00, v01 = S[0], S[1], S[2], S[3]
-    step(par, S[0:4], dt, ag, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc)
+    step(par, S[0:4], dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc)
     fail = int(out[O_FAIL])
     if fail == FAIL_CAPACITY:
         return fail
     if par[I_TWO] != 0.0:
-        two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, out)
+        two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, out)
         if fail == FAIL_NONE and S[S_NPH] < 0.0:
             return FAIL_ROCKING
     dphi = out[O_DPHI]
@@ -1080,3 +1172,5 @@ def row_values(par, S, t, xg, d1, d2, d3, d4, row):
         row[45] = S[S_DP]
         row[46] = S[S_DS]
         row[47] = S[S_NPH]
+    if par[I_VERT] != 0.0:
+        row[n_row(par) - 1] = S[S_AZ]

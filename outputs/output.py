@@ -195,13 +195,13 @@ def _f(x):
 
 
 def rim_summary(d: dict, st) -> dict:
-    """The DFP / SFP rim (docs/model.md 9): per surface its capacity, the
+    """The DFP / SFP / flat bearing's rims (docs/model.md 9, 7): per surface its capacity, the
     peak slide (arc from its centre), their ratio and the impacts counted on
     it; the rim's loss and the impacts' impulse (N s: an impact is an
     impulse, never a force); the largest ratio, for sweep tables."""
     dev = d["device"]
     sides = (("lower", "s1_m", "d1", "n_rim1"),) + ((("upper", "s2_m", "d2", "n_rim2"),)
-                                                      if dev["kind"] == "DFP" else ())
+                                                      if dev["kind"] in ("DFP", "flat") else ())
     cap = {}
     for side, col, key, n in sides:
         peak = st.peak_abs(col)
@@ -273,8 +273,16 @@ def summary(scene: Scene, result, sim) -> dict:
         s["test_machine"] = summary_block(meter, scene)
     if d["coupling"]["scheme"] == "iterated":
         s["coupling_iterations"] = {"total": int(result.iterations), "max_per_step": int(result.max_iterations)}
+    if "path1_m" in result:
+        s["wear"] = wear_summary(st, ("lower", "upper"))
     s.update(result.info)
     return s
+
+
+def wear_summary(st, surfaces) -> dict:
+    """Per surface the sliding path (m) and the Archard wear depth (m) at the end."""
+    return {name: {"path_m": _f(st.final(f"path{i}_m")), "depth_m": _f(st.final(f"wear{i}_m"))}
+            for i, name in enumerate(surfaces, 1)}
 
 
 def tfp_summary(scene: Scene, result, sim) -> dict:
@@ -316,6 +324,8 @@ def tfp_summary(scene: Scene, result, sim) -> dict:
         s[f"min_mu{i}"] = _f(st.low(f"mu{i}"))
     if d["coupling"]["scheme"] == "iterated":
         s["coupling_iterations"] = {"total": int(result.iterations), "max_per_step": int(result.max_iterations)}
+    if "path1_m" in result:
+        s["wear"] = wear_summary(st, ("S1", "S2", "S3", "S4"))
     s.update(result.info)
     return s
 

@@ -100,7 +100,30 @@ FRICTION_KEYS = {
                                          "a_s_per_m": ("float", _pos), "use_pressure": ("bool", None),
                                          "use_temperature": ("bool", None), "use_velocity": ("bool", None)}),
     "table": _law_keys("table", {"T_C": ("floats", None), "mu": ("floats", None)}),
+    "constantinou": _law_keys("constantinou", {"mu_slow": ("float", _mu), "mu_fast": ("float", _mu),
+                                               "a_s_per_m": ("float", _pos)}),
 }
+
+def _wear_table(x):
+    return None if all(v >= 0 for v in x) else "every entry must be >= 0"
+
+
+# keys of every law (per surface, as the law's own): the static coefficient, the wear
+# coefficient (constant, or a table in temperature) and a liner preset (mechanics.friction.LINERS)
+SURFACE_KEYS = {
+    "mu_static": ("float", None, _mu),
+    "static_ratio": ("float", None, _atleast(1)),
+    "wear_k_mm3_per_Nm": ("float", None, _nonneg),
+    "wear_T_C": ("floats", None, None),
+    "wear_k_T_mm3_per_Nm": ("floats", None, _wear_table),
+}
+
+
+def liner_names() -> list:
+    """The liner presets' names (mechanics.friction.LINERS)."""
+    from fpd.mechanics.friction import LINERS
+    return list(LINERS)
+
 
 def _plate_default(name):
     """Defaults of the [thermal] keys are PlateParams' (one source of truth)."""
@@ -142,6 +165,9 @@ LOADING_KEYS = {
                "file_y": ("str", None, None), "angle_deg": ("float", 0.0, None),
                # the vertical component (model.md 10), and the channels of a three-channel CSMIP V2 file
                "file_z": ("str", None, None), "channels": ("floats", None, None),
+               # or the vertical as a scaled copy of the horizontal (x) record, only when named
+               "vertical_scale": ("float", None, lambda x: None if x != 0 and math.isfinite(x)
+                                  else "must be a non-zero number (leave it out for no vertical motion)"),
                # FEMA P695 record sets (mechanics/p695.py; fpd sweep expands a set into its components)
                "record_set": (("p695-far-field", "p695-near-field-pulse", "p695-near-field-no-pulse"), None, None),
                "record_id": ("int", None, _atleast(1)), "component": (("a", "b", "pair"), None, None),
@@ -150,7 +176,7 @@ LOADING_KEYS = {
                "dt": ("float", None, _pos)},
     "harmonic": {"amplitude_m": ("float", REQUIRED, _pos), "frequency_Hz": ("float", REQUIRED, _pos),
                  "cycles": ("float", REQUIRED, _pos)},
-    "displacement": {"waveform": (("sine", "circle", "figure-eight"), "sine", None),
+    "displacement": {"waveform": (("sine", "circle", "figure-eight", "triangle"), "sine", None),
                      "amplitude_m": ("float", REQUIRED, _pos),
                      "frequency_Hz": ("float", REQUIRED, _pos), "cycles": ("float", REQUIRED, _pos),
                      "direction_deg": ("float", 0.0, None),
@@ -161,7 +187,10 @@ LOADING_KEYS = {
                      "vertical_amplitude_ratio": ("float", None, _pos),
                      "vertical_frequency_Hz": ("float", None, _pos),
                      "vertical_phase_deg": ("float", None, None),
-                     "vertical_file": ("str", None, None)},
+                     "vertical_file": ("str", None, None),
+                     # a compliant link between the machine and the plate (a spring; the plate's mass)
+                     "link_stiffness_N_per_m": ("float", None, _pos),
+                     "link_mass_kg": ("float", None, _pos)},
     "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
               "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
@@ -191,6 +220,8 @@ TABLES = {
         "d1": ("float", None, _pos),
         "d2": ("float", None, _pos),
         "rim_restitution": ("float", 0.0, _share),
+        # a rim of finite stiffness (DFP / SFP): a spring on the slide beyond the capacity (N/m)
+        "rim_stiffness_N_per_m": ("float", None, _pos),
         "d3": ("float", None, _pos),
         "d4": ("float", None, _pos),
         "slider_mass": ("float", None, _nonneg),
@@ -348,7 +379,10 @@ def _describe(spec) -> str:
 
 
 # -- the sections with structure -------------------------------------------------
-def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
+def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
+    """Per side the law and its keys, the surface keys and a liner preset's.
+    ``no_static``: the device (named) does not model breakaway: mu_static in the
+    scene is refused, a preset's is not used."""
     if given is None:
         ctx.missing("friction", "the scene needs a [friction] table (law and its keys)")
     if not isinstance(given, dict):
@@ -362,14 +396,26 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
         merged = dict(base)
         merged.update(over)
         where = f"friction.{side}" if over else "friction"
+        for key in ("mu_static", "static_ratio"):
+            if no_static is not None and key in merged:
+                ctx.fail(f"friction.{side}.{key}" if key in over else f"friction.{key}", merged[key],
+                         f"breakaway friction is modelled for the DFP and SFP only, not {no_static}")
+        if "liner" in merged:
+            merged = _liner(ctx, where, merged, base, over)
+            if no_static is not None:
+                merged.pop("mu_static", None)
         law = merged.get("law", "constant")
         if not isinstance(law, str) or law not in FRICTION_KEYS:
             ctx.fail(f"{where}.law", law, "must be one of " + ", ".join(f'"{k}"' for k in FRICTION_KEYS))
         schema = FRICTION_KEYS[law]
         if "law" in over and law != base.get("law", "constant"):
             # the side replaces the law: of the base table it takes only the keys its law has
+            # (and the surface's own: breakaway, wear, a preset's)
+            carried = {k: v for k, v in merged.items() if k in SURFACE_KEYS or k == "liner"}
             merged = {k: v for k, v in base.items() if k in schema}
+            merged.update(carried)
             merged.update(over)
+        surface = {k: merged.pop(k) for k in list(merged) if k in SURFACE_KEYS or k == "liner"}
         # a key of the base table that belongs to another law is an error
         # only if the override does not replace the law
         for key, value in merged.items():
@@ -378,7 +424,8 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
                 other = [n for n, s in FRICTION_KEYS.items() if key in s]
                 if other:
                     ctx.fail(f"{owner}.{key}", value, f'belongs to law "{other[0]}", not "{law}"')
-                ctx.unknown(f"{owner}.{key}", value, list(schema) + ["law"] + list(sides))
+                ctx.unknown(f"{owner}.{key}", value, list(schema) + ["law"] + list(SURFACE_KEYS) + ["liner"]
+                            + list(sides))
         res = _table(ctx, where, {k: v for k, v in merged.items() if k != "law"}, schema)
         if law == "table":
             T, mu = res["T_C"], res["mu"]
@@ -390,8 +437,53 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES) -> dict:
                 if not 0 <= m < 1:
                     ctx.fail(f"{where}.mu", mu, "every entry must be in [0, 1)")
         res["law"] = law
+        liner = surface.pop("liner", None)
+        res.update(_table(ctx, where, surface, SURFACE_KEYS))
+        _surface_checks(ctx, where, res)
+        if liner is not None:
+            res["liner"] = liner
         out[side] = res
     return out
+
+
+def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
+    """A liner preset (mechanics.friction.LINERS) under the keys the scene gives:
+    the preset's law and values, each overridable key by key (a law given in the
+    scene replaces the preset's law and its keys)."""
+    from fpd.mechanics.friction import LINERS
+
+    name = merged["liner"]
+    owner = where if "liner" in over else "friction"
+    if not isinstance(name, str) or name not in LINERS:
+        ctx.fail(f"{owner}.liner", name, "must be one of " + ", ".join(f'"{k}"' for k in LINERS))
+    preset = {k: v for k, v in LINERS[name]["values"].items()}
+    if "law" in merged and merged["law"] != preset["law"]:
+        preset = {k: v for k, v in preset.items() if k in SURFACE_KEYS}
+    preset.update(merged)
+    return preset
+
+
+def _surface_checks(ctx: _Ctx, where: str, res: dict) -> None:
+    """The static coefficient against the sliding law at rest; the wear table's shape."""
+    from fpd.mechanics.friction import make_law
+
+    if "mu_static" in res:
+        law = make_law(res)
+        p_ref = res.get("p_ref_MPa", 0.0) * 1e6 if res["law"] == "kumar2015" else 0.0
+        mu0 = law(20.0, p_ref, 0.0)
+        if res["mu_static"] < mu0:
+            ctx.fail(f"{where}.mu_static", res["mu_static"],
+                     f"must be >= the sliding mu ({mu0:.6g} at rest and 20 degC)")
+    T, k = res.get("wear_T_C"), res.get("wear_k_T_mm3_per_Nm")
+    if (T is None) != (k is None):
+        given = "wear_T_C" if T is not None else "wear_k_T_mm3_per_Nm"
+        ctx.fail(f"{where}.{given}", T if T is not None else k,
+                 "needs its partner (wear_T_C and wear_k_T_mm3_per_Nm together)")
+    if T is not None:
+        if len(T) < 1 or len(T) != len(k):
+            ctx.fail(f"{where}.wear_k_T_mm3_per_Nm", k, f"must have as many entries as wear_T_C ({len(T)}), >= 1")
+        if any(b <= a for a, b in zip(T, T[1:])):
+            ctx.fail(f"{where}.wear_T_C", T, "must increase strictly")
 
 
 def _thermal(ctx: _Ctx, given, sides=TWO_SIDES, part_defaults=None) -> dict:
@@ -480,6 +572,10 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
                 ctx.fail("loading.file_z", res["file_z"], "must not be given when the record's channels include its "
                          "vertical one (leave it out of loading.channels to take file_z)")
             res["path_z"] = _record_path(ctx, "loading.file_z", res["file_z"], scene_dir)
+        if "vertical_scale" in res and "path_z" in res:
+            what = "loading.file_z" if "file_z" in res else "the record's vertical channel (loading.channels)"
+            ctx.fail("loading.vertical_scale", res["vertical_scale"], f"must not be given with {what}: one "
+                     "vertical component (a record, or a scaled copy of the horizontal one)")
         if res["angle_deg"] != 0.0 and "path_y" not in res:
             res["path_y"] = None          # one component turned in the plane: bidirectional too
     if kind == "displacement" and "vertical_file" in res:
@@ -550,7 +646,7 @@ def is_bidirectional(data: dict) -> bool:
     if ld["kind"] == "record":
         return "path_y" in ld
     if ld["kind"] == "displacement":
-        return ld["waveform"] != "sine" or ld["direction_deg"] != 0.0
+        return ld["waveform"] not in ("sine", "triangle") or ld["direction_deg"] != 0.0
     return False
 
 
@@ -621,7 +717,7 @@ def _validate(raw: dict, path: str) -> Scene:
     dev = data["device"]
     if dev["kind"] == "TFP":
         tfp_device(ctx, data, raw)
-        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES)
+        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES, no_static="the TFP")
         data["thermal"] = _thermal(ctx, raw.get("thermal"), TFP_PARTS, {
             "slider_lower": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_lower"]},
             "slider_upper": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_upper"]}})
@@ -630,10 +726,6 @@ def _validate(raw: dict, path: str) -> Scene:
     for key in TFP_DEVICE_KEYS:
         if key in dev:
             ctx.fail(f"device.{key}", dev[key], f'is a key of kind = "TFP" only (this device is "{dev["kind"]}")')
-    if dev["kind"] == "flat":
-        for key in ("d1", "d2"):
-            if key in dev:
-                ctx.fail(f"device.{key}", dev[key], 'is a capacity of a concave surface: the flat bearing has none')
     if dev["kind"] == "SFP" and "d2" in dev:
         ctx.fail("device.d2", dev["d2"], "the SFP has one sliding surface: give its capacity as d1")
     if "R1" not in dev and dev["kind"] != "flat":
@@ -653,7 +745,8 @@ def _validate(raw: dict, path: str) -> Scene:
     if heat_only and raw.get("friction") is None:
         data["friction"] = _friction(ctx, {"law": "constant", "mu": 0.0})
     else:
-        data["friction"] = _friction(ctx, raw.get("friction"))
+        data["friction"] = _friction(ctx, raw.get("friction"),
+                                     no_static="the flat bearing" if dev["kind"] == "flat" else None)
     data["thermal"] = _thermal(ctx, raw.get("thermal"))
     if dev["kind"] == "flat":
         flat_cross_checks(ctx, data)
@@ -690,6 +783,20 @@ def _cross_checks(ctx: _Ctx, data: dict):
     if ld["kind"] == "displacement":
         if ld["amplitude_m"] >= geom.L:
             ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"must be < L = {geom.L:.4g} m")
+        if ld["waveform"] == "triangle" and ld["direction_deg"] != 0.0:
+            ctx.fail("loading.direction_deg", ld["direction_deg"], 'must be 0 with waveform = "triangle" (a planar '
+                     "programme)")
+        link = [k for k in ("link_stiffness_N_per_m", "link_mass_kg") if k in ld]
+        if len(link) == 1:
+            other = "link_mass_kg" if link[0] == "link_stiffness_N_per_m" else "link_stiffness_N_per_m"
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], f"needs loading.{other} too (the compliant link: a spring "
+                     "and the plate's mass)")
+        if link and (ld["waveform"] not in ("sine", "triangle") or ld["direction_deg"] != 0.0):
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link drives the planar machine only '
+                     '(waveform "sine" or "triangle", direction_deg = 0)')
+        if link and ld.get("vertical") not in (None, "constant"):
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link needs the vertical load held '
+                     '(loading.vertical = "constant")')
         if data["mechanics"]["model"] == "two-phase":
             # the test machine holds the superstructure: the seated model describes it
             data["mechanics"]["model"] = "seated"
@@ -735,6 +842,14 @@ def _capacities(ctx: _Ctx, data: dict, geom) -> None:
             ctx.fail(f"device.{key}", dev[key], f"the footprint (radius {a:g} m) would pass the plate's edge: at most "
                      f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
     ld = data["loading"]
+    k = dev.get("rim_stiffness_N_per_m")
+    if k is not None:
+        if dev["rim_restitution"] != 0.0:
+            ctx.fail("device.rim_restitution", dev["rim_restitution"], "is a key of the rigid rim: a rim of finite "
+                     "stiffness (device.rim_stiffness_N_per_m) is elastic (leave rim_restitution out)")
+        if ld["kind"] == "displacement":
+            ctx.fail("device.rim_stiffness_N_per_m", k, "is for a ground motion: the test machine's programme "
+                     "stays within the capacity")
     if ld["kind"] == "displacement":
         arcs = [(key, dev[key] / (geom.R1 if key == "d1" else geom.R2)) for key, _ in keys]
         key, theta = min(arcs, key=lambda x: x[1])
@@ -812,14 +927,13 @@ def _bidirectional_checks(ctx: _Ctx, data: dict) -> None:
     if ld["kind"] == "displacement":
         # the planar machine holds the vertical load by default; the orbit machine
         # (mechanics/bidirectional.py) carries the superstructure as a riding mass
+        # (its default; an axial-load programme "sine" or "series" holds the load in force control)
         if not two_d:
             ld.setdefault("vertical", "constant")
-        elif ld.get("vertical") in AXIAL_KEYS:
-            ctx.fail("loading.vertical", ld["vertical"], "not yet for an orbit: the axial-load programme is the "
-                     "planar test machine's (a sine with direction_deg = 0)")
-        elif ld.setdefault("vertical", "riding-mass") != "riding-mass":
-            ctx.fail("loading.vertical", ld["vertical"], 'must be "riding-mass" (or left out) for an orbit: the '
-                     "bidirectional test machine carries the superstructure as a riding mass in this version")
+        elif ld.setdefault("vertical", "riding-mass") not in ("riding-mass", *AXIAL_KEYS):
+            ctx.fail("loading.vertical", ld["vertical"], 'must be "riding-mass" (or left out), "sine" or "series" '
+                     "for an orbit: the bidirectional test machine carries the superstructure as a riding mass "
+                     "unless an axial-load programme holds it")
         _axial_checks(ctx, ld, data)
     if not two_d:
         return
@@ -1141,7 +1255,7 @@ def tfp_geometry(data):
     return TFPGeometry(d["R1"], d["R2"], d["R3"], d["R4"], d["pad_height"], d["pad_diameter"],
                        d["slider_height_lower"], d["slider_height_upper"], d["slider_diameter"],
                        d["d1"], d["d2"], d["d3"], d["d4"], d["pad_mass"], d["slider_mass"],
-                       data["superstructure"]["mass"])
+                       data["superstructure"]["mass"], rim_restitution=d["rim_restitution"])
 
 
 def tfp_device(ctx, data, raw) -> None:
@@ -1175,15 +1289,21 @@ def planar_only(ctx, data, device: str) -> None:
     ld, mech = data["loading"], data["mechanics"]
     why = f"the {device} is planar in this version (bidirectional motion: a DFP or an SFP)"
     if ld["kind"] == "record":
-        # the vertical ground motion (model.md 10): the DFP and the SFP only
+        # the vertical ground motion (model.md 10): the DFP, the SFP, the TFP and the flat bearing
+        vertical = device in ("TFP", "flat bearing")
         vwhy = (f"not yet for this device: the {device}'s stepper has no vertical ground motion "
-                "(a DFP or an SFP takes it)")
-        if ld.get("file_z") is not None:
+                "(a DFP, an SFP, a TFP or the flat bearing takes it)")
+        if ld.get("file_z") is not None and not vertical:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
-        if ld.get("channels") is not None and (ld["channels"][1] or ld["channels"][2]):
+        if ld.get("vertical_scale") is not None and device != "flat bearing":
+            ctx.fail("loading.vertical_scale", ld["vertical_scale"], f"not yet for the {device}: give its "
+                     "vertical record as loading.file_z (a DFP, an SFP or the flat bearing takes vertical_scale)")
+        if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not vertical)):
             ch = [c for c in ld["channels"] if c]
-            what = vwhy if ld["channels"][2] else why
-            ctx.fail("loading.channels", ch, f"must name one horizontal channel ([{ch[0]}]): {what}")
+            what = vwhy if ld["channels"][2] and not vertical else why
+            one = f"[{ch[0]}]" + (f" or [{ch[0]}, {ld['channels'][2]}] with the vertical one" if vertical
+                                  and ld["channels"][2] else "")
+            ctx.fail("loading.channels", ch, f"must name one horizontal channel ({one}): {what}")
         if ld.get("file_y") is not None:
             ctx.fail("loading.file_y", ld["file_y"], f"is not allowed: {why}")
         if ld.get("component") == "pair":
@@ -1192,7 +1312,13 @@ def planar_only(ctx, data, device: str) -> None:
             ctx.fail("loading.record", ld["record"], f"must be a single-component record: {why}")
         if ld.get("angle_deg", 0.0) != 0.0:
             ctx.fail("loading.angle_deg", ld["angle_deg"], f"must be 0: {why}")
-    if ld["kind"] == "displacement":
+    if ld["kind"] == "displacement" and device == "flat bearing":
+        # the flat bearing's machine holds the vertical load in force control: M g or a programme
+        if ld.get("vertical") not in (None, "constant", "sine", "series"):
+            ctx.fail("loading.vertical", ld["vertical"], 'must be "constant", "sine" or "series" for the flat '
+                     "bearing (its machine holds the vertical load in force control; nothing rides up or down)")
+        _axial_checks(ctx, ld, data)
+    elif ld["kind"] == "displacement":
         if ld.get("vertical") is not None:
             ctx.fail("loading.vertical", ld["vertical"], f"is a key of the DFP / SFP test machine; the {device}'s "
                      "machine passes the superstructure's weight and inertia down the stack (leave it out)")
@@ -1200,9 +1326,13 @@ def planar_only(ctx, data, device: str) -> None:
                     "vertical_phase_deg", "vertical_file"):
             if key in ld:
                 ctx.fail(f"loading.{key}", ld[key], f"not yet for this device: the axial-load programme is the "
-                         f"DFP / SFP test machine's (the {device}'s machine holds the weight)")
+                         f"DFP / SFP / flat bearing test machine's (the {device}'s machine holds the weight)")
+    if ld["kind"] == "displacement":
         if ld.get("waveform", "sine") != "sine":
             ctx.fail("loading.waveform", ld["waveform"], f'must be "sine": {why}')
+        for key in ("link_stiffness_N_per_m", "link_mass_kg"):
+            if key in ld:
+                ctx.fail(f"loading.{key}", ld[key], f"the compliant link is the DFP / SFP test machine's: {why}")
         if ld.get("direction_deg", 0.0) != 0.0:
             ctx.fail("loading.direction_deg", ld["direction_deg"], f"must be 0: {why}")
     if mech.get("normal_force") not in (None, "start"):
@@ -1214,6 +1344,7 @@ def tfp_cross_checks(ctx, data) -> None:
         tfp3d_checks(ctx, data)
     else:
         planar_only(ctx, data, "TFP")
+    rigid_rim_only(ctx, data, "TFP")
     from fpd.mechanics.tfp import tfp_geometry_errors
 
     geom = tfp_geometry(data)
@@ -1298,13 +1429,49 @@ def flat_device(ctx, data, raw) -> None:
         ctx.fail("loading.kind", "heat", 'a thermal-only scene ignores the device: use kind = "DFP" for it')
 
 
+def _flat_capacities(ctx, data) -> None:
+    """The flat bearing's d1 (the pad's slip on the lower plate) and d2 (on
+    the upper plate), docs/model.md 7: by default what the plate allows
+    (plate_radius - a), a given one no larger; the test machine's amplitude
+    within both (the weaker face carries u, so the machine stops short of
+    either rim)."""
+    dev, a = data["device"], data["device"]["pad_diameter"] / 2
+    for key, side in (("d1", "lower"), ("d2", "upper")):
+        room = data["thermal"][side]["plate_radius"] - a
+        if key not in dev:
+            if room <= 0.0:
+                ctx.fail(f"thermal.{side}.plate_radius", data["thermal"][side]["plate_radius"],
+                         f"must exceed the pad radius {a:g} m (the footprint needs room to slide: device.{key})")
+            dev[key] = room
+        elif dev[key] > room * (1 + 1e-12):
+            ctx.fail(f"device.{key}", dev[key], f"the footprint (radius {a:g} m) would pass the plate's edge: at most "
+                     f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
+    ld = data["loading"]
+    if ld["kind"] == "displacement" and "d1" in dev and "d2" in dev:
+        key = "d1" if dev["d1"] <= dev["d2"] else "d2"
+        if ld["amplitude_m"] > dev[key] * (1 + 1e-12):
+            ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"drives the flat bearing past its capacity: device.{key} "
+                     f"= {dev[key]:.4g} m (the machine's amplitude must stay within d1 and d2)")
+
+
+def rigid_rim_only(ctx, data, device: str) -> None:
+    """A rim of finite stiffness is the DFP's and the SFP's (bidirectional_kernel)."""
+    k = data["device"].get("rim_stiffness_N_per_m")
+    if k is not None:
+        what = f"the {device}'s rims are rigid"
+        ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: {what} "
+                 "(a DFP or an SFP takes a finite rim stiffness)")
+
+
 def flat_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "flat bearing")
+    rigid_rim_only(ctx, data, "flat bearing")
 
     ld, sol, dev = data["loading"], data["solver"], data["device"]
     if data["output"]["vtk_every"] > 0:
         ctx.fail("output.vtk_every", data["output"]["vtk_every"], "must be 0 for the flat bearing (no VTK yet)")
     check_time_grid(ctx, ld, sol)
+    _flat_capacities(ctx, data)
     for side, t in data["thermal"].items():
         if t["model"] != "none" and dev["pad_diameter"] / 2 > t["plate_radius"]:
             ctx.fail("thermal.plate_radius", t["plate_radius"], f"must be >= the pad radius {dev['pad_diameter'] / 2:g} m")

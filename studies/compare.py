@@ -89,7 +89,86 @@ def lumped_validity(scene) -> dict:
             "area_ratio": (R / a) ** 2, "biot": t["h_conv"] * H / t["k"]}
 
 
+def liner_cases(scene_arg, fast=False, log=lambda s: None) -> list[Case]:
+    """The scene once per liner preset (mechanics.friction.LINERS): its
+    [friction] table replaced by the preset on every surface."""
+    from fpd.mechanics.friction import LINERS
+
+    base = scn.load(scene_arg)
+    extra = []
+    if fast:
+        length = base["solver"].get("duration") or scn.loading_length(base["loading"])
+        dur = FAST_COMPARE["duration"] if length is None else min(FAST_COMPARE["duration"], length)
+        extra = [f"solver.duration={dur!r}"]
+    cases = []
+    for liner in LINERS:
+        c = run_case(scene_arg, extra + [f'friction={{liner="{liner}"}}'], liner)
+        log(f"compare --liners: {liner}: {c.m['status']}, {c.runtime_s:.2f} s")
+        cases.append(c)
+    return cases
+
+
+def liner_rows(cases) -> list[dict]:
+    """Per preset: peak displacement, peak temperature (hottest surface), friction
+    work, residual displacement, and per surface the wear depth (NaN without)."""
+    rows = []
+    for c in cases:
+        r = c.result
+        has = r is not None and r.n_rows > 0
+        row = {"liner": c.label, "status": c.m["status"], "peak_u_m": c.m["peak_u_m"],
+               "friction_work_J": c.m["friction_work_J"], "residual_u_m": c.m["residual_u_m"]}
+        temps = [float(np.max(r[f"T{i}_C"])) for i in range(1, 5) if has and f"T{i}_C" in r]
+        row["peak_T_C"] = max(temps) if temps else float("nan")
+        for i in range(1, 5):
+            if has and f"wear{i}_m" in r:
+                row[f"wear{i}_m"] = float(r[f"wear{i}_m"][-1])
+        wears = [v for k, v in row.items() if k.startswith("wear")]
+        row["max_wear_m"] = max(wears) if wears else float("nan")
+        rows.append(row)
+    return rows
+
+
+def cmd_compare_liners(args) -> int:
+    name = _scene_name(args.scene)
+    out = out_dir(args, f"compare-liners-{name}")
+    cases = liner_cases(args.scene, args.fast, lambda s: _say(args, s))
+    folder = ResultsFolder(out)
+    try:
+        rows = liner_rows(cases)
+        n_wear = max((sum(1 for k in r if k.startswith("wear")) for r in rows), default=0)
+        cols = ["liner", "status", "peak_u_m", "peak_T_C", "friction_work_J", "residual_u_m", "max_wear_m"]
+        cols += [f"wear{i}_m" for i in range(1, n_wear + 1)]
+        write_rows(folder.path("liners.csv"), [{k: r.get(k, float("nan")) for k in cols} for r in rows], cols)
+        head = ["liner", "status", "peak u (mm)", "peak T (C)", "friction work (kJ)", "residual u (mm)",
+                "max wear (um)"]
+        table = [[r["liner"], r["status"], fmt(1e3 * r["peak_u_m"]), fmt(r["peak_T_C"]),
+                  fmt(1e-3 * r["friction_work_J"]), fmt(1e3 * r["residual_u_m"]), fmt(1e6 * r["max_wear_m"])]
+                 for r in rows]
+        text = (f"# Liner presets on {name}\n\n"
+                "The scene once per preset of docs/liners.md (its [friction] replaced by the preset on every "
+                "surface). Wear: the deepest surface's Archard depth; empty where the preset has no wear "
+                "coefficient. Presets marked as placeholders there are not measured values.\n\n"
+                + md_table(head, table))
+        folder.path("liners.md").write_text(text)
+        folder.path("summary.json").write_text(json.dumps(
+            {"study": "compare-liners", "scene": name, "fast": bool(args.fast), "rows": rows},
+            indent=2, default=_json) + "\n")
+    except BaseException:
+        folder.discard()
+        raise
+    folder.commit()
+    if not args.quiet:
+        print(f"compare --liners {name}: {len(cases)} presets; results in {out}/")
+        for r in rows:
+            print(f"  {r['liner']:16s} peak u {1e3 * r['peak_u_m']:8.2f} mm  peak T {r['peak_T_C']:7.2f} C  "
+                  f"work {1e-3 * r['friction_work_J']:9.2f} kJ  residual {1e3 * r['residual_u_m']:7.2f} mm  "
+                  f"wear {1e6 * r['max_wear_m']:.4g} um")
+    return EXIT_OK if all(c.ok for c in cases) else EXIT_FAILED
+
+
 def cmd_compare(args) -> int:
+    if getattr(args, "liners", False):
+        return cmd_compare_liners(args)
     name = _scene_name(args.scene)
     out = out_dir(args, f"compare-{name}")
     log = (lambda s: _say(args, s))

@@ -221,6 +221,27 @@ def _combinations(sw: Sweep):
         yield dict(zip(keys, values))
 
 
+# the keys that pair a member with a vertical ground motion (docs/sweeps.md "Vertical ground motion")
+VERTICAL_KEYS = ("loading.file_z", "loading.vertical_scale")
+
+
+def _no_silent_vertical(sw: Sweep, base: dict, over: dict, combo: dict) -> None:
+    """A member whose record the sweep changes keeps the base scene's vertical
+    only where the sweep names it: a base scene's loading.file_z (or a V2
+    record's vertical channel) would otherwise be paired silently with every
+    member's horizontal record. (loading.vertical_scale is relative to each
+    member's own record: it stays.)"""
+    ld = base.get("loading") if isinstance(base.get("loading"), dict) else {}
+    moved = [k for k in over if k in ("loading.record", "loading.file", "loading.record_set", "loading.record_id")]
+    if not moved or any(k in over for k in VERTICAL_KEYS):
+        return
+    if ld.get("file_z") is not None:
+        raise SceneError(f"{sw.path}: {_axes_text(combo)}: {moved[0]} changes the record but the base "
+                         f"scene's loading.file_z = {ld['file_z']!r} would be paired with it silently: name the "
+                         'vertical per member ("loading.file_z" as an axis, zip mode) or leave it out '
+                         '("loading.vertical_scale" pairs each record with a scaled copy of itself)')
+
+
 def expand(sw: Sweep, max_members: int = MAX_MEMBERS) -> list[Member]:
     """Every member, its scene validated (a bad value is an input error before anything runs)."""
     base = scn.read_toml(sw.scene_path)
@@ -232,6 +253,7 @@ def expand(sw: Sweep, max_members: int = MAX_MEMBERS) -> list[Member]:
         over = dict(MEMBER_DEFAULTS)
         over.update(sw.fixed)
         over.update(combo)
+        _no_silent_vertical(sw, base, over, combo)
         try:
             raw = scn.apply_overrides(base, [_override(k, v) for k, v in over.items()])
         except SceneError as exc:

@@ -145,8 +145,9 @@ BAD = [
     (['loading.vertical="series"', 'loading.vertical_file="back.txt"'], "must increase"),
     (['loading.vertical="series"', 'loading.vertical_file="words.txt"'], "is not two numbers"),
     (['loading.vertical="series"', 'loading.vertical_file="none.txt"'], "file not found"),
-    (['loading.vertical="sine"', "loading.vertical_amplitude_ratio=0.2", "loading.vertical_frequency_Hz=1",
-      'loading.waveform="circle"'], "not yet for an orbit"),
+    (['loading.vertical="sine"', "loading.vertical_amplitude_ratio=1.2", "loading.vertical_frequency_Hz=1",
+      'loading.waveform="circle"'], "must be below the mean load"),
+    (['loading.vertical="constant"', 'loading.waveform="circle"'], 'must be "riding-mass" (or left out)'),
 ]
 
 

@@ -34,6 +34,7 @@ model = "none"
 """
 
 PULSE = Path(__file__).resolve().parent / "data" / "pulse_z.txt"   # -1.5 g from 1.001 to 1.2 s
+V2 = Path(__file__).resolve().parents[1] / "scenes" / "records" / "FERNDALE2022_CE89486.v2"
 
 
 def _compiled():
@@ -116,10 +117,20 @@ def test_planar_columns_are_signed():
     # a vertical pulse below -g: lift-off, flight and landing
     ("ferndale-3c", ["solver.duration=3", "loading.channels=[1, 2]", "loading.baseline=false",
                      f'loading.file_z="{PULSE}"']),
+    # the TFP's rims with a restitution (six arrivals on S2 / S3)
+    ("tfp-elcentro", ["solver.duration=12", "loading.scale=4", "device.rim_restitution=0.5",
+                      "thermal.model=lumped", "mechanics.model=seated"]),
+    # a rim of finite stiffness
+    ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9"]),
+    ("impvall-bidirectional", ["solver.duration=8", "device.d1=0.04", "device.d2=0.04",
+                               "device.rim_stiffness_N_per_m=1e9"]),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
     # the TFP in both directions: a record pair, fe1d on the four parts along 2D footprint paths
     ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=6",
                       "solver.dt=2e-3"]),
+    # the TFP under a vertical record (Ferndale's vertical channel x 3 at El Centro's first 35 s)
+    ("tfp-elcentro", ["solver.duration=35", "thermal.model=lumped", "mechanics.model=two-phase",
+                      f'loading.file_z="{V2}"', "loading.scale=3"]),
     ("flat-lab", []),
     ("flat-lab", ["thermal.model=lumped"]),
     ("lab-sine", []),
@@ -133,6 +144,17 @@ def test_planar_columns_are_signed():
                   "loading.vertical_frequency_Hz=0.8", "loading.vertical_phase_deg=30"]),
     ("lab-sine", ['loading.vertical="series"', 'loading.vertical_file="axial.txt"', "loading.cycles=2.9",
                   "solver.duration=8", "thermal.model=lumped"]),
+    # tribology: breakaway and wear (a table in T) under a record, on the machine, and the
+    # machine's compliant link (stick-slip); wear on the flat bearing and the TFP
+    ("default", ["solver.duration=4", "friction.mu_static=0.07", "friction.static_ratio=1.5",
+                 "friction.wear_T_C=[0.0, 200.0]",
+                 "friction.wear_k_T_mm3_per_Nm=[1e-6, 4e-6]"]),
+    ("lab-sine", ["friction.mu_static=0.09", "friction.wear_k_mm3_per_Nm=2e-6", "thermal.model=lumped"]),
+    ("lab-sine", ["friction.mu_static=0.09", 'loading.waveform="triangle"', "loading.link_stiffness_N_per_m=5e7",
+                  "loading.link_mass_kg=3000", "loading.amplitude_m=0.02", "solver.duration=2",
+                  "thermal.model=lumped"]),
+    ("flat-lab", ["friction.wear_k_mm3_per_Nm=2e-6"]),
+    ("tfp-elcentro", ["solver.duration=3", "friction.wear_k_mm3_per_Nm=2e-6"]),
 ])
 def test_compiled_engine_equals_the_pure_path_bit_for_bit(monkeypatch, tmp_path, scene, over):
     """The compiled engine (numba) and the pure path (FPD_NO_JIT: the Python

@@ -140,6 +140,11 @@ def test_every_column_and_summary_field_is_in_the_reference(tmp_path, monkeypatc
     # and the test machine's per-cycle block (one whole cycle: 4 Hz), fe3d's material point
     runs = [(name, {"solver": {"duration": 0.2}}) for name in ("impvall-bidirectional", "ferndale-3c", "tfp-lab",
                                                                "flat-lab")]
+    # a vertical ground motion as a scaled copy of the horizontal record (loading.vertical_scale)
+    runs.insert(0, ("default", {"solver": {"duration": 0.2}, "loading": {"vertical_scale": 0.5}}))
+    # the wear columns and summary block
+    runs.append(("lab-sine", {"solver": {"duration": 0.1}, "thermal": {"model": "lumped"},
+                              "friction": {"wear_k_mm3_per_Nm": 1e-6}}))
     runs.append(("lab-sine", {"solver": {"duration": 0.3}, "loading": {"frequency_Hz": 4.0, "cycles": 1.0}}))
     # the test machine's axial-load programmes: a sine, a (t, N) series
     series = tmp_path / "axial.txt"

@@ -17,7 +17,6 @@ import pytest
 
 from fpd import kernels
 from fpd.mechanics import tfp3d_kernel as K
-from fpd.mechanics import tfp_kernel as tk
 from fpd.mechanics.ground_motion import GroundMotion, pulse_ground_motion
 from fpd.mechanics.tfp import TFPStepper
 from fpd.mechanics.tfp3d import TFP3DStepper
@@ -45,14 +44,10 @@ def run3d(g, gx, gy=None, mus=MUS, kernel="auto"):
 
 
 def run_planar(g, gm, mus=MUS):
-    """The planar TFP under a ground motion, with the normal forces of
-    docs/model.md 6.2 (weight, the ground's d'Alembert force, centripetal
-    terms; the machine's force only on the test machine): the force column of
-    the previous step is not fed to them."""
+    """The planar TFP under a ground motion."""
     s = TFPStepper(g, gm)
     rows = [s.values()]
     for _ in range(gm.n_steps):
-        s.S[tk.S_F] = 0.0
         s.step(*mus)
         rows.append(s.values())
     d = np.array(rows)

@@ -86,9 +86,23 @@ def test_channels_choose_the_components_and_default_to_all_three():
 def test_file_z_is_refused_where_it_cannot_be_taken(tmp_path):
     z = tmp_path / "z.txt"
     z.write_text("# [g]\n0 0.0\n0.01 0.1\n0.02 0.0\n")
-    with pytest.raises(scn.SceneError, match=r"loading.file_z.*not yet for this device.*TFP"):
-        scn.load("tfp-elcentro", [f'loading.file_z="{z}"'])
-    with pytest.raises(scn.SceneError, match=r"loading.channels.*not yet for this device"):
+    flat = tmp_path / "flat.toml"
+    flat.write_text('name = "flat-record"\n[device]\nkind = "flat"\npad_height = 0.10\npad_diameter = 0.08\n'
+                    '[superstructure]\nmass = 1.0e4\n[friction.lower]\nlaw = "constant"\nmu = 0.5\n'
+                    '[friction.upper]\nlaw = "constant"\nmu = 0.5\n[loading]\nkind = "record"\n'
+                    'record = "northridge-1994"\n[thermal]\nmodel = "none"\n')
+    # the flat bearing takes the vertical component (tests/test_flat_vertical.py), not a second horizontal one
+    assert scn.load(str(flat), [f'loading.file_z="{z}"'])["loading"]["path_z"]
+    assert scn.load(str(flat), ['loading.record="ferndale-2022"', "loading.channels=[1, 3]"])["loading"]["path_z"]
+    with pytest.raises(scn.SceneError, match=r"loading.channels.*planar"):
+        scn.load(str(flat), ['loading.record="ferndale-2022"'])
+    # a vertical as a factor of the horizontal record: not yet on the TFP
+    with pytest.raises(scn.SceneError, match=r"loading.vertical_scale.*not yet for the TFP"):
+        scn.load("tfp-elcentro", ["loading.vertical_scale=0.5"])
+    # the TFP takes the vertical component (tests/test_tfp_vertical.py), not a second horizontal one
+    assert scn.load("tfp-elcentro", [f'loading.file_z="{z}"'])["loading"]["path_z"]
+    assert scn.load("tfp-elcentro", ['loading.record="ferndale-2022"', "loading.channels=[1, 3]"])["loading"]["path_z"]
+    with pytest.raises(scn.SceneError, match=r"loading.channels.*\(\[1\] or \[1, 3\] with the vertical one\).*planar"):
         scn.load("tfp-elcentro", ['loading.record="ferndale-2022"'])
     with pytest.raises(scn.SceneError, match=r"loading.file_z.*vertical one"):
         scn.load("ferndale-3c", [f'loading.file_z="{z}"'])
