@@ -1288,6 +1288,8 @@ def planar_only(ctx, data, device: str) -> None:
 
     ld, mech = data["loading"], data["mechanics"]
     why = f"the {device} is planar in this version (bidirectional motion: a DFP or an SFP)"
+    if device == "TFP":         # its pairs and orbits run in both directions (tfp3d_checks)
+        why = "not for the TFP (its planar runs; its test machine drives a sine, a circle or a figure-eight)"
     if ld["kind"] == "record":
         # the vertical ground motion (model.md 10): the DFP, the SFP, the TFP and the flat bearing
         vertical = device in ("TFP", "flat bearing")
@@ -1380,6 +1382,13 @@ def tfp3d_checks(ctx, data) -> None:
     ld, mech = data["loading"], data["mechanics"]
     if ld["kind"] == "displacement":
         # the orbit machine: the superstructure held, the lower plate driven by -u(t)
+        if ld.get("waveform") not in ("sine", "circle", "figure-eight"):
+            ctx.fail("loading.waveform", ld.get("waveform"), 'must be "sine", "circle" or "figure-eight" for the '
+                     "TFP in both directions (the triangle is the planar DFP / SFP machine's)")
+        for key in ("link_stiffness_N_per_m", "link_mass_kg"):
+            if key in ld:
+                ctx.fail(f"loading.{key}", ld[key], "the compliant link is the planar DFP / SFP test machine's "
+                         "(not the TFP's)")
         if ld.get("vertical") is not None:
             ctx.fail("loading.vertical", ld["vertical"], "is a key of the DFP / SFP test machine; the TFP's "
                      "machine passes the superstructure's weight and inertia down the stack (leave it out)")
@@ -1398,6 +1407,9 @@ def tfp3d_checks(ctx, data) -> None:
     if ld.get("file_z") is not None:
         ctx.fail("loading.file_z", ld["file_z"], "not yet for the TFP in both directions: "
                  "its stepper takes the vertical acceleration, the loading does not pass it yet")
+    if ld.get("vertical_scale") is not None:
+        ctx.fail("loading.vertical_scale", ld["vertical_scale"], "not yet for the TFP in both directions "
+                 "(no vertical ground motion)")
     if ld.get("channels") is not None and ld["channels"][2]:
         ctx.fail("loading.channels", [c for c in ld["channels"] if c], "must not name a vertical channel: "
                  "not yet for the TFP in both directions (no vertical ground motion)")
