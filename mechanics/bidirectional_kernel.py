@@ -639,6 +639,8 @@ def _event_substep(C, S, ax, ay, gv, h, rem, h_min, mu1, mu2):
     fn = fx * nx + fy * ny + fz * nz
     tx, ty, tz = fx - fn * nx, fy - fn * ny, fz - fn * nz
     acc = (cap + math.sqrt(tx * tx + ty * ty + tz * tz)) / C[C_I]
+    if acc <= 0.0:          # nothing turns the velocity (no friction, no tangential force): no event
+        return rem
     tau = w / acc
     if tau >= SUBSTEP_TAU:
         return rem

@@ -97,7 +97,7 @@ def test_file_z_is_refused_where_it_cannot_be_taken(tmp_path):
     with pytest.raises(scn.SceneError, match=r"loading.channels.*planar"):
         scn.load(str(flat), ['loading.record="ferndale-2022"'])
     # a vertical as a factor of the horizontal record: not yet on the TFP
-    with pytest.raises(scn.SceneError, match=r"loading.vertical_scale.*not yet for the TFP"):
+    with pytest.raises(scn.SceneError, match=r"loading.vertical_scale.*not yet for this device: the TFP"):
         scn.load("tfp-elcentro", ["loading.vertical_scale=0.5"])
     # the TFP takes the vertical component (tests/test_tfp_vertical.py), not a second horizontal one
     assert scn.load("tfp-elcentro", [f'loading.file_z="{z}"'])["loading"]["path_z"]
