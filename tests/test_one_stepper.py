@@ -116,6 +116,9 @@ def test_planar_columns_are_signed():
     # a vertical pulse below -g: lift-off, flight and landing
     ("ferndale-3c", ["solver.duration=3", "loading.channels=[1, 2]", "loading.baseline=false",
                      f'loading.file_z="{PULSE}"']),
+    # the flight planar and seated
+    ("ferndale-3c", ["solver.duration=3", "loading.channels=[1]", "loading.baseline=false",
+                     f'loading.file_z="{PULSE}"', "mechanics.model=seated"]),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
     ("flat-lab", []),
     ("flat-lab", ["thermal.model=lumped"]),
