@@ -514,3 +514,63 @@ def test_the_pad_rocking_threshold_scales_with_g_plus_az():
     c0, c1 = threshold(0.0), threshold(-0.4 * G_ACC)
     assert 20.0 < c0 < 40.0
     assert c1 / c0 == pytest.approx(0.6, rel=1e-9)
+
+
+def test_a_rocking_pad_takes_off_with_its_chains_momentum_and_lands_seated():
+    """A stuck pad rocking on its rim (Eq. 7; mu high, a strong push in x and y)
+    when a_z = -1.5 g arrives: the unit leaves with the chain's momentum over
+    M + m, the take-off loss I_P beta'^2 / 2 - |p|^2 / 2 (M + m) >= 0 in E_land;
+    it flies ballistically (no contact) and lands seated, the chain let go;
+    every step's ledger change in flight and at the landing to round-off."""
+    from fpd.mechanics import bidirectional_kernel as K
+    gx = harmonic_ground_motion(0.1, 1.0, 1, 1e-3)
+    st = BidirectionalStepper(GEOM, gx, jit=False)
+    C, S = st.C, list(st.S)
+    Mt = GEOM.mass + GEOM.pad_mass
+
+    def residual():
+        Ek, Ep = K.energies(C, S)
+        return S[K.S_EIN] - (Ek + Ep + S[K.S_W1] + S[K.S_W2] + S[K.S_ERES] + S[K.S_ERIM] + S[K.S_ELAND])
+
+    for _ in range(20):
+        assert K.step(C, S, 30.0, 10.0, 0.0, 1e-3, 5.0, 5.0) == K.FLAG_OK
+    assert S[K.S_ROCK] == 1.0 and S[K.S_BETA] > 1e-3
+    p = K._momentum3(C, S)
+    e_off = 0.5 * C[K.C_IP] * S[K.S_BETAD] ** 2 - 0.5 * (p[0] ** 2 + p[1] ** 2 + p[2] ** 2) / Mt
+    assert e_off > 0.0
+    worst, landed_at = 0.0, None
+    for n in range(20, 400):
+        r0 = residual()
+        fly0 = S[K.S_FLY]
+        assert K.step(C, S, 0.0, 0.0, -1.5 * G_ACC if n < 60 else 0.0, 1e-3, 5.0, 5.0) == K.FLAG_OK
+        assert all(math.isfinite(x) for x in S)
+        if n == 20:
+            assert S[K.S_FLY] == 1.0 and S[K.S_NLIFT] == 1.0
+            assert S[K.S_ELAND] == pytest.approx(e_off, rel=1e-9)
+            assert (S[K.S_VXF], S[K.S_VYF]) == pytest.approx((p[0] / Mt, p[1] / Mt), rel=1e-12)
+        if fly0 != 0.0 or S[K.S_FLY] != 0.0:
+            assert S[K.S_N1] == 0.0 or S[K.S_FLY] == 0.0
+            worst = max(worst, abs(residual() - r0))
+            if S[K.S_FLY] == 0.0:
+                landed_at = n
+    assert landed_at is not None and S[K.S_ROCK] == 0.0 and S[K.S_NLIFT] == 1.0
+    assert S[K.S_ELAND] > e_off
+    assert worst < 1e-14 * S[K.S_EIN], worst / S[K.S_EIN]
+
+
+@pytest.mark.parametrize("model", ["two-phase", "seated"])
+def test_a_small_negative_field_does_not_lift_a_fast_slide_off_the_bowl(model):
+    """g + a_z = -0.001 g while the DFP slides at about 0.5 m/s: the bowl curves up
+    faster (v^2 / L = 0.06 m/s2) than the field lifts (0.0098 m/s2), so the ballistic
+    path would pass below the seat: no take-off, the step seated with the normal
+    force of the centripetal term (M (g + a_z + L w^2) > 0), the ledger closed."""
+    from fpd.mechanics import bidirectional_kernel as K
+    gx = harmonic_ground_motion(0.1, 1.0, 1, 1e-3)
+    st = BidirectionalStepper(GEOM, gx, jit=False, model=model)
+    C, S = st.C, st.S
+    S[K.S_WX] = 0.5 / GEOM.L                 # from the centre at 0.5 m/s (the state's energy put in)
+    S[K.S_EIN] = K.energies(C, S)[0]
+    for _ in range(50):
+        assert K.step(C, S, 0.0, 0.0, -1.001 * G_ACC, 1e-3, 0.01, 0.01) == K.FLAG_OK
+        assert S[K.S_FLY] == 0.0 and S[K.S_NLIFT] == 0.0 and S[K.S_N2] > 0.0
+    assert abs(st.energy_residual()) < 1e-9 * S[K.S_EIN]
