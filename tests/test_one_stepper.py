@@ -124,6 +124,9 @@ def test_planar_columns_are_signed():
     ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9"]),
     ("impvall-bidirectional", ["solver.duration=8", "device.d1=0.04", "device.d2=0.04",
                                "device.rim_stiffness_N_per_m=1e9"]),
+    # the flight planar and seated
+    ("ferndale-3c", ["solver.duration=3", "loading.channels=[1]", "loading.baseline=false",
+                     f'loading.file_z="{PULSE}"', "mechanics.model=seated"]),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
     # the TFP under a vertical record (Ferndale's vertical channel x 3 at El Centro's first 35 s)
     ("tfp-elcentro", ["solver.duration=35", "thermal.model=lumped", "mechanics.model=two-phase",
