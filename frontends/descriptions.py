@@ -500,15 +500,19 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "az_mps2": ("m/s2", "Vertical ground acceleration, up (the step's mean, the field is g + az_mps2): a run with a "
                         "vertical record only (loading.file_z, or a three-channel record's vertical channel)."),
     "lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: height of the moving assembly (superstructure and pad) "
-                    "above its seated position, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
-                    "and flies until it lands (docs/model.md 10); z_m includes it. The flat bearing's "
-                    "assembly flies ballistically relative to the ground horizontally too (its slips go on, "
-                    "friction-free); the DFP / SFP's seated state is held in flight."),
+                    "above its seat, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
+                    "and flies ballistically relative to the ground until it lands (docs/model.md 10); z_m "
+                    "includes it. The flat bearing's slips go on friction-free; the DFP / SFP's superstructure "
+                    "flies from its take-off position and velocity (u_m / ux_m, uy_m, v_m follow the flight; "
+                    "the tilt and footprint columns keep the take-off's), its height measured above the seat "
+                    "under its flown position."),
     "n_lift": ("", "DFP / SFP / flat bearing under a vertical record: lift-offs so far."),
     "t_flight_s": ("s", "DFP / SFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "
                         "forces, friction, heat and the force on the ground are 0)."),
     "E_land_J": ("J", "DFP / SFP / flat bearing under a vertical record: cumulative energy taken by the landings after a "
-                      "lift-off (plastic: the assembly's vertical kinetic energy (M + m) z'^2 / 2 at touch-down)."),
+                      "lift-off (plastic: the velocity normal to the seat is stopped, (M + m) v_n^2 / 2 at "
+                      "touch-down; the DFP / SFP: the tangential velocity kept, the pad's share of order m / M "
+                      "included, and at take-off the pad's motion relative to the superstructure stopped)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
                          "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
@@ -523,10 +527,10 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "E_input_J": ("J", "Cumulative work of the ground (or machine) on the device: "
                        "E_input_J = E_kin_J + E_pot_J + W1_J + W2_J + E_rim_J [+ E_reseat_J] (a TFP: "
                        "+ W3_J + W4_J; under a vertical record: + E_land_J)."),
-    "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground (in flight: the seated "
-                     "motion's, suspended, and the flight's (M + m) z'^2 / 2)."),
-    "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad, in flight + (M + m) g lift_m; a TFP: and the slider plates; "
-                     "the flat bearing: 0 while seated)."),
+    "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground (a DFP / SFP in flight: the "
+                     "flying unit's (M + m) |V|^2 / 2; the flat bearing's: the slips' and (M + m) z'^2 / 2)."),
+    "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad, in flight + (M + m) g times the rise since "
+                     "take-off; a TFP: and the slider plates; the flat bearing: 0 while seated)."),
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
                         "seated configuration at t_n+1 is stopped; first order in dt)."),
@@ -626,7 +630,7 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "lift_off.flight_time_s": ("s", "DFP / SFP / flat bearing under a vertical record: total time in flight (final "
                                     "t_flight_s)."),
     "lift_off.peak_lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: the highest the moving assembly rose "
-                                  "above its seated position (peak lift_m)."),
+                                  "above its seat (peak lift_m)."),
     "lift_off.landing_loss_J": ("J", "DFP / SFP / flat bearing under a vertical record: energy taken by the landings (final "
                                      "E_land_J)."),
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),

@@ -232,6 +232,8 @@ class _Base(TwoInterfaces):
         """Relative displacement (ux, uy) of the superstructure (m), rocking included."""
         L = self.geom.L
         dx, dy = _pure.rocking_offsets(self.C, self.S)[:2]
+        if self.S[K.S_FLY] != 0.0:
+            dx, dy = dx + self.S[K.S_XF], dy + self.S[K.S_YF]
         return (L * float(self.S[K.S_NX]) + float(dx), L * float(self.S[K.S_NY]) + float(dy))
 
     def kinetic_energy(self) -> float:

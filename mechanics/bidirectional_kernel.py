@@ -41,10 +41,12 @@ the velocity passes near zero). Projections are kept for real landings from
 rocking: a stuck pad that tips (Eq. 7) rocks in the plane of the trial on
 its trailing rim point, and its landing is an impact (both schemes).
 
-Lift-off (model.md 10): when the step's g + a_z < 0 the moving assembly
-leaves the lower plate; its height z above the seated position flies
-(z'' = -(g + a_z), exact per step) with the seated state suspended, lands
-plastically (E_land) and the rest of the step is seated.
+Lift-off (model.md 10): when the step's g + a_z < 0 the moving unit
+(superstructure, upper plate and pad) leaves the lower plate and flies
+ballistically relative to the ground (-(a_x, a_y, g + a_z), exact per step),
+the take-off configuration held as its reference; it lands on the seat under
+its flown position with a plastic impact (E_land; past the rim on the rim,
+E_rim) and the rest of the step is seated.
 docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
@@ -103,7 +105,10 @@ S_AZ = 41              # the vertical ground acceleration of the last step (m/s2
 # position and its rate (relative to the ground), the landings' loss (J), the lift-offs'
 # count, the time spent in flight (s)
 S_FLY, S_ZF, S_ZFD, S_ELAND, S_NLIFT, S_TFLY = 42, 43, 44, 45, 46, 47
-N_S = 48
+# in flight: the flying unit's horizontal displacement since take-off and its horizontal
+# velocity (relative to the ground; S_ZF, S_ZFD its vertical ones)
+S_XF, S_YF, S_VXF, S_VYF = 48, 49, 50, 51
+N_S = 52
 
 STICK, SLIP, TILT = 0, 1, 2
 FLAG_OK, FLAG_ROCKING, FLAG_OVERTURN = 0, 1, 2
@@ -112,6 +117,8 @@ FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 50
 # a landing this close to the step's end (relative to h) ends the step: no seated remainder
 FLIGHT_REST = 1e-12
+# flights (take-off, landing, take-off ...) at most within one step; then the rest is seated
+FLIGHTS_MAX = 4
 
 
 
@@ -639,6 +646,8 @@ def _event_substep(C, S, ax, ay, gv, h, rem, h_min, mu1, mu2):
     fn = fx * nx + fy * ny + fz * nz
     tx, ty, tz = fx - fn * nx, fy - fn * ny, fz - fn * nz
     acc = (cap + math.sqrt(tx * tx + ty * ty + tz * tz)) / C[C_I]
+    if acc <= 0.0:          # nothing turns the velocity (no friction, no tangential force): no event
+        return rem
     tau = w / acc
     if tau >= SUBSTEP_TAU:
         return rem
@@ -723,7 +732,7 @@ def step(C, S, ax, ay, az, h, mu1, mu2):
     normal force, friction cap, rocking check and drive sees the vertical
     field gv = g + az (model.md 10). Returns a flag (FLAG_OK, FLAG_ROCKING).
     When gv < 0 the moving assembly leaves the lower plate (lift-off) and
-    flies until it lands (``_flight``); a step that lands finishes seated.
+    flies until it lands (``_airborne``); a step that lands finishes seated.
     Sets the force the bearing transmits to the ground, from the momentum
     balance of the moving parts over the step: F = -((M + m) a + S (w_h(end)
     - w_h(start)) / h) seated, zero in flight."""
@@ -731,35 +740,125 @@ def step(C, S, ax, ay, az, h, mu1, mu2):
     S[S_AZ] = az
     if S[S_FLY] == 0.0 and not gv < 0.0:
         return _seated(C, S, ax, ay, gv, h, mu1, mu2)
-    tau = _flight(C, S, gv, h)
-    rem = h - tau
-    if S[S_FLY] != 0.0 or not rem > FLIGHT_REST * h:
-        return FLAG_OK
-    if gv < 0.0:                   # landed while the field still lifts: off again
-        _flight(C, S, gv, rem)
-        return FLAG_OK
+    return _airborne(C, S, ax, ay, gv, h, mu1, mu2)
+
+
+def _airborne(C, S, ax, ay, gv, h, mu1, mu2):
+    """A step that flies or may take off (model.md 10): flights (``_flight``)
+    while the unit is in the air or the field lifts it off, then the rest of
+    the step seated (the force on the ground that part's, spread over h)."""
+    rem = h
+    for _ in range(FLIGHTS_MAX):
+        if S[S_FLY] == 0.0 and not gv < 0.0:
+            break
+        tau = _flight(C, S, ax, ay, gv, rem)
+        if tau < 0.0:              # the seat's curvature keeps it down over the step: seated
+            break
+        rem = rem - tau
+        if S[S_FLY] != 0.0 or not rem > FLIGHT_REST * h:
+            return FLAG_OK
     flag = _seated(C, S, ax, ay, gv, rem, mu1, mu2)
-    # the force over the whole step: the bearing carries nothing before the landing
-    S[S_FX] = S[S_FX] * (rem / h)
-    S[S_FY] = S[S_FY] * (rem / h)
+    if rem != h:
+        # the force over the whole step: the bearing carries nothing in the air
+        S[S_FX] = S[S_FX] * (rem / h)
+        S[S_FY] = S[S_FY] * (rem / h)
     return flag
 
 
-def _flight(C, S, gv, h):
-    """Free flight of the moving assembly (superstructure and pad, rigidly,
-    the seated state n, w and the rocking chain suspended) over at most h:
-    its height z above the seated position relative to the ground obeys
-    z'' = -gv (exact for the step-mean gv). Takes off (z = z' = 0) when not
-    yet flying; lands when z comes back to 0 inside the step, with a plastic
-    impact (z' = 0; its kinetic energy (M + m) z'^2 / 2 into E_land). No
-    contact: normal forces, friction and slip zero, the force on the ground
-    zero. Returns the time flown (h, or the landing time)."""
-    Mt = C[C_M] + C[C_MP]
+def _momentum3(C, S):
+    """Momentum of the moving parts relative to the ground (3 components): S w
+    seated, the rocking chain's first moment turning about its pivot."""
+    if S[S_ROCK] != 0.0:
+        b, w = S[S_BETA], S[S_BETAD]
+        c, s = math.cos(b), math.sin(b)
+        Xr, Zr = c * C[C_XB] - s * C[C_ZB], s * C[C_XB] + c * C[C_ZB]
+        return (w * (-Zr * S[S_EX] - Xr * S[S_NX]), w * (-Zr * S[S_EY] - Xr * S[S_NY]),
+                w * (-Zr * S[S_EZ] - Xr * S[S_NZ]))
+    Sm = C[C_S]
+    return Sm * S[S_WX], Sm * S[S_WY], Sm * S[S_WZ]
+
+
+def _base(C, S):
+    """The superstructure's position (x, y, z) relative to the ground of the
+    (seated or rocking) configuration held in S: L n_h + the rocking offsets,
+    L (1 + n_z) + the rocking rise."""
+    L = C[C_L]
+    dx, dy, dz, _vx, _vy = rocking_offsets(C, S)
+    return (L * S[S_NX] + dx, L * S[S_NY] + dy,
+            L * uplift_factor(S[S_NX], S[S_NY], S[S_NZ]) + dz)
+
+
+def _seat_axis(C, ux, uy):
+    """The seated axis n whose superstructure is at the horizontal position
+    (ux, uy): n_h = u / L, held inside the rim's cone (the whole sphere without
+    a rim). Returns (nx, ny, nz, clamped)."""
+    L = C[C_L]
+    nx, ny = ux / L, uy / L
+    r = hypot(nx, ny)
+    rmax = 1.0
+    if C[C_THMAX] > 0.0:
+        rmax = math.sin(C[C_THMAX])
+    clamped = r > rmax
+    if clamped:
+        nx, ny = nx * (rmax / r), ny * (rmax / r)
+    q = 1.0 - (nx * nx + ny * ny)
+    if q < 0.0:
+        q = 0.0
+    return nx, ny, -math.sqrt(q), clamped
+
+
+def _lift_at(C, bx, by, bz, x0, y0, z0, vx, vy, vz, ax, ay, gv, t):
+    """The flying unit's height above the seat under it (the lower plate's
+    surface height at its horizontal position, L (1 + n_z) of ``_seat_axis``)
+    at time t of a flight from (x0, y0, z0) with velocity v under the
+    constant field (ax, ay, gv), the configuration's position b added."""
+    ux = bx + x0 + t * (vx - 0.5 * ax * t)
+    uy = by + y0 + t * (vy - 0.5 * ay * t)
+    uz = bz + z0 + t * (vz - 0.5 * gv * t)
+    nx, ny, nz, _c = _seat_axis(C, ux, uy)
+    return uz - C[C_L] * uplift_factor(nx, ny, nz)
+
+
+def flight_lift(C, S):
+    """The flying unit's height above the seat under it (m; 0 when seated)."""
     if S[S_FLY] == 0.0:
+        return 0.0
+    bx, by, bz = _base(C, S)
+    return _lift_at(C, bx, by, bz, S[S_XF], S[S_YF], S[S_ZF], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def _flight(C, S, ax, ay, gv, h):
+    """Ballistic flight of the moving unit (superstructure, upper plate and
+    pad, rigidly; model.md 10) over at most h. Relative to the ground it
+    translates under the field -(ax, ay, gv) (exact for the step's constant
+    field): its displacement since take-off (S_XF, S_YF, S_ZF) and velocity
+    (S_VXF, S_VYF, S_ZFD); the configuration at take-off (n, the rocking
+    chain) is held as the reference its displacement is added to. Takes off
+    (when not flying) with the moving parts' momentum over their mass, the
+    kinetic energy of their motion relative to each other into E_land; only
+    when the unit is still above its seat at the end of h (else returns -1:
+    no take-off, nothing changed). Lands at the first time its height meets
+    the seat under it (bisection to round-off), ``_land``. No contact: normal
+    forces, friction, slip and the force on the ground zero; the field's
+    work beyond gravity's, -(M + m)(ax dx + ay dy + (gv - g) dz), is input.
+    Returns the time flown (h, or the landing time)."""
+    Mt = C[C_M] + C[C_MP]
+    bx, by, bz = _base(C, S)
+    takeoff = S[S_FLY] == 0.0
+    if takeoff:
+        px, py, pz = _momentum3(C, S)
+        vx, vy, vz = px / Mt, py / Mt, pz / Mt
+        x0 = y0 = z0 = 0.0
+        if not _lift_at(C, bx, by, bz, x0, y0, z0, vx, vy, vz, ax, ay, gv, h) > 0.0:
+            return -1.0
+        Ek0 = energies(C, S)[0]
+        S[S_ELAND] += Ek0 - 0.5 * Mt * (vx * vx + vy * vy + vz * vz)
         S[S_FLY] = 1.0
         S[S_NLIFT] += 1.0
-        S[S_ZF] = S[S_ZFD] = 0.0
-    z0, v0 = S[S_ZF], S[S_ZFD]
+        S[S_XF] = S[S_YF] = S[S_ZF] = 0.0
+        S[S_VXF], S[S_VYF], S[S_ZFD] = vx, vy, vz
+    x0, y0, z0 = S[S_XF], S[S_YF], S[S_ZF]
+    vx, vy, vz = S[S_VXF], S[S_VYF], S[S_ZFD]
     S[S_DS1] = S[S_DS2] = S[S_DPHI] = 0.0
     S[S_BETA2] = 0.0
     S[S_NOROCK] = S[S_LANDED] = 0.0
@@ -767,24 +866,75 @@ def _flight(C, S, gv, h):
     S[S_N1] = S[S_N2] = S[S_FF1] = S[S_FF2] = 0.0
     S[S_SV1] = S[S_SV2] = 0.0
     S[S_FX] = S[S_FY] = 0.0
-    # the landing: the first time z(t) = z0 + v0 t - gv t^2 / 2 returns to 0
-    tau = smallest_positive_root(-0.5 * gv, v0, z0, 2.0 * h)
-    landed = tau <= h
-    if not landed:
-        tau = h
-    z1 = z0 + tau * (v0 - 0.5 * gv * tau)
-    v1 = v0 - gv * tau
-    if landed:
-        z1 = 0.0
-    # the vertical d'Alembert force's work through the rise (gravity's is the potential)
-    S[S_EIN] -= Mt * (gv - C[C_G]) * (z1 - z0)
+    tau = h
+    landed = False
+    if not takeoff and not _lift_at(C, bx, by, bz, x0, y0, z0, vx, vy, vz, ax, ay, gv, h) > 0.0:
+        # the landing: the first time the height meets the seat (above it at 0, not at h)
+        lo, hi = 0.0, h
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if not (lo < mid < hi):
+                break
+            if _lift_at(C, bx, by, bz, x0, y0, z0, vx, vy, vz, ax, ay, gv, mid) > 0.0:
+                lo = mid
+            else:
+                hi = mid
+        tau = hi
+        landed = True
+    dx = tau * (vx - 0.5 * ax * tau)
+    dy = tau * (vy - 0.5 * ay * tau)
+    dz = tau * (vz - 0.5 * gv * tau)
+    # the d'Alembert forces' work through the unit's displacement (gravity's is the potential)
+    S[S_EIN] -= Mt * (ax * dx + ay * dy + (gv - C[C_G]) * dz)
     S[S_TFLY] += tau
-    S[S_ZF], S[S_ZFD] = z1, v1
+    S[S_XF], S[S_YF], S[S_ZF] = x0 + dx, y0 + dy, z0 + dz
+    S[S_VXF], S[S_VYF], S[S_ZFD] = vx - ax * tau, vy - ay * tau, vz - gv * tau
     if landed:
-        S[S_ELAND] += 0.5 * Mt * v1 * v1
-        S[S_ZFD] = 0.0
-        S[S_FLY] = 0.0
+        _land(C, S, bx, by)
     return tau
+
+
+def _land(C, S, bx, by):
+    """The landing (model.md 10): the seated configuration under the unit
+    (n_h = u / L of the flown horizontal position u; past the rim: on the rim
+    along u), the rocking chain let go, and the plastic impact: the unit's
+    velocity V projected onto the seated motions at n in the kinetic-energy
+    metric, w = (S / I) (V - (V . n) n) (the velocity normal to the seat
+    removed, the tangential kept; the pad takes its share). The energy of
+    the unit before (kinetic and potential) minus the seated state's after
+    into E_land. Past the rim: then the rim's impact (its outward rate
+    reversed times the restitution, the loss in E_rim, counted)."""
+    Mt = C[C_M] + C[C_MP]
+    Ek0, Ep0 = energies(C, S)
+    vx, vy, vz = S[S_VXF], S[S_VYF], S[S_ZFD]
+    nx, ny, nz, clamped = _seat_axis(C, bx + S[S_XF], by + S[S_YF])
+    S[S_ROCK] = S[S_BETA] = S[S_BETAD] = 0.0
+    S[S_NX], S[S_NY], S[S_NZ] = nx, ny, nz
+    vn = vx * nx + vy * ny + vz * nz
+    k = C[C_S] / C[C_I]
+    wx, wy, wz = k * (vx - vn * nx), k * (vy - vn * ny), k * (vz - vn * nz)
+    S[S_FLY] = 0.0
+    S[S_XF] = S[S_YF] = S[S_ZF] = 0.0
+    S[S_VXF] = S[S_VYF] = S[S_ZFD] = 0.0
+    S[S_WX], S[S_WY], S[S_WZ] = wx, wy, wz
+    Ek1, Ep1 = energies(C, S)
+    S[S_ELAND] += (Ek0 + Ep0) - (Ek1 + Ep1)
+    if clamped and C[C_THMAX] > 0.0:
+        r = hypot(nx, ny)
+        cx, cy = nx / r, ny / r
+        # the outward meridian tangent at n: (-n_z c, r)
+        mx, my, mz = -nz * cx, -nz * cy, r
+        wr = wx * mx + wy * my + wz * mz
+        if wr > 0.0:
+            dw = -(1.0 + C[C_REST]) * wr
+            S[S_WX], S[S_WY], S[S_WZ] = wx + dw * mx, wy + dw * my, wz + dw * mz
+            Ek2 = energies(C, S)[0]
+            S[S_ERIM] += Ek1 - Ek2
+            S[S_NRIM] += 1.0
+            S[S_JRIM] += C[C_S] * abs(dw) * -nz
+        S[S_ATRIM] = 1.0
+    w = math.sqrt(S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ])
+    S[S_SV1], S[S_SV2] = C[C_R1] * w, C[C_R2] * w
 
 
 def _seated(C, S, ax, ay, gv, h, mu1, mu2):
@@ -831,12 +981,12 @@ def uplift_factor(nx, ny, nz):
 def energies(C, S):
     """(E_kin, E_pot): I |w|^2 / 2 and S g (1 - cos theta) seated; while
     rocking I_P beta'^2 / 2, and the rise of the chain's first moment added;
-    in flight (model.md 10) the assembly's (M + m) z'^2 / 2 and (M + m) g z
-    added to the suspended seated state's."""
+    in flight (model.md 10) the unit's (M + m) |V|^2 / 2, and (M + m) g z
+    (its rise since take-off) added to the take-off configuration's potential."""
     Ek, Ep = _seated_energies(C, S)
-    if S[S_ZF] != 0.0 or S[S_ZFD] != 0.0:
+    if S[S_FLY] != 0.0:
         Mt = C[C_M] + C[C_MP]
-        Ek += 0.5 * Mt * S[S_ZFD] * S[S_ZFD]
+        Ek = 0.5 * Mt * (S[S_VXF] * S[S_VXF] + S[S_VYF] * S[S_VYF] + S[S_ZFD] * S[S_ZFD])
         Ep += Mt * C[C_G] * S[S_ZF]
     return Ek, Ep
 
@@ -884,6 +1034,8 @@ def run_steps(C, S, AX, AY, AZ, h, mu1, mu2, n0, n1, out):
         flag = step(C, S, AX[n], AY[n], AZ[n], h, mu1, mu2)
         k = n - n0
         dx, dy, _dz, _vx, _vy = rocking_offsets(C, S)
+        if S[S_FLY] != 0.0:
+            dx, dy = dx + S[S_XF], dy + S[S_YF]
         out[k, 0] = L * S[S_NX] + dx
         out[k, 1] = L * S[S_NY] + dy
         out[k, 2] = S[S_W1] + S[S_W2]
@@ -1081,8 +1233,8 @@ def values_planar(C, S, t, xg, out):
     dx, dy, dz, rvx, rvy = rocking_offsets(C, S)
     u, v = L * nx + dx, L * S[S_WX] + rvx
     z = L * uplift_factor(nx, ny, nz) + dz
-    if S[S_ZF] != 0.0:
-        z += S[S_ZF]
+    if S[S_FLY] != 0.0:
+        u, v, z = u + S[S_XF], S[S_VXF], z + S[S_ZF]
     sg = planar_sign(S)
     R1, R2 = C[C_R1], C[C_R2]
     if C[C_PLANAR] == PLANAR_SEATED:
@@ -1125,7 +1277,7 @@ def values(C, S, t, xg, yg, out):
     VERTICAL_COLUMNS."""
     if C[C_VERT] != 0.0:
         j = n_base(C)
-        out[j], out[j + 1], out[j + 2], out[j + 3], out[j + 4] = S[S_AZ], S[S_ZF], S[S_NLIFT], S[S_TFLY], S[S_ELAND]
+        out[j], out[j + 1], out[j + 2], out[j + 3], out[j + 4] = S[S_AZ], flight_lift(C, S), S[S_NLIFT], S[S_TFLY], S[S_ELAND]
     if C[C_PLANAR] != PLANAR_NONE:
         values_planar(C, S, t, xg, out)
         return
@@ -1136,11 +1288,13 @@ def values(C, S, t, xg, yg, out):
     c1x, c1y, c2x, c2y = centres(C, S)
     dx, dy, dz, rvx, rvy = rocking_offsets(C, S)
     ux, uy, vx, vy = L * nx + dx, L * ny + dy, L * S[S_WX] + rvx, L * S[S_WY] + rvy
+    if S[S_FLY] != 0.0:
+        ux, uy, vx, vy = ux + S[S_XF], uy + S[S_YF], S[S_VXF], S[S_VYF]
     out[0], out[1], out[2], out[3], out[4], out[5] = t, xg, yg, ux, uy, hypot(ux, uy)
     out[6], out[7], out[8] = vx, vy, hypot(vx, vy)
     out[9], out[10], out[11] = S[S_FX], S[S_FY], hypot(S[S_FX], S[S_FY])
     z = L * uplift_factor(nx, ny, nz) + dz
-    if S[S_ZF] != 0.0:
+    if S[S_FLY] != 0.0:
         z += S[S_ZF]
     out[12], out[13], out[14], out[15] = z, th, math.atan2(ny, nx), S[S_BETA1]
     out[16], out[17], out[18], out[19] = C[C_R1] * th, C[C_R2] * th, S[S_N1], S[S_N2]

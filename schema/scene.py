@@ -1298,8 +1298,8 @@ def planar_only(ctx, data, device: str) -> None:
         if ld.get("file_z") is not None and not vertical:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
         if ld.get("vertical_scale") is not None and device != "flat bearing":
-            ctx.fail("loading.vertical_scale", ld["vertical_scale"], f"not yet for the {device}: give its "
-                     "vertical record as loading.file_z (a DFP, an SFP or the flat bearing takes vertical_scale)")
+            ctx.fail("loading.vertical_scale", ld["vertical_scale"], f"not yet for this device: the {device} takes "
+                     "its vertical record as loading.file_z (a DFP, an SFP or the flat bearing takes vertical_scale)")
         if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not vertical)):
             ch = [c for c in ld["channels"] if c]
             what = vwhy if ld["channels"][2] and not vertical else why

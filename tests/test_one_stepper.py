@@ -124,6 +124,9 @@ def test_planar_columns_are_signed():
     ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9"]),
     ("impvall-bidirectional", ["solver.duration=8", "device.d1=0.04", "device.d2=0.04",
                                "device.rim_stiffness_N_per_m=1e9"]),
+    # the flight planar and seated
+    ("ferndale-3c", ["solver.duration=3", "loading.channels=[1]", "loading.baseline=false",
+                     f'loading.file_z="{PULSE}"', "mechanics.model=seated"]),
     ("tfp-elcentro", ["solver.duration=3", "thermal.model=fe1d"]),
     # the TFP in both directions: a record pair, fe1d on the four parts along 2D footprint paths
     ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=6",
