@@ -226,6 +226,17 @@ def test_a_record_pair_runs_with_heat_on_four_parts(tmp_path):
         assert (out / "plots" / f"{name}.png").is_file(), name
 
 
+def test_fe3d_on_the_four_parts_along_the_2d_paths(tmp_path):
+    """The 3D plates take the footprint paths in x and y: the heat ledger closes."""
+    out = tmp_path / "fe3d"
+    r = _cli(["run", "tfp-elcentro", "--out", str(out), "--quiet", "--set", 'loading.record="impvall-1979-e11"',
+              "--set", 'mechanics.model="seated"', "--set", "solver.duration=6.0", "--set", "solver.dt=2e-3",
+              "--set", 'thermal.model="fe3d"'], tmp_path)
+    assert r.returncode == 0, r.stderr
+    s = json.loads((out / "summary.json").read_text())
+    assert s["status"] == "ok" and s["heat_residual_rel"] <= 1e-9 and s["peak_T2_C"] > 25.0
+
+
 @pytest.mark.parametrize("sets,key", [
     (['mechanics.model="two-phase"'], "mechanics.model"),
     (["output.vtk_every=10"], "output.vtk_every"),
