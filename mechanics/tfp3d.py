@@ -44,7 +44,7 @@ class TFP3DStepper:
 
     n_interfaces = 4
     two_d = True
-    drawing = None
+    drawing = "tfp3d"         # the VTK drawing (outputs/device_drawings.py)
     columns = COLUMNS
     model = "seated"
 

@@ -415,8 +415,82 @@ class TFPDrawing:
         return place_part_field(i, fld, self.geom, self.sim.plate_params[i], vals)
 
 
+def _axis(vx: float, vy: float) -> np.ndarray:
+    """The unit axis e(v) of a tilt vector (mechanics/tfp3d_kernel.py, docs/model.md 6.8)."""
+    t = math.hypot(vx, vy)
+    s = math.sin(t) / t if t > 0.0 else 1.0
+    return np.array([-s * vx, -s * vy, math.cos(t)])
+
+
+def tfp_3d(g, plate_params, xg, yg, q):
+    """Meshio blocks of the TFP in both directions at ground (xg, yg) and tilts
+    q = (phi_x, phi_y, alpha_x, alpha_y): (points, [(type, conn)...], body id
+    per block; bodies in TFPDrawing.BODIES order)."""
+    ep = _axis(q[0], q[1])
+    es = _axis(q[0] + q[2], q[1] + q[3])
+    C1 = np.array([xg, yg, g.R1])
+    C2 = C1 - g.l1 * ep
+    C3 = C2 - g.Li * es
+    C4 = C3 - g.l4 * ep
+    rs, rp = 0.5 * g.slider_diameter, 0.5 * g.pad_diameter
+    blocks, bodies, pts, off = [], [], [], 0
+
+    def add(p, kind, conn, body):
+        nonlocal off
+        pts.append(p)
+        blocks.append((kind, conn + off))
+        bodies.append(body)
+        off += len(p)
+
+    def cylinder(base, axis, a, h, body):
+        cp, quads, ends = _cylinder(base, axis, a, h)
+        add(cp, "quad", quads, body)
+        for e in ends:
+            add(cp[e], "polygon", np.arange(len(e), dtype=np.int64)[None, :], body)
+
+    r1 = min(max(plate_params[0].plate_radius, 1.2 * rs), 0.95 * g.R1)
+    p, t = _cap(C1, g.R1, r1, down=True)
+    add(p, "triangle", t, 0)
+    cylinder(C1 - g.R1 * ep, ep, rs, g.slider_height_lower, 1)          # on S1, along the stack's axis
+    cylinder(C2 - g.R2 * es, es, rp, g.pad_height, 2)                    # on S2, along the pad's axis
+    cylinder(C3 + g.R3 * ep, ep, rs, g.slider_height_upper, 3)          # under S4
+    r4 = min(max(plate_params[3].plate_radius, 1.2 * rs), 0.95 * g.R4)
+    p, t = _cap(C4, g.R4, r4, down=False)
+    add(p, "triangle", t, 4)
+    top = C4[2] + g.R4 + plate_params[3].plate_thickness
+    half = 1.25 * max(r1, r4)
+    bp, hexa = _box((C4[0], C4[1], top), half, 0.4 * half)
+    add(bp, "hexahedron", hexa, 5)
+    return np.vstack(pts), blocks, bodies
+
+
+class TFP3DDrawing:
+    """The triple friction pendulum in both directions, in 3D: the lower and
+    upper plates' spherical caps, the slider plates and the pad as cylinders
+    along their axes e(phi), e(phi + alpha), the superstructure block."""
+
+    series = "device3d"
+    parts = TFP_PARTS
+    place = None                 # plate fields are not drawn in 3D
+
+    def __init__(self, sim):
+        self.sim, self.geom = sim, sim.geometry
+
+    def bodies(self, vals: dict) -> list:
+        q = [float(vals[c]) for c in ("phix_rad", "phiy_rad", "alphax_rad", "alphay_rad")]
+        pts, blocks, bodies = tfp_3d(self.geom, self.sim.plate_params, float(vals["xg_m"]), float(vals["yg_m"]), q)
+        nan = float("nan")
+        T = (vals.get("T1_C", nan), vals.get("T2_C", nan), nan, vals.get("T3_C", nan), vals.get("T4_C", nan), nan)
+        mu = (vals.get("mu1", nan), vals.get("mu2", nan), nan, vals.get("mu3", nan), vals.get("mu4", nan), nan)
+        return [(None, pts, blocks, None, {
+            "body": [np.full(len(c), b, dtype=np.int32) for (_, c), b in zip(blocks, bodies)],
+            "T_C": [np.full(len(c), float(T[b])) for (_, c), b in zip(blocks, bodies)],
+            "mu": [np.full(len(c), float(mu[b])) for (_, c), b in zip(blocks, bodies)],
+        })]
+
+
 # what a stepper's ``drawing`` names
-DRAWINGS = {"planar": PlanarDrawing, "spatial": SpatialDrawing, "tfp": TFPDrawing}
+DRAWINGS = {"planar": PlanarDrawing, "spatial": SpatialDrawing, "tfp": TFPDrawing, "tfp3d": TFP3DDrawing}
 
 
 def drawing_of(sim):

@@ -1415,9 +1415,6 @@ def tfp3d_checks(ctx, data) -> None:
                  "not yet for the TFP in both directions (no vertical ground motion)")
     if mech.get("normal_force") not in (None, "start"):
         ctx.fail("mechanics.normal_force", mech["normal_force"], "is a key of the DFP steppers")
-    if data["output"]["vtk_every"] > 0:
-        ctx.fail("output.vtk_every", data["output"]["vtk_every"],
-                 "must be 0 for the TFP in both directions (its VTK drawing is planar in this version)")
     if data["coupling"]["substeps"] > 1:
         ctx.fail("coupling.substeps", data["coupling"]["substeps"],
                  "must be 1 for a bidirectional run (thermal sub-steps interpolate a 1D footprint path)")
