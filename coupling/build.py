@@ -58,7 +58,7 @@ def geometry_of(scene: Scene) -> DeviceGeometry:
 
 def loading_of(scene: Scene, dt: float):
     """GroundMotion (record, harmonic) or DisplacementProgramme (test machine)."""
-    from fpd.mechanics import ground_motion as gmod
+    from fpd.loading import ground_motion as gmod
 
     ld = scene["loading"]
     duration = scene["solver"].get("duration")
@@ -94,9 +94,9 @@ def loading_of(scene: Scene, dt: float):
 
 def _read_record(ld: dict):
     """The record a [loading] names: a file (packaged or given) or a member of a P695 set."""
-    from fpd.mechanics import ground_motion as gmod
+    from fpd.loading import ground_motion as gmod
     if "record_set" in ld:
-        from fpd.mechanics import p695
+        from fpd.loading import p695
         comp = "a" if ld["component"] == "pair" else ld["component"]      # a pair: a on x
         return p695.read(ld["record_set"], ld["record_id"], comp, ld["normalize"])
     return gmod.read_record(ld["path"], ld.get("units"), ld.get("dt"), _channel(ld, 0))
@@ -119,9 +119,9 @@ def _channel(ld: dict, i: int):
 def _read_record_y(ld: dict):
     """The y component of a bidirectional record: a file, a packaged pair's
     second file, or component b of a P695 set record (component = "pair")."""
-    from fpd.mechanics import ground_motion as gmod
+    from fpd.loading import ground_motion as gmod
     if "record_set" in ld:
-        from fpd.mechanics import p695
+        from fpd.loading import p695
         return p695.read(ld["record_set"], ld["record_id"], "b", ld["normalize"])
     return gmod.read_record(ld["path_y"], ld.get("units"), ld.get("dt"), _channel(ld, 1))
 
@@ -129,7 +129,7 @@ def _read_record_y(ld: dict):
 def _read_record_z(ld: dict):
     """The vertical component: the V2 record's vertical channel, or loading.file_z
     (any format the reader takes; a V2 file: its vertical channel)."""
-    from fpd.mechanics import ground_motion as gmod
+    from fpd.loading import ground_motion as gmod
     if ld.get("file_z") is None:
         return gmod.read_record(ld["path_z"], ld.get("units"), ld.get("dt"), _channel(ld, 2))
     text = gmod._read_text(ld["path_z"])
@@ -147,7 +147,7 @@ def vertical_loading_of(scene: Scene, dt: float, gx):
     and integrated exactly onto the solver grid; the x record (or
     solver.duration) sets the length, after a shorter vertical record ends the
     ground stops accelerating vertically."""
-    from fpd.mechanics import ground_motion as gmod
+    from fpd.loading import ground_motion as gmod
 
     ld = scene["loading"]
     if ld["kind"] == "record" and ld.get("vertical_scale") is not None:
@@ -203,7 +203,7 @@ def _target_factor(ld: dict, rec) -> float:
     if not target:
         return 1.0
     if "record_set" in ld:
-        from fpd.mechanics import p695
+        from fpd.loading import p695
         return target / p695.median_pga_g(ld["record_set"], ld["normalize"])
     if rec.pga_g <= 0:
         raise SceneError(f"{rec.name}: PGA is 0, cannot scale to loading.target_pga_g = {target:g}")
@@ -288,7 +288,7 @@ def build(scene: Scene) -> Simulation:
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
         from fpd.mechanics.seated import SeatedTestMachine
-        from fpd.mechanics.axial import AxialError, programme_of
+        from fpd.loading.axial import AxialError, programme_of
         try:
             axial = programme_of(ld, geom.mass * geom.g)
         except AxialError as exc:
@@ -336,12 +336,12 @@ def bidirectional_loading_of(scene: Scene, dt: float):
     then the pair turned by loading.angle_deg (x towards y). The x record
     (or solver.duration) sets the length; after a shorter y record ends the
     ground stops accelerating in y."""
-    from fpd.mechanics import ground_motion as gmod
+    from fpd.loading import ground_motion as gmod
 
     ld = scene["loading"]
     duration = scene["solver"].get("duration")
     if ld["kind"] == "displacement":
-        from fpd.mechanics.orbits import orbit_programme
+        from fpd.loading.orbits import orbit_programme
         return orbit_programme(ld["waveform"], ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt,
                                duration, ld["direction_deg"])
     if ld["kind"] != "record":
@@ -370,7 +370,7 @@ def bidirectional_loading_of(scene: Scene, dt: float):
 
 def _turned(gx, gy, ang):
     """The pair (gx, gy) turned by ang in the plane (x towards y)."""
-    from fpd.mechanics.ground_motion import GroundMotion
+    from fpd.loading.ground_motion import GroundMotion
     import numpy as np
     c, s = math.cos(ang), math.sin(ang)
     fields = ("d", "v", "a", "a_step")
@@ -395,7 +395,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
     if ld["kind"] == "displacement":
         axial = None
         if ld["vertical"] != "riding-mass":
-            from fpd.mechanics.axial import AxialError, programme_of
+            from fpd.loading.axial import AxialError, programme_of
             try:
                 axial = programme_of(ld, geom.mass * geom.g)
             except AxialError as exc:
@@ -517,7 +517,7 @@ def build_flat(scene: Scene) -> Simulation:
     gz = vertical_loading_of(scene, dt, loading)
     axial = None
     if scene["loading"]["kind"] == "displacement":
-        from fpd.mechanics.axial import AxialError, programme_of
+        from fpd.loading.axial import AxialError, programme_of
         try:
             axial = programme_of(scene["loading"], geom.weight)
         except AxialError as exc:

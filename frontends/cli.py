@@ -354,7 +354,7 @@ def main(argv=None) -> int:
     if not getattr(args, "quiet", False):
         from fpd import jitcache
         jitcache.enable()           # one line on stderr before the first compile of the kernels
-    from fpd.mechanics.ground_motion import RecordError
+    from fpd.loading.ground_motion import RecordError
 
     from fpd.schema.scene import SceneError
     args.claims = contextlib.ExitStack()     # results folders claimed (outputs/claim.py), released on return

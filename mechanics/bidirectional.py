@@ -23,7 +23,7 @@ import numpy as np
 
 from . import bidirectional_kernel as _pure
 from .geometry import DeviceGeometry
-from .ground_motion import as_float64, float_array
+from fpd.loading.ground_motion import as_float64, float_array
 from .phases import DIAGONAL_AC, MechanicsFailure
 from .protocol import TwoInterfaces
 from .seated import SEATED_COLUMNS
@@ -377,12 +377,12 @@ class BidirectionalStepper(_Base):
 
 class BidirectionalTestMachine(_Base):
     """Seated DFP/SFP in a bearing-test machine driven along a planar orbit
-    (mechanics.orbits.OrbitProgramme). F_N components are the restraint's
+    (loading.orbits.OrbitProgramme). F_N components are the restraint's
     horizontal force; the normal forces include its axial share."""
 
     def __init__(self, geom: DeviceGeometry, programme, jit: bool | None = None, axial=None):
         """axial: None (the superstructure rides on the bearing with its weight
-        and inertia), or an axial-load programme (mechanics.axial.AxialProgramme:
+        and inertia), or an axial-load programme (loading.axial.AxialProgramme:
         "constant" W, "sine", "series") the vertical actuator holds in force
         control: the superstructure has no inertia, N(t) takes the place of
         M g in the normal forces and the restoring moment, and the

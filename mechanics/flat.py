@@ -26,7 +26,7 @@ import numpy as np
 
 from . import flat_kernel as K
 from .geometry import G_ACC
-from .ground_motion import as_float64, float_array
+from fpd.loading.ground_motion import as_float64, float_array
 from .protocol import TwoInterfaces
 from .phases import STICK, MechanicsFailure
 
@@ -112,7 +112,7 @@ class FlatStepper(TwoInterfaces):
         see g + a_z; g + a_z < 0 lifts the assembly off). rim: (d1, d2,
         restitution), the capacities of the lower and the upper face (m,
         > 0), or None: unbounded plates. axial: the test machine's axial-load
-        programme (mechanics.axial.AxialProgramme) held in force control on
+        programme (loading.axial.AxialProgramme) held in force control on
         the superstructure (N2 = N(t), N1 = N(t) + m g; the step's mean
         of the programme at its two grid points), or None: the weight M g."""
         self.geom = geom

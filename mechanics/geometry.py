@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-G_ACC = 9.80665  # m/s2, standard gravity
+from fpd.loading.ground_motion import G_ACC  # noqa: F401 (m/s2, standard gravity; the unit of records in g)
 
 
 @dataclass(frozen=True)

@@ -31,7 +31,7 @@ import numpy as np
 
 from .geometry import DeviceGeometry
 from . import seated_kernel as K
-from .ground_motion import as_float64, float_array
+from fpd.loading.ground_motion import as_float64, float_array
 
 from .protocol import TwoInterfaces
 from .phases import PHASES, SLIP, STICK, TILT, MechanicsFailure  # noqa: F401
@@ -149,7 +149,7 @@ class _SeatedState(_SeatedBase):
 
 
 class SeatedStepper(_SeatedState):
-    """Seated DFP/SFP under an imposed ground motion (mechanics.ground_motion.GroundMotion).
+    """Seated DFP/SFP under an imposed ground motion (loading.ground_motion.GroundMotion).
 
     The step is mechanics/seated_kernel.py (written once); the state is the
     list ``S`` it reads and writes, the attributes are views of its slots."""
@@ -171,7 +171,7 @@ class SeatedStepper(_SeatedState):
 
 class SeatedTestMachine(_SeatedState):
     """Seated DFP/SFP in a bearing-test machine: the relative displacement
-    u(t) is imposed (mechanics.ground_motion.DisplacementProgramme), the
+    u(t) is imposed (loading.ground_motion.DisplacementProgramme), the
     superstructure is held horizontally and rides up and down under its
     weight. F_N is the horizontal force of the restraint, from
 
@@ -186,7 +186,7 @@ class SeatedTestMachine(_SeatedState):
     M rides up and down under its weight (its vertical inertia adds to the
     normal forces: M (g cos + u'' sin + L theta'^2)); "sine", "series" - an
     axial-load programme N(t) held in force control (``axial``, a
-    mechanics.axial.AxialProgramme): as "constant" with M g replaced by N(t)
+    loading.axial.AxialProgramme): as "constant" with M g replaced by N(t)
     in the normal forces and the restoring moment N L sin(theta); the
     vertical actuator's work beyond the weight's is input to the ledger.
     """

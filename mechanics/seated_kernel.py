@@ -244,7 +244,7 @@ def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, GV, mu1, mu2):
     U, UD, UDD: u, u', u''); SM[i] != 0 where the machine has stopped the
     bearing, with (UDS[i], UDDS[i]) the programme's smooth branch there: the
     step that reaches the first of them ends with the stopping impulse.
-    GV[i] = N / M, the axial-load programme (mechanics/axial.py) per grid point.
+    GV[i] = N / M, the axial-load programme (loading/axial.py) per grid point.
     Returns the friction work (J) of the lower and upper interface, with the
     normal forces averaged over the step.
 

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 from . import tfp_kernel as K
 from .geometry import G_ACC
-from .ground_motion import float_array
+from fpd.loading.ground_motion import float_array
 from .phases import BOTH, INNER, OUTER, PHASES, TFP_PHASES, MechanicsFailure  # noqa: F401
 
 # regime codes (Fenz-Constantinou numbering where it applies; docs/model.md 6.4)
@@ -372,7 +372,7 @@ class TFPStepper:
         step, zeros for a ground motion; xg per row; d1..d4 and the machine
         flag; a_z per step), the stepper's scratch."""
         import numpy as np
-        from .ground_motion import as_float64
+        from fpd.loading.ground_motion import as_float64
         if self.machine:
             U, UD = as_float64(self._u), as_float64(self._ud)
             XG = -U

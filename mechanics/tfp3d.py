@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import tfp3d_kernel as K
-from .ground_motion import float_array
+from fpd.loading.ground_motion import float_array
 from .phases import MechanicsFailure
 from .tfp import TFPGeometry
 
@@ -164,7 +164,7 @@ class TFP3DStepper:
         and state vectors, the loading (ground acceleration per step, x, y,
         vertical; ground position per row, x, y; the rows' scratch), the
         step's output and scratch."""
-        from .ground_motion import as_float64
+        from fpd.loading.ground_motion import as_float64
         L = (as_float64(self._ax), as_float64(self._ay), as_float64(self._az), as_float64(self._xg),
              as_float64(self._yg), np.zeros(K.N_SC), as_float64(self._ux), as_float64(self._uy),
              as_float64(self._udx), as_float64(self._udy), np.array([1.0 if self.machine else 0.0]))

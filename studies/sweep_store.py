@@ -42,7 +42,7 @@ def code_fingerprint() -> str:
     files = []
     top = Path(fpd.__file__).resolve().parent
     files += [("fpd/" + p.name, p) for p in top.glob("*.py")]
-    for sub in ("mechanics", "thermal", "meshes", "schema", "coupling", "outputs", "studies", "frontends"):
+    for sub in ("loading", "mechanics", "thermal", "meshes", "schema", "coupling", "outputs", "studies", "frontends"):
         try:
             mod = importlib.import_module(f"fpd.{sub}")
         except ImportError:

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from fpd.mechanics.geometry import G_ACC, DeviceGeometry
-from fpd.mechanics.ground_motion import GroundMotion, ground_motion_from_samples, read_record
+from fpd.loading.ground_motion import GroundMotion, ground_motion_from_samples, read_record
 from fpd.schema.scene import SCENES_DIR
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from fpd.mechanics.geometry import G_ACC
-from fpd.mechanics.ground_motion import GroundMotion, ground_motion_from_samples, read_record
+from fpd.loading.ground_motion import GroundMotion, ground_motion_from_samples, read_record
 
 RECORDS = Path(__file__).resolve().parents[1] / "scenes" / "records"
 
@@ -16,7 +16,7 @@ RECORDS = Path(__file__).resolve().parents[1] / "scenes" / "records"
 def elcentro(dt: float, scale: float = 1.0, duration: float | None = None,
              t_start: float = 0.0) -> GroundMotion:
     """El Centro 1940 (IELC180) through the project's reader and integrator
-    (mechanics.ground_motion: exact piecewise-linear integration, baseline
+    (loading.ground_motion: exact piecewise-linear integration, baseline
     correction); ``t_start`` cuts a window that starts at rest."""
     rec = read_record(RECORDS / "IELC180.AT2")
     k0 = int(round(t_start / rec.dt))

@@ -1,5 +1,5 @@
 """The planar test machine's axial-load programme (loading.vertical = "sine" or
-"series", mechanics/axial.py, docs/test_machine.md): the energy per cycle
+"series", loading/axial.py, docs/test_machine.md): the energy per cycle
 against the closed form of the imposed programmes (numpy, independently of
 the run's columns), the ledger, the per-cycle mean load, and bad input
 refused in one line with nothing written."""

@@ -14,7 +14,7 @@ import pytest
 from fpd import kernels
 from fpd.mechanics.bidirectional import BidirectionalStepper, COLUMNS
 from fpd.mechanics.geometry import G_ACC, DeviceGeometry
-from fpd.mechanics.ground_motion import GroundMotion, harmonic_ground_motion
+from fpd.loading.ground_motion import GroundMotion, harmonic_ground_motion
 from fpd.mechanics.two_phase import TwoPhaseStepper
 from tests.records_helper import elcentro, pulse
 
@@ -262,7 +262,7 @@ def test_bearing_force_stays_within_friction_disk_plus_restoring_force():
 def _pair_window(dt, t_start, duration):
     """The packaged pair from t_start on (the bearing is still at rest at
     t_start = 4.5 s: its motion before is < 1e-7 m)."""
-    from fpd.mechanics.ground_motion import ground_motion_from_samples, read_record
+    from fpd.loading.ground_motion import ground_motion_from_samples, read_record
     from tests.records_helper import RECORDS
     out = []
     for name in ("IMPVALL_H-E11140.txt", "IMPVALL_H-E11230.txt"):
@@ -306,7 +306,7 @@ def test_two_component_record_against_independent_ode_long():
 
 def _circle_work(geom, A=0.2, f=0.5, dt=1e-3, mu=0.05, jit=False):
     from fpd.mechanics.bidirectional import BidirectionalTestMachine
-    from fpd.mechanics.orbits import orbit_programme
+    from fpd.loading.orbits import orbit_programme
     prog = orbit_programme("circle", A, f, 3, dt)
     st = BidirectionalTestMachine(geom, prog, jit=jit)
     W = [0.0]
@@ -341,7 +341,7 @@ def test_sine_test_machine_in_a_direction_is_the_planar_one_turned():
     """A sine orbit along 30 degrees gives the x-direction sine's work and
     forces turned by 30 degrees."""
     from fpd.mechanics.bidirectional import BidirectionalTestMachine
-    from fpd.mechanics.orbits import orbit_programme
+    from fpd.loading.orbits import orbit_programme
     out = []
     for d in (0.0, 30.0):
         st = BidirectionalTestMachine(DEVICE, orbit_programme("sine", 0.15, 0.5, 2, 2e-3, direction_deg=d))

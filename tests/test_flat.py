@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from fpd.mechanics.flat import FlatGeometry, FlatStepper, PadTipped
-from fpd.mechanics.ground_motion import harmonic_ground_motion, sine_programme
+from fpd.loading.ground_motion import harmonic_ground_motion, sine_programme
 
 
 def tips(g, mu_top, loading, mu_bottom=0.95):

@@ -1,5 +1,5 @@
 """The flat bearing's test machine under an axial-load programme
-(loading.vertical = "sine" | "series", mechanics/axial.py): the energy per
+(loading.vertical = "sine" | "series", loading/axial.py): the energy per
 cycle and the per-cycle mean load against the closed form of the imposed
 programmes, the ledger, bad input in one line."""
 from __future__ import annotations

@@ -11,7 +11,7 @@ from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 from fpd.mechanics import flat_kernel as K
 from fpd.mechanics.flat import FlatGeometry, FlatStepper
-from fpd.mechanics.ground_motion import harmonic_ground_motion
+from fpd.loading.ground_motion import harmonic_ground_motion
 from fpd.schema import scene as scn
 
 GEOM = FlatGeometry(pad_height=0.10, pad_diameter=0.25, pad_mass=400.0, mass=1.0e4)
@@ -158,7 +158,7 @@ def test_a_machine_that_drives_a_face_past_its_rim_stops_the_run():
     programme past d2 (built around the scene check) stops with
     MachinePastRim naming the slips and the capacities."""
     from fpd.mechanics.flat import MachinePastRim
-    from fpd.mechanics.ground_motion import sine_programme
+    from fpd.loading.ground_motion import sine_programme
     s = FlatStepper(GEOM, sine_programme(0.05, 0.2, 1, 1e-3), rim=(0.2, 0.03, 0.0))
     with pytest.raises(MachinePastRim, match=r"past its rim.*d2 = 0\.03"):
         for _ in range(5000):

@@ -14,7 +14,7 @@ from fpd.coupling.run import simulate
 from fpd.mechanics import flat_kernel as K
 from fpd.mechanics.flat import FlatGeometry, FlatStepper
 from fpd.mechanics.geometry import G_ACC
-from fpd.mechanics.ground_motion import harmonic_ground_motion
+from fpd.loading.ground_motion import harmonic_ground_motion
 from fpd.schema import scene as scn
 
 PULSE = Path(__file__).resolve().parent / "data" / "pulse_z.txt"   # -1.5 g from 1.001 to 1.2 s

@@ -15,7 +15,7 @@ import pytest
 
 import fpd
 from fpd.schema import scene as scn
-from fpd.mechanics.ground_motion import RecordError, read_record
+from fpd.loading.ground_motion import RecordError, read_record
 
 ROOT = Path(__file__).resolve().parents[1]
 

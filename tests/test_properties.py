@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 
 from fpd.coupling.build import build
 from fpd.schema.scene import SceneError, apply_overrides, load, loading_length, to_toml, validate
-from fpd.mechanics.ground_motion import RecordError, parse_at2, parse_two_column, read_record
+from fpd.loading.ground_motion import RecordError, parse_at2, parse_two_column, read_record
 
 SETTINGS = settings(max_examples=200, deadline=None,
                     suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fpd.mechanics.ground_motion import (RecordError, guess_format, parse_at2, parse_two_column,
+from fpd.loading.ground_motion import (RecordError, guess_format, parse_at2, parse_two_column,
                                      read_record)
 
 ROOT = Path(__file__).resolve().parent.parent

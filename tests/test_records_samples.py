@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fpd.mechanics.ground_motion import RecordError, read_record
+from fpd.loading.ground_motion import RecordError, read_record
 
 ROOT = Path(__file__).resolve().parents[1]
 DT = 0.01

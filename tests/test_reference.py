@@ -198,7 +198,8 @@ def test_fpd_reference_prints_it(tmp_path):
 
 def test_no_document_or_message_points_outside_the_repository():
     hits = []
-    for folder in ("docs", "coupling", "schema", "outputs", "studies", "frontends", "mechanics", "thermal", "meshes",
+    for folder in ("docs", "coupling", "schema", "outputs", "studies", "frontends", "loading", "mechanics", "thermal",
+                   "meshes",
                    "scenes", "fpd", "examples", "benchmarks"):
         for p in (ROOT / folder).rglob("*"):
             if p.suffix in (".py", ".md", ".toml", ".txt") and p.is_file():

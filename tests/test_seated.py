@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from fpd.mechanics.ground_motion import harmonic_ground_motion, sine_programme
+from fpd.loading.ground_motion import harmonic_ground_motion, sine_programme
 from fpd.mechanics.seated import SeatedStepper, SeatedTestMachine
 
 from helpers import at_rest, dfp, elcentro, run

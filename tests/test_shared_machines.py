@@ -26,7 +26,7 @@ import pytest
 from fpd.frontends import cli
 from fpd.outputs.claim import FolderBusy, claim, lock_path
 from fpd.schema.scene import SCENES_DIR, SceneError, load
-from fpd.mechanics.ground_motion import RecordError, read_record
+from fpd.loading.ground_motion import RecordError, read_record
 
 from test_failures import _env, fpd, keep_sigterm, no_leftovers, read_rows  # noqa: F401 (a fixture)
 

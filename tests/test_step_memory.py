@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fpd.mechanics import ground_motion as gmod
+from fpd.loading import ground_motion as gmod
 
 ROOT = Path(__file__).resolve().parents[1]
 

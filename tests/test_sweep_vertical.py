@@ -127,7 +127,7 @@ def test_vertical_scale_on_the_flat_bearing_and_refusals(tmp_path):
 
 
 def test_p695_members_take_a_vertical_only_as_a_named_scale(tmp_path):
-    p695 = pytest.importorskip("fpd.mechanics.p695")
+    p695 = pytest.importorskip("fpd.loading.p695")
     try:
         p695.members("p695-far-field")
     except Exception as exc:                              # the record package not installed

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fpd.mechanics.ground_motion import pulse_ground_motion, sine_programme
+from fpd.loading.ground_motion import pulse_ground_motion, sine_programme
 from fpd.mechanics.tfp import (TFPGeometry, TFPStepper, backbone_path, small_angle_backbone,
                                transition_force)
 

@@ -17,7 +17,7 @@ import pytest
 
 from fpd import kernels
 from fpd.mechanics import tfp3d_kernel as K
-from fpd.mechanics.ground_motion import GroundMotion, pulse_ground_motion
+from fpd.loading.ground_motion import GroundMotion, pulse_ground_motion
 from fpd.mechanics.tfp import TFPStepper
 from fpd.mechanics.tfp3d import TFP3DStepper
 
@@ -280,7 +280,7 @@ def test_what_the_tfp_in_both_directions_does_not_do_yet_is_refused_in_one_line(
 
 # -- the test machine ------------------------------------------------------------------------
 def orbit(g, A, f=0.1, cycles=2.0, dt=5e-3, mus=MUS):
-    from fpd.mechanics.orbits import orbit_programme
+    from fpd.loading.orbits import orbit_programme
     prog = orbit_programme("circle", A, f, cycles, dt)
     s = TFP3DStepper(g, prog, kernel=_kernel())
     rows = [s.values()]

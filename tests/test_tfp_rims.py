@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fpd.mechanics import ground_motion as gmod
+from fpd.loading import ground_motion as gmod
 from fpd.mechanics import tfp_kernel as K
 from fpd.mechanics.geometry import G_ACC
 from fpd.mechanics.tfp import TFPStepper

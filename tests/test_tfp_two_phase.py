@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from fpd.mechanics import tfp_kernel as K
-from fpd.mechanics.ground_motion import pulse_ground_motion, sine_programme
+from fpd.loading.ground_motion import pulse_ground_motion, sine_programme
 from fpd.mechanics.tfp import TFPFailure, backbone_path, transition_force
 from tests.test_tfp import MUS, run as run_of_tests, tfp     # the same device and runner
 

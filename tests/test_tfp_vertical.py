@@ -12,7 +12,7 @@ from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 from fpd.mechanics import tfp_kernel as K
 from fpd.mechanics.geometry import G_ACC
-from fpd.mechanics.ground_motion import harmonic_ground_motion
+from fpd.loading.ground_motion import harmonic_ground_motion
 from fpd.mechanics.tfp import TFPGeometry, TFPStepper
 from fpd.schema import scene as scn
 

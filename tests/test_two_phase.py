@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings, strategies as st_
 
 from fpd.mechanics.geometry import G_ACC, DeviceGeometry, geometry_errors
-from fpd.mechanics.ground_motion import GroundMotion
+from fpd.loading.ground_motion import GroundMotion
 from fpd.mechanics.phases import DIAGONAL_AC, DIAGONAL_BD, PHASES, SLIP, STICK, TILT
 from fpd.mechanics.seated import SeatedStepper
 from fpd.mechanics.two_phase import (

@@ -12,7 +12,7 @@ from fpd.coupling.run import simulate
 from fpd.mechanics import bidirectional_kernel as BK
 from fpd.mechanics.bidirectional import BidirectionalStepper
 from fpd.mechanics.geometry import G_ACC, DeviceGeometry
-from fpd.mechanics.ground_motion import RecordError, harmonic_ground_motion, read_v2
+from fpd.loading.ground_motion import RecordError, harmonic_ground_motion, read_v2
 from fpd.schema import scene as scn
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .geometry import G_ACC
+G_ACC = 9.80665  # m/s2, standard gravity (records given in g)
 
 
 @dataclass

@@ -66,7 +66,7 @@ def read_series(path) -> tuple[np.ndarray, np.ndarray]:
     """(t, N) of an axial-load file: two numbers per line (time in s, load in
     N), separated by whitespace or a comma; blank lines and ``#`` comments
     skipped; at least two rows, times strictly increasing, loads finite and > 0."""
-    from fpd.mechanics.ground_motion import RecordError, _read_text
+    from fpd.loading.ground_motion import RecordError, _read_text
     try:
         text = _read_text(path)
     except RecordError as exc:
