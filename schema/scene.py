@@ -885,7 +885,8 @@ def _axial_checks(ctx: _Ctx, ld: dict, data: dict) -> None:
     for key in sorted({k for keys in AXIAL_KEYS.values() for k in keys}):
         if key in ld and key not in mine:
             ctx.fail(f"loading.{key}", ld[key], 'applies to loading.vertical = '
-                     f'"{"series" if key == "vertical_file" else "sine"}" only (loading.vertical is "{kind}")')
+                     f'"{"series" if key == "vertical_file" else "sine"}" only (loading.vertical is '
+                     + (f'"{kind}")' if kind is not None else "not given)"))
     from fpd.mechanics.geometry import G_ACC
     W = data["superstructure"]["mass"] * G_ACC
     if kind == "sine":
