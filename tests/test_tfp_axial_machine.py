@@ -112,12 +112,14 @@ def test_a_constant_vertical_is_the_run_without_it(tmp_path):
 
 def test_two_phase_machine_takes_the_programme(tmp_path):
     """The two-phase model on the machine under a sine load: the ledger (the
-    re-seating loss included) closes, the load's mean is the programme's."""
+    re-seating loss included) closes, the heat the four plates take is the
+    friction work done under N(t)."""
     r = api.run("tfp-lab", tmp_path / "r", loading={"amplitude_m": AMP, "cycles": 1, "vertical": "sine",
                                                     "vertical_amplitude_ratio": 0.3, "vertical_frequency_Hz": 0.3},
-                mechanics={"model": "two-phase"}, thermal={"model": "none"}, output={"plots": False})
+                mechanics={"model": "two-phase"}, thermal={"model": "lumped"}, output={"plots": False})
     assert r.ok, r.summary.get("message")
     assert r.summary["energy_residual_rel"] < 1e-9
+    assert r.summary["heat_residual_rel"] < 1e-9
 
 
 @pytest.mark.parametrize("over, match", [
