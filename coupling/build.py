@@ -450,7 +450,17 @@ def build_tfp(scene: Scene) -> Simulation:
             raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
                              f"t = {k * dt:.6g} s (g + a_z < 0): the TFP would lift off, which it does not model "
                              "(a DFP or an SFP flies and lands); scale the vertical record down")
-    mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"], gz=gz)
+    axial = None
+    if scene["loading"]["kind"] == "displacement":
+        from fpd.loading.axial import AxialError, programme_of
+        try:
+            axial = programme_of(scene["loading"], geom.weight)
+        except AxialError as exc:
+            raise SceneError(f"{exc} (loading.vertical_file)") from None
+    mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"], gz=gz, axial=axial)
+    statics = [static_mu(scene.friction(s)) for s in TFP_SURFACES]
+    if any(m > 0.0 or r > 0.0 for m, r in statics):
+        mech.set_static([m for m, _ in statics], [r for _, r in statics])
     dev = scene["device"]
     feet = (dev["slider_diameter"] / 2, dev["pad_diameter"] / 2, dev["pad_diameter"] / 2, dev["slider_diameter"] / 2)
     pp = tuple(PlateParams(**scene.thermal(part), a_contact_m=a) for part, a in zip(TFP_PARTS, feet))
@@ -523,6 +533,7 @@ def build_flat(scene: Scene) -> Simulation:
         except AxialError as exc:
             raise SceneError(f"{exc} (loading.vertical_file)") from None
     mech = FlatStepper(geom, loading, gz=gz, rim=(dev["d1"], dev["d2"], dev["rim_restitution"]), axial=axial)
+    _set_static(scene, mech)
     sub = scene["coupling"]["substeps"]
     pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))
     plates = tuple(make_plate(p, dt / sub) for p in pp)

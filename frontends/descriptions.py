@@ -131,11 +131,13 @@ KEYS: dict[str, tuple[str, str]] = {
     "friction.mu_static": ("", "Static (breakaway) coefficient of the surface: a stuck surface holds until the "
                                "force it must carry exceeds mu_static N, then the sliding law applies until it "
                                "sticks again. Must be >= the sliding mu at rest (20 degC); absent: the sliding mu "
-                               "holds. DFP and SFP (ground motions and the test machines)."),
+                               "holds. DFP, SFP, TFP and the flat bearing (ground motions and the test machines; "
+                               "the TFP and the flat bearing: a coordinate at rest at a step's start takes its "
+                               "caps with it, docs/model.md section 11)."),
     "friction.static_ratio": ("", "The static coefficient as a ratio (>= 1) to the sliding law at rest: a stuck "
                                   "surface holds up to static_ratio times mu(T, p, v = 0), so the breakaway follows "
                                   "the temperature and pressure as the law does. With mu_static the larger holds. "
-                                  "DFP and SFP."),
+                                  "DFP, SFP, TFP and the flat bearing."),
     "friction.wear_k_mm3_per_Nm": ("mm3/(N m)", "Archard wear coefficient k_w of the surface: the wear depth "
                                                 "grows by k_w p ds (p = N / contact area, ds the sliding path). "
                                                 "Absent: no wear columns."),
@@ -250,10 +252,12 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'test machine (a sine along x); an orbit (circle, figure-eight, a '
                                           'turned sine) runs the bidirectional machine, which carries the '
                                           'riding mass: "riding-mass" (the default there; "constant" is refused). '
-                                          'The TFP refuses the key (its machine passes the superstructure\'s '
-                                          'weight and inertia down the stack); the flat bearing\'s machine takes '
-                                          '"constant" (its default), "sine" and "series" (N2 = N(t), N1 = N(t) '
-                                          '+ m g: the pad keeps its weight; "riding-mass" is refused). '
+                                          'The flat bearing\'s machine takes "constant" (its default), "sine" '
+                                          'and "series" (N2 = N(t), N1 = N(t) + m g: the pad keeps its weight; '
+                                          '"riding-mass" is refused); so does the TFP\'s (without the key its '
+                                          'machine passes the superstructure\'s weight and inertia down the '
+                                          'stack; a programme adds N(t) - M g on the superstructure, N cos(axis) '
+                                          'to each of N1..N4, its work through the rise booked as input). '
                                           '"sine", "series": an axial-load programme N(t) held in force control '
                                           '(as "constant" with N(t) for M g in the normal forces, friction caps, '
                                           'heat, the restoring moment and the ledger; docs/test_machine.md, '

@@ -156,6 +156,13 @@ class FlatStepper(TwoInterfaces):
             self.S[K.S_V2] = self._ud[0]          # launched on the top face; its kinetic energy is input
             self.E_in = self.E_kin
 
+    def set_static(self, m1: float, m2: float, r1: float, r2: float) -> None:
+        """The faces' breakaway (friction_kernel.holding_mu): static coefficients
+        and static ratios of the lower and the upper face, 0 where none is given.
+        A face at rest at a step's start takes its cap with the holding coefficient."""
+        self.C[K.I_MUS1], self.C[K.I_MUS2] = float(m1), float(m2)
+        self.C[K.I_MUR1], self.C[K.I_MUR2] = float(r1), float(r2)
+
     @property
     def st(self) -> list:
         """(q1, q2, q1', q2'): the pad's slip on the lower plate, the superstructure's on the pad."""

@@ -17,6 +17,7 @@ tipping check as a flag), on the state vector S.
 """
 from . import bidirectional_kernel as bk
 from . import tfp_kernel as tk
+from .friction_kernel import holding_mu
 from .phases import SLIP, STICK
 
 __kernel__ = True
@@ -28,7 +29,9 @@ I_MPAD, I_MSUP, I_H, I_D, I_G, I_DT, I_MACH, I_VERT = 0, 1, 2, 3, 4, 5, 6, 7
 # the rims (model.md 7, 9): the capacities |q1| <= d1, |q2| <= d2 (0: no rim; the columns
 # RIM_COLUMNS follow the others when there are rims) and the restitution of an impact
 I_CAP1, I_CAP2, I_REST = 8, 9, 10
-N_PAR = 11
+# breakaway (friction_kernel.holding_mu): the faces' static coefficients and static ratios (0: none)
+I_MUS1, I_MUS2, I_MUR1, I_MUR2 = 11, 12, 13, 14
+N_PAR = 15
 
 # S: the state; step()'s st = S[0:4] = (q1, q2, q1', q2')
 S_Q1, S_Q2, S_V1, S_V2 = 0, 1, 2, 3
@@ -348,6 +351,14 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
                 flight(C, S, ag, gv, h, out)
                 seated = False
     if seated:
+        # a face at rest at the step's start holds with the holding coefficient (the
+        # TFP's rule: its cap in the convex step, docs/model.md section 11)
+        # (the run's first step starts from rest: the machine's launch speed u'(0)
+        # is given to a bearing that was at rest, which breaks away)
+        if S[S_V1] == 0.0 or n == 0:
+            mu1 = holding_mu(mu1, C[I_MUS1], C[I_MUR1])
+        if S[S_V2] == 0.0 or n == 0:
+            mu2 = holding_mu(mu2, C[I_MUS2], C[I_MUR2])
         c1 = mu1 * S[S_N1]
         c2 = mu2 * S[S_N2]
         big = 1e30

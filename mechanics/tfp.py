@@ -228,7 +228,12 @@ class TFPStepper:
     n_interfaces = 4
     drawing = "tfp"           # the VTK drawing (outputs/device_drawings.py)
 
-    def __init__(self, geom: TFPGeometry, loading, kernel=None, model: str = "seated", gz=None):
+    def __init__(self, geom: TFPGeometry, loading, kernel=None, model: str = "seated", gz=None, axial=None):
+        """gz: a vertical ground motion on the loading's grid, or None. axial:
+        the test machine's axial-load programme (mechanics.axial.AxialProgramme)
+        held in force control on the superstructure (the step's mean of N(t)
+        at its two grid points; every normal force, cap and the ledger see
+        it), or None: the weight M g."""
         import numpy as np
         if model not in ("seated", "two-phase"):
             raise ValueError(f"model must be 'seated' or 'two-phase', not {model!r}")
@@ -263,6 +268,13 @@ class TFPStepper:
             self._xg = float_array(loading.d)
         self.par = geom.pack(two_phase=model == "two-phase")
         self.par[K.I_VERT] = 1.0 if gz is not None else 0.0
+        self.axial = axial if axial is not None and axial.varying else None
+        if self.axial is not None:
+            if not self.machine:
+                raise ValueError("an axial-load programme is the test machine's")
+            Nt = self.axial.at(np.asarray(loading.t, dtype=float))
+            self._az = float_array(0.5 * (Nt[:-1] + Nt[1:]))
+            self.par[K.I_VERT] = 2.0
         self.S = np.zeros(K.N_S)
         self.st = self.S[0:4]                   # a view: phi, alpha and their rates
         self.N = self.S[K.S_N:K.S_N + 4]         # a view: N1..N4
@@ -274,11 +286,22 @@ class TFPStepper:
         self.n = 0
         self.t = 0.0
         K.normal_forces(self.par, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, geom.g, 0.0, self.N)
+        if self.axial is not None:
+            K.top_load(self.par, 0.0, 0.0, float(self.axial.at(0.0)) - geom.weight, self.N)
         if self.machine and self._ud[0] != 0.0:
             # the machine launches the programme with u'(0) != 0 on the inner surfaces
             # (they slide first): that kinetic energy is input
             self.S[3] = self._ud[0] / geom.Li
             self.S[K.S_EIN] = self.E_kin()
+
+    def set_static(self, mu_s, ratio) -> None:
+        """The breakaway of S1..S4 (friction_kernel.holding_mu): static
+        coefficients and static ratios to the sliding law, 0 where none is
+        given. A coordinate at rest at a step's start takes its two surfaces'
+        caps with the holding coefficient (docs/model.md section 11)."""
+        for i in range(4):
+            self.par[K.I_MUS + i] = float(mu_s[i])
+            self.par[K.I_MUR + i] = float(ratio[i])
 
     # -- accessors the loop and outputs use -----------------------------------------
     @property
@@ -397,7 +420,7 @@ class TFPStepper:
         n = self.n
         az = self._az[n] if self._az is not None else 0.0
         if self.machine:
-            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], 0.0, mu1, mu2, mu3, mu4, 1,
+            fail = self.k.advance(self.par, self.S, self.dt, self._a[n], az, mu1, mu2, mu3, mu4, 1,
                                   self._u[n + 1], self._ud[n + 1], self.out, self._M, self._w, self._tmp, self._sc)
         else:
             fail = self.k.advance(self.par, self.S, self.dt, self._a[n], az, mu1, mu2, mu3, mu4, 0, 0.0, 0.0,
@@ -406,8 +429,10 @@ class TFPStepper:
             raise TFPFailure(f"the test machine drives the bearing past its displacement capacity "
                              f"{self.geom.capacity:.4g} m (all surfaces at their rims)")
         if fail == K.FAIL_ROCKING:
-            gv = self.geom.g + az
-            part = "pad" if K.rocking_in_field(self.par, self.phi, self.alpha, self._a[n], gv) == 1 \
+            gv, dn = self.geom.g + az, 0.0
+            if self.axial is not None:
+                gv, dn = self.geom.g, az - self.geom.weight
+            part = "pad" if K.rocking_loaded(self.par, self.phi, self.alpha, self._a[n], gv, dn) == 1 \
                 else "slider plates"
             raise TFPFailure(f"the {part} would start rocking on a corner "
                              f"(ground acceleration {self._a[n] / gv:.3g} (g + a_z) beyond the restoring "

@@ -37,6 +37,7 @@ handful of candidates (2 coordinates); a fixed point handles q1 in H and G.
 """
 import math
 
+from .friction_kernel import holding_mu
 from .two_phase_kernel import _sinc as sinc, pivot_angle   # the planar stepper's, one source
 
 __kernel__ = True
@@ -52,9 +53,12 @@ I_TWO = 24                          # 1.0: the paper's two-phase model (docs/mod
 I_AP, I_AS, I_HP, I_TL, I_TU = 25, 26, 27, 28, 29   # pad and slider half-diameters, heights
 I_EPB, I_EPT, I_ESB, I_SQ4, I_L4 = 30, 31, 32, 33, 34   # corner heights (below), sqrt(R4^2 - a_s^2), l4
 I_D1, I_D2, I_D3, I_D4 = 35, 36, 37, 38   # slide capacities of S1..S4 (arc, m)
-I_VERT = 39                         # 1.0: a vertical ground motion (the az_mps2 column), 0.0: none
+I_VERT = 39                         # 1.0: a vertical ground motion (the az_mps2 column), 2.0: the test
+                                    # machine's axial-load programme (az carries the held load N), 0.0: none
 I_REST = 40                         # Newton's restitution of a rim arrival (0: inelastic)
-N_PAR = 41
+I_MUS = 41                          # 41..44: static coefficients of S1..S4 (0: none; friction_kernel.holding_mu)
+I_MUR = 45                          # 45..48: their static ratios to the sliding law (0: none)
+N_PAR = 49
 
 # -- step output vector ----------------------------------------------------------
 O_DPHI, O_DALPHA, O_F, O_EIN, O_WO, O_WI, O_RIM, O_ITER, O_FAIL = 0, 1, 2, 3, 4, 5, 6, 7, 8
@@ -119,10 +123,16 @@ def u_rel(par, phi, alpha):
 def rise(par, phi0, al0, phi1, al1):
     """sum m z(q1) - sum m z(q0): the change of the first moment of the
     heights, potential / g, without cancellation (cos a - cos b as a product)."""
+    return rise_of(par[I_P1], par[I_P2], phi0, al0, phi1, al1)
+
+
+def rise_of(p1, p2, phi0, al0, phi1, al1):
+    """f(q1) - f(q0) of f = p1 (1 - cos phi) + p2 (1 - cos psi), without cancellation
+    (p1 = A, p2 = L_i: the superstructure's rise, ``uplift``)."""
     hf = 0.5 * (phi1 - phi0)
     hp = 0.5 * (phi1 + al1 - phi0 - al0)
-    return 2.0 * (par[I_P1] * math.sin(0.5 * (phi0 + phi1)) * math.sin(hf)
-                  + par[I_P2] * math.sin(0.5 * (phi0 + al0 + phi1 + al1)) * math.sin(hp))
+    return 2.0 * (p1 * math.sin(0.5 * (phi0 + phi1)) * math.sin(hf)
+                  + p2 * math.sin(0.5 * (phi0 + al0 + phi1 + al1)) * math.sin(hp))
 
 
 def uplift(par, phi, alpha):
@@ -353,6 +363,21 @@ def normal_forces(par, phi, alpha, v1, v2, a1, a2, ag, gv, F, N):
             N[i] = 0.0
 
 
+def top_load(par, phi, alpha, dn, N):
+    """A vertical force dn (N, down) on the superstructure besides its weight
+    (the test machine's axial load N(t) - M g) passes down the stack: each
+    contact's normal force grows by dn cos(its axis) (S1, S4: phi; S2, S3: psi)."""
+    cf = math.cos(phi)
+    cp = math.cos(phi + alpha)
+    N[0] += dn * cf
+    N[1] += dn * cp
+    N[2] += dn * cp
+    N[3] += dn * cf
+    for i in range(4):
+        if N[i] < 0.0:
+            N[i] = 0.0
+
+
 def reseat(par, phi0, al0, phi1, al1, v1, v2, M, w):
     """The impulsive re-seating of the two-phase model (docs/model.md 6.6):
     the velocity field of phase 1, every body k moving along its seated
@@ -457,7 +482,7 @@ def rim_lock(m11, m12, m22, v1, v2, o1, o2, w):
     return 0.5 * (m11 * d1 * d1 + 2.0 * m12 * d1 * d2 + m22 * d2 * d2)
 
 
-def step(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
+def step(par, st, dt, ag, gv, dn, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     """One step of the rigid TFP (see ``substep``), split at each rim impact.
 
     A coordinate that reaches its rim inside the step would otherwise be
@@ -474,7 +499,7 @@ def step(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     sc: scratch of length >= 4 + 2 N_OUT."""
     for i in range(4):
         sc[i] = st[i]
-    substep(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+    substep(par, st, dt, ag, gv, dn, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
     if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0:
         return
     acc = 4
@@ -495,7 +520,7 @@ def step(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
         for i in range(4):
             st[i] = sc[i]
         udp = u_dot(par, sc[0], sc[1], sc[2], sc[3])
-        substep(par, st, h, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 1)
+        substep(par, st, h, ag, gv, dn, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 1)
         udf = u_dot(par, st[0], st[1], st[2], st[3])
         tau = 1.0
         d1 = out[O_DPHI]
@@ -518,7 +543,7 @@ def step(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
         for i in range(4):
             st[i] = sc[i]
         th = t0 + tau * (1.0 - t0)
-        substep(par, st, tau * h, ag, gv, c_o, c_i, machine, u0 + th * (u1 - u0), ud0 + th * (ud1 - ud0),
+        substep(par, st, tau * h, ag, gv, dn, c_o, c_i, machine, u0 + th * (u1 - u0), ud0 + th * (ud1 - ud0),
                 out, M, w, tmp, 0)
         if out[O_FAIL] != FAIL_NONE:
             return
@@ -563,7 +588,7 @@ def step(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
         for i in range(4):
             sc[sv + i] = st[i]
         # the rest, from the rim
-        substep(par, st, (1.0 - t0) * dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
+        substep(par, st, (1.0 - t0) * dt, ag, gv, dn, c_o, c_i, machine, u1, ud1, out, M, w, tmp, 0)
         if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0 or k == 2:
             break
         # the other coordinate meets its rim in the rest: split it too
@@ -579,13 +604,16 @@ def step(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
     out[O_ARRIVE] = 1.0
 
 
-def substep(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobounds):
+def substep(par, st, dt, ag, gv, dn, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nobounds):
     """One step of the rigid TFP. st = [phi, alpha, v_phi, v_alpha] (updated).
 
     ag: mean ground acceleration over the step; gv: the vertical field
     g + a_z (the step's mean vertical ground acceleration a_z, up; g without
     one): it drives the discrete gradient of the heights, g of it is the
-    potential and a_z of it the vertical ground's input; c_o = mu1 N1 R1 + mu4 N4 R4,
+    potential and a_z of it the vertical ground's input; dn: the test
+    machine's axial load less the superstructure's weight, N(t) - M g (0
+    without a programme), on the superstructure's height (``uplift``): M g of
+    N is in the potential, its work -dn dz is input; c_o = mu1 N1 R1 + mu4 N4 R4,
     c_i = mu2 N2 R2 + mu3 N3 R3 (friction caps of the two coordinates);
     machine = 1: the superstructure's relative displacement is imposed,
     u(t_n+1) = u1, u'(t_n+1) = ud1 (test machine; F is its horizontal force).
@@ -671,7 +699,7 @@ def substep(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nob
             dTa = 0.5 * (2.0 * K * w11 * w01 + K * (w11 * w02 + w12 * w01)) * math.sin(0.5 * (q20 + al1)) \
                 * sinc(0.5 * (al1 - q20))
         # discrete gradients of V and b
-        dgrad_cos_sin(gv * par[I_P1], gv * par[I_P2], q10, q20, phi1, al1, tmp, 0)
+        dgrad_cos_sin(gv * par[I_P1] + dn * A, gv * par[I_P2] + dn * Li, q10, q20, phi1, al1, tmp, 0)
         G1 = -tmp[0]
         G2 = -dTa - tmp[1]
         dgrad_cos_sin(par[I_P1], par[I_P2], q10, q20, phi1, al1, tmp, 1)
@@ -755,6 +783,9 @@ def substep(par, st, dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, nob
         # the vertical ground's d'Alembert force -m a_z on the rise of the first
         # moment of the heights, sum m z = P1 (1 - cos phi) + P2 (1 - cos psi)
         ein -= (gv - g) * rise(par, q10, q20, phi1, al1)
+    if dn != 0.0:
+        # the machine's axial load beyond M g on the superstructure's rise
+        ein -= dn * rise_of(A, Li, q10, q20, phi1, al1)
     # velocity jumps at t_n+1 (impulses at fixed position, each one's kinetic
     # energy change booked where it belongs): a coordinate that stuck (dq = 0)
     # or stopped at its rim ends at rest
@@ -912,7 +943,7 @@ def n_row(par):
     """Columns of a row: the seated model's, plus the two-phase model's own,
     plus the vertical ground motion's."""
     n = N_ROW + N_ROW_TWO if par[I_TWO] != 0.0 else N_ROW
-    if par[I_VERT] != 0.0:
+    if par[I_VERT] == 1.0:
         n += N_ROW_VERT
     return n
 
@@ -968,6 +999,13 @@ def rocking_start(par, phi, alpha, ag):
 def rocking_in_field(par, phi, alpha, ag, gv):
     """``rocking_start`` in the vertical field gv = g + a_z: the weights'
     restoring moments scale with gv, so the threshold does."""
+    return rocking_loaded(par, phi, alpha, ag, gv, 0.0)
+
+
+def rocking_loaded(par, phi, alpha, ag, gv, dn):
+    """``rocking_in_field`` with a vertical force dn (N, down) on the
+    superstructure besides its weight (the test machine's axial load less M g),
+    acting where the superstructure's weight does."""
     g = gv
     m_above = par[I_MSUP] + par[I_MS_UP]
     psi = phi + alpha
@@ -977,7 +1015,8 @@ def rocking_in_field(par, phi, alpha, ag, gv):
         sg = 1.0 - 2.0 * k
         # pad pivot (-sg a, eta_b), top corner (sg a, eta_t), centroid (0, h_p / 2)
         mo = _moment(c, s, sg * a, ha - par[I_EPB], par[I_MPAD], ag, g) \
-            + _moment(c, s, 2.0 * sg * a, par[I_EPT] - par[I_EPB], m_above, ag, g)
+            + _moment(c, s, 2.0 * sg * a, par[I_EPT] - par[I_EPB], m_above, ag, g) \
+            + _moment(c, s, 2.0 * sg * a, par[I_EPT] - par[I_EPB], dn, 0.0, 1.0)
         if sg * mo > 0.0:
             return 1
     c, s = math.cos(phi), math.sin(phi)
@@ -993,13 +1032,14 @@ def rocking_in_field(par, phi, alpha, ag, gv):
             + _moment(c, s, bp * math.sin(alpha) - x0, par[I_TL] + par[I_R2] - bp * math.cos(alpha) - zb,
                       par[I_MPAD], ag, g) \
             + _moment(c, s, dl - x0, c4z + par[I_R4] - 0.5 * par[I_TU] - zb, par[I_MS_UP], ag, g) \
-            + _moment(c, s, dl + sg * a - x0, c4z + par[I_SQ4] - zb, par[I_MSUP], ag, g)
+            + _moment(c, s, dl + sg * a - x0, c4z + par[I_SQ4] - zb, par[I_MSUP], ag, g) \
+            + _moment(c, s, dl + sg * a - x0, c4z + par[I_SQ4] - zb, dn, 0.0, 1.0)
         if sg * mo > 0.0:
             return 2
     return 0
 
 
-def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, out):
+def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, dn, out):
     """The paper's phases of the step just taken (two-phase model): the
     re-seating loss, the phase-1 pivots (pad: beta1, slider plates: gamma1)
     and the re-seating rotations of phases 2 and 3 (beta2 = dalpha - beta1,
@@ -1024,7 +1064,7 @@ def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, out):
         S[S_NPH] = 2.0            # Fig. 6: one pivot, one re-seating
     else:
         S[S_NPH] = 0.0
-    if S[S_NPH] == 0.0 and v00 == 0.0 and v01 == 0.0 and rocking_in_field(par, ph0, al0, ag, gv) != 0:
+    if S[S_NPH] == 0.0 and v00 == 0.0 and v01 == 0.0 and rocking_loaded(par, ph0, al0, ag, gv, dn) != 0:
         S[S_NPH] = -1.0
 
 
@@ -1040,10 +1080,29 @@ def advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w,
     their caps), the force F, phase, regime, sliding flags and speeds.
     Returns the failure flag (FAIL_*)."""
     N = S[S_N:S_N + 4]
+    dn = 0.0
+    if par[I_VERT] == 2.0:
+        # the test machine's axial-load programme: az carries the step's held load N
+        dn = az - par[I_MSUP] * par[I_G]
+        az = 0.0
     gv = par[I_G] + az
     S[S_AZ] = az
     normal_forces(par, S[0], S[1], S[2], S[3], 0.0, 0.0, ag, gv, S[S_F] if machine == 1 else 0.0, N)
+    if dn != 0.0:
+        top_load(par, S[0], S[1], dn, N)
     R1, R2, R3, R4 = par[I_R1], par[I_R2], par[I_R3], par[I_R4]
+    # the caps: a coordinate at rest at the step's start, one that did not slide
+    # in the step before (stuck or on its rim; the run's first step: the test
+    # machine's launch speed u'(0) is given to a bearing at rest, which breaks
+    # away), holds its surfaces with the holding coefficient
+    # (friction_kernel.holding_mu; the sliding mu without a static one); one
+    # that slides takes the sliding mu (docs/model.md section 11)
+    if S[S_SLIDE] == 0.0:
+        mu1 = holding_mu(mu1, par[I_MUS], par[I_MUR])
+        mu4 = holding_mu(mu4, par[I_MUS + 3], par[I_MUR + 3])
+    if S[S_SLIDE + 1] == 0.0:
+        mu2 = holding_mu(mu2, par[I_MUS + 1], par[I_MUR + 1])
+        mu3 = holding_mu(mu3, par[I_MUS + 2], par[I_MUR + 2])
     a1 = mu1 * N[0] * R1
     a4 = mu4 * N[3] * R4
     a2 = mu2 * N[1] * R2
@@ -1051,12 +1110,12 @@ def advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w,
     c_o = a1 + a4
     c_i = a2 + a3
     ph0, al0, v00, v01 = S[0], S[1], S[2], S[3]
-    step(par, S[0:4], dt, ag, gv, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc)
+    step(par, S[0:4], dt, ag, gv, dn, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc)
     fail = int(out[O_FAIL])
     if fail == FAIL_CAPACITY:
         return fail
     if par[I_TWO] != 0.0:
-        two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, out)
+        two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, dn, out)
         if fail == FAIL_NONE and S[S_NPH] < 0.0:
             return FAIL_ROCKING
     dphi = out[O_DPHI]
@@ -1172,5 +1231,5 @@ def row_values(par, S, t, xg, d1, d2, d3, d4, row):
         row[45] = S[S_DP]
         row[46] = S[S_DS]
         row[47] = S[S_NPH]
-    if par[I_VERT] != 0.0:
+    if par[I_VERT] == 1.0:
         row[n_row(par) - 1] = S[S_AZ]

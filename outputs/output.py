@@ -322,6 +322,10 @@ def tfp_summary(scene: Scene, result, sim) -> dict:
         s["heat_residual_rel"] = s["heat"]["residual_rel"]
     for i in range(1, 5):
         s[f"min_mu{i}"] = _f(st.low(f"mu{i}"))
+    meter = _cycle_meter(scene, result)
+    if meter is not None and meter.cycles():       # the test machine: EDC, N_mean per cycle (cycles.csv)
+        from .cycles import summary_block
+        s["test_machine"] = summary_block(meter, scene)
     if d["coupling"]["scheme"] == "iterated":
         s["coupling_iterations"] = {"total": int(result.iterations), "max_per_step": int(result.max_iterations)}
     if "path1_m" in result:

@@ -717,7 +717,7 @@ def _validate(raw: dict, path: str) -> Scene:
     dev = data["device"]
     if dev["kind"] == "TFP":
         tfp_device(ctx, data, raw)
-        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES, no_static="the TFP")
+        data["friction"] = _friction(ctx, raw.get("friction"), TFP_SURFACES)
         data["thermal"] = _thermal(ctx, raw.get("thermal"), TFP_PARTS, {
             "slider_lower": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_lower"]},
             "slider_upper": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_upper"]}})
@@ -745,8 +745,7 @@ def _validate(raw: dict, path: str) -> Scene:
     if heat_only and raw.get("friction") is None:
         data["friction"] = _friction(ctx, {"law": "constant", "mu": 0.0})
     else:
-        data["friction"] = _friction(ctx, raw.get("friction"),
-                                     no_static="the flat bearing" if dev["kind"] == "flat" else None)
+        data["friction"] = _friction(ctx, raw.get("friction"))
     data["thermal"] = _thermal(ctx, raw.get("thermal"))
     if dev["kind"] == "flat":
         flat_cross_checks(ctx, data)
@@ -886,7 +885,8 @@ def _axial_checks(ctx: _Ctx, ld: dict, data: dict) -> None:
     for key in sorted({k for keys in AXIAL_KEYS.values() for k in keys}):
         if key in ld and key not in mine:
             ctx.fail(f"loading.{key}", ld[key], 'applies to loading.vertical = '
-                     f'"{"series" if key == "vertical_file" else "sine"}" only (loading.vertical is "{kind}")')
+                     f'"{"series" if key == "vertical_file" else "sine"}" only (loading.vertical is '
+                     + (f'"{kind}")' if kind is not None else "not given)"))
     from fpd.mechanics.geometry import G_ACC
     W = data["superstructure"]["mass"] * G_ACC
     if kind == "sine":
@@ -1314,11 +1314,11 @@ def planar_only(ctx, data, device: str) -> None:
             ctx.fail("loading.record", ld["record"], f"must be a single-component record: {why}")
         if ld.get("angle_deg", 0.0) != 0.0:
             ctx.fail("loading.angle_deg", ld["angle_deg"], f"must be 0: {why}")
-    if ld["kind"] == "displacement" and device == "flat bearing":
-        # the flat bearing's machine holds the vertical load in force control: M g or a programme
+    if ld["kind"] == "displacement" and device in ("flat bearing", "TFP"):
+        # the flat bearing's and the TFP's machines hold the vertical load in force control: M g or a programme
         if ld.get("vertical") not in (None, "constant", "sine", "series"):
-            ctx.fail("loading.vertical", ld["vertical"], 'must be "constant", "sine" or "series" for the flat '
-                     "bearing (its machine holds the vertical load in force control; nothing rides up or down)")
+            ctx.fail("loading.vertical", ld["vertical"], f'must be "constant", "sine" or "series" for the {device} '
+                     "(its machine holds the vertical load in force control)")
         _axial_checks(ctx, ld, data)
     elif ld["kind"] == "displacement":
         if ld.get("vertical") is not None:

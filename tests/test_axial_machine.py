@@ -168,11 +168,11 @@ def test_bad_axial_programme_is_refused_in_one_line(tmp_path, over, says):
     assert not (tmp_path / "out").exists()
 
 
-def test_tfp_machine_refuses_the_programme(tmp_path):
+def test_tfp_machine_refuses_a_programme_key_without_its_programme(tmp_path):
     r = _fpd("run", "tfp-lab", "--out", str(tmp_path / "out"), "--set", "loading.vertical_amplitude_ratio=0.2",
              cwd=tmp_path)
     assert r.returncode != 0 and len(r.stderr.strip().splitlines()) == 1
-    assert "not yet for this device" in r.stderr
+    assert 'applies to loading.vertical = "sine" only (loading.vertical is not given)' in r.stderr
     assert not (tmp_path / "out").exists()
 
 

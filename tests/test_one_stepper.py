@@ -158,6 +158,16 @@ def test_planar_columns_are_signed():
                   "thermal.model=lumped"]),
     ("flat-lab", ["friction.wear_k_mm3_per_Nm=2e-6"]),
     ("tfp-elcentro", ["solver.duration=3", "friction.wear_k_mm3_per_Nm=2e-6"]),
+    # the TFP's machine under an axial-load programme; breakaway on the TFP (machine, two-phase;
+    # a record, the static ratio) and on the flat bearing
+    ("tfp-lab", ['loading.vertical="sine"', "loading.vertical_amplitude_ratio=0.4", "loading.vertical_frequency_Hz=0.23",
+                 "loading.cycles=1", "thermal.model=lumped"]),
+    ("tfp-lab", ['mechanics.model="two-phase"', "friction.S1.mu_static=0.11", "friction.S4.mu_static=0.11",
+                 "friction.S2.mu_static=0.03", "friction.S3.mu_static=0.03", 'loading.vertical="sine"',
+                 "loading.vertical_amplitude_ratio=0.3", "loading.vertical_frequency_Hz=0.3", "loading.cycles=1",
+                 "thermal.model=lumped"]),
+    ("tfp-elcentro", ["solver.duration=3", "friction.static_ratio=1.3", "thermal.model=lumped"]),
+    ("flat-lab", ["friction.upper.mu_static=0.6", "thermal.model=lumped"]),
 ])
 def test_compiled_engine_equals_the_pure_path_bit_for_bit(monkeypatch, tmp_path, scene, over):
     """The compiled engine (numba) and the pure path (FPD_NO_JIT: the Python

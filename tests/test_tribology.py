@@ -136,15 +136,16 @@ def test_breakaway_threshold_under_a_ground_motion(model):
     assert peaks[1.01, 0.08] > 1e-3
 
 
-def test_mu_static_refused_below_the_sliding_mu_and_on_the_tfp():
+def test_mu_static_refused_below_the_sliding_mu_on_every_device():
     with pytest.raises(SceneError, match=r"friction.mu_static = 0.04: must be >= the sliding mu \(0.05"):
         fpd.load_scene(lab(friction={"law": "constant", "mu": 0.05, "mu_static": 0.04}))
     with pytest.raises(SceneError, match=r"friction.lower.mu_static = 0.02: must be >= the sliding mu \(0.03"):
         fpd.load_scene(lab(friction={"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.09,
                                      "lower": {"mu_static": 0.02}}))
     fpd.load_scene(lab(friction={"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.09, "mu_static": 0.05}))
-    with pytest.raises(SceneError, match="breakaway friction is modelled for the DFP and SFP only, not the TFP"):
-        fpd.load_scene("tfp-elcentro", **{"friction.mu_static": 0.5})
+    fpd.load_scene("tfp-elcentro", **{"friction.mu_static": 0.5})
+    with pytest.raises(SceneError, match=r"friction.S2.mu_static = 0.01: must be >= the sliding mu \(0.02"):
+        fpd.load_scene("tfp-lab", **{"friction.S2.mu_static": 0.01})
 
 
 # -- stick-slip through a compliant link ----------------------------------------------------
@@ -286,9 +287,12 @@ def test_liner_presets_apply_and_override_key_by_key():
     with pytest.raises(SceneError, match=r'friction.liner = \'teflon\': must be one of "ptfe", '
                                          r'"ptfe-lubricated", "ptfe-composite", "uhmwpe"'):
         fpd.load_scene(lab(friction={"liner": "teflon"}))
-    # the TFP does not model breakaway: a preset's mu_static is not used there
-    f = fpd.load_scene("tfp-elcentro", friction={"liner": "ptfe"}).friction("S1")
-    assert "mu_static" not in f and f["wear_k_mm3_per_Nm"] == 3e-4 and f["law"] == "kumar2015"
+    # the TFP models breakaway as the DFP does: a preset's mu_static applies there, and
+    # is checked against the scene's own law at rest (kumar2015, mu_ref 0.10: 0.100096 > 0.10)
+    f = fpd.load_scene("tfp-elcentro", friction={"liner": "ptfe", "mu_ref": 0.09}).friction("S1")
+    assert f["mu_static"] == 0.10 and f["wear_k_mm3_per_Nm"] == 3e-4 and f["law"] == "kumar2015"
+    with pytest.raises(SceneError, match=r"friction.mu_static = 0.1: must be >= the sliding mu \(0.100096"):
+        fpd.load_scene("tfp-elcentro", friction={"liner": "ptfe"})
 
 
 def test_compare_liners_tabulates_each_preset(tmp_path):
