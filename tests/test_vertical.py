@@ -102,8 +102,11 @@ def test_file_z_is_refused_where_it_cannot_be_taken(tmp_path):
     # the TFP takes the vertical component (tests/test_tfp_vertical.py), not a second horizontal one
     assert scn.load("tfp-elcentro", [f'loading.file_z="{z}"'])["loading"]["path_z"]
     assert scn.load("tfp-elcentro", ['loading.record="ferndale-2022"', "loading.channels=[1, 3]"])["loading"]["path_z"]
-    with pytest.raises(scn.SceneError, match=r"loading.channels.*\(\[1\] or \[1, 3\] with the vertical one\).*planar"):
-        scn.load("tfp-elcentro", ['loading.record="ferndale-2022"'])
+    # the TFP in both directions (seated) takes two horizontal channels, not yet the vertical one with them
+    assert scn.load("tfp-elcentro", ['loading.record="ferndale-2022"', "mechanics.model=seated",
+                                     "loading.channels=[1, 2]"])["loading"]["path_y"]
+    with pytest.raises(scn.SceneError, match=r"loading.channels.*vertical channel.*not yet for the TFP in both"):
+        scn.load("tfp-elcentro", ['loading.record="ferndale-2022"', "mechanics.model=seated"])
     with pytest.raises(scn.SceneError, match=r"loading.file_z.*vertical one"):
         scn.load("ferndale-3c", [f'loading.file_z="{z}"'])
     with pytest.raises(scn.SceneError, match=r"loading.file_z"):       # a key of records only
