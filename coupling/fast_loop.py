@@ -30,7 +30,7 @@ import numpy as np
 
 from fpd import kernels
 
-from . import engine_kernel
+from . import compile_aside, engine_kernel
 
 CHUNK = 2048                 # steps per call at most (progress bar, Ctrl-C latency)
 enabled = True               # False: always the Python loop (tests compare the two)
@@ -228,7 +228,11 @@ class CompiledLoop:
         else:
             self.ctl[eng.C_TRACK] = 1
         self.track = track
-        self._call(np.zeros((1, len(cols))))   # load the engine now (build() did: warm()), not in the timed loop
+        # load the engine now (build() did: warm()), not in the timed loop; a first compile
+        # shares its work with a second process (coupling/compile_aside.py)
+        compile_aside.share(sim, self.C, self.S, self.L, self.X, sim.dt, self.mun, self.dW, self.row,
+                            self.plates, kinds)
+        self._call(np.zeros((1, len(cols))))
 
     def _args(self, buf):
         return (self.C, self.S, self.S0, self.L, self.X, self.sim.dt, self.LW, self.areas, self.eta,

@@ -4,7 +4,7 @@ numba caches each compiled kernel (``cache=True``) as an index file
 ``<module>.<function>-<line>.py<ver>.nbi`` in the ``__pycache__`` folder next
 to the module's source (or under ``NUMBA_CACHE_DIR``); the first run after an
 install or an edit of a kernel source finds none newer than the source and
-compiles, about 25 s in all (the default scene; each device's engine compiles on its first use). ``needs_compile(names)`` says so without
+compiles, about 20 s in all (the default scene, on two cores; each device's engine compiles on its first use). ``needs_compile(names)`` says so without
 importing numba or the kernels; the loader (fpd.kernels ``compiled()``)
 calls ``announce(names)`` just before it loads, which prints the notice once per process when the
 command line (or ``fpd.run(progress=True)``) has ``enable()``-d it: never
@@ -17,7 +17,7 @@ import os
 import sys
 from pathlib import Path
 
-NOTICE = "fpd: compiling kernels once, about 25 s (cached for later runs)"
+NOTICE = "fpd: compiling kernels once, about 20 s (cached for later runs)"
 _write = None          # where the notice goes; None: nowhere (the default for library use)
 _done = False
 
@@ -72,6 +72,23 @@ def needs_compile(names) -> bool:
         if src is not None and not cached(src):
             return True
     return False
+
+
+_uncached: set = set()      # kernel modules found without a cache when first loaded in this process
+
+
+def note(name: str) -> None:
+    """Record whether numba had a cache for kernel module ``name`` when this
+    process first loaded it (fpd.kernels ``compiled()`` calls this before
+    loading, when numba may write empty index files that ``cached`` cannot
+    tell from full ones); ``uncached_at_load`` answers later."""
+    if needs_compile([name]):
+        _uncached.add(name)
+
+
+def uncached_at_load(names) -> bool:
+    """Did any of these kernel modules lack a cache when first loaded?"""
+    return any(n in _uncached for n in names)
 
 
 def announce(names) -> None:

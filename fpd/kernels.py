@@ -89,8 +89,9 @@ def compiled(name: str, bind: dict | None = None) -> types.ModuleType:
     if not is_kernel_module(pure):
         raise TypeError(f"{name} is not a kernel module (it must set __kernel__ = True)")
     jit_options = getattr(pure, "__jit_options__", {})
+    from fpd import jitcache
+    jitcache.note(name)             # before numba may write its (empty) index files
     if jit_options.get("inline") != "always":     # inlined kernels leave no cache of their own
-        from fpd import jitcache
         jitcache.announce([name])   # "compiling kernels once", when numba has no cache for it yet
     spec = importlib.util.spec_from_file_location(key + _SUFFIX, pure.__file__)
     mod = importlib.util.module_from_spec(spec)
