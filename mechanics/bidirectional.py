@@ -328,6 +328,13 @@ class BidirectionalStepper(_Base):
     # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
     engine_device = "fpd.mechanics.dev_bidirectional"
 
+    @staticmethod
+    def engine_worth_loading(n_steps: int) -> bool:
+        """The Python step of the 3D stepper costs ~35 us, the compiled one
+        ~1 us: loading numba and the cached engine (~0.6 s) pays past
+        ~20 000 steps, with lumped plates or none as with fe1d ones."""
+        return n_steps >= 20_000
+
     def engine_state(self):
         """(C, S, L, X) as the engine reads them: the stepper's own arrays (it
         steps with the compiled kernel from now on), the loading (ax, ay per
