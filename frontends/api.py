@@ -146,9 +146,9 @@ class History(Mapping):
         if name not in self.columns:
             raise KeyError(f"{name}: not a column of this run; columns: {', '.join(self.columns)}")
         col = self.data[:, self.columns.index(name)]
-        if name == "phase":
-            from fpd.mechanics.seated import PHASES
-            return np.array(PHASES, dtype=object)[col.astype(int)].astype(str)
+        if name == "phase":     # the DFP's codes, and the TFP's after them (mechanics/phases.py)
+            from fpd.mechanics.phases import TFP_PHASES
+            return np.array(TFP_PHASES, dtype=object)[col.astype(int)].astype(str)
         return col
 
     def __iter__(self):
@@ -174,8 +174,10 @@ class History(Mapping):
                               "(or use the history as a mapping of numpy arrays)") from None
         df = pd.DataFrame({c: self[c] for c in self.columns})
         if "phase" in df:
-            from fpd.mechanics.seated import PHASES
-            df["phase"] = pd.Categorical(df["phase"], categories=list(PHASES))
+            from fpd.mechanics.phases import PHASES, TFP_PHASES
+            codes = self["phase_code"]
+            names = PHASES if (codes.size == 0 or codes.max() < len(PHASES)) else TFP_PHASES
+            df["phase"] = pd.Categorical(df["phase"], categories=list(names))
         return df
 
     def to_xarray(self) -> "xarray.Dataset":

@@ -177,3 +177,16 @@ def test_examples_run(tmp_path, script, args):
 def test_every_example_is_tested():
     tested = {"run_scene.py", "compare_plates.py", "hysteresis_plot.py"}
     assert {p.name for p in (ROOT / "examples").glob("*.py")} == tested
+
+
+def test_tfp_phase_names_read_as_the_csv_writes_them(tmp_path):
+    """The TFP's phase codes (inner, outer, inner+outer) come after the DFP's
+    three: the history names them as timeseries.csv does."""
+    import csv
+
+    r = fpd.run("tfp-elcentro", out=tmp_path / "r", solver={"duration": 3.0}, thermal={"model": "lumped"})
+    names = list(r.history["phase"])
+    with open(tmp_path / "r" / "timeseries.csv") as fh:
+        written = [row["phase"] for row in csv.DictReader(fh)]
+    assert names == written
+    assert {"inner", "outer"} & set(names) and (r.history["phase_code"] >= 3).any()
