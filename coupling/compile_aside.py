@@ -35,6 +35,9 @@ def share(sim, C, S, L, X, dt, mu, dW, row, plates, kinds) -> None:
     dev = sim.mechanics.engine_device
     if not jitcache.uncached_at_load([dev]):
         return
+    column = jitcache.uncached_at_load(["fpd.thermal.column_kernel"])
+    # once per process: whatever happens below, the engine's first call compiles (or loads) them
+    jitcache.compiled_now([dev, "fpd.thermal.column_kernel"])
     proc = None
     try:
         fd, path = tempfile.mkstemp(prefix="fpd-compile-", suffix=".pickle")
@@ -50,7 +53,7 @@ def share(sim, C, S, L, X, dt, mu, dW, row, plates, kinds) -> None:
     try:
         here = {"values": (dev, C, S, L, dt, row)}
         fe1d = [arr for (arr, _), k in zip(plates, kinds) if k == "fe1d"]
-        if fe1d and jitcache.uncached_at_load(["fpd.thermal.column_kernel"]):
+        if fe1d and column:
             here["column"] = fe1d[0]
         compile_jobs(here)
         proc.wait(timeout=WAIT_S)

@@ -87,8 +87,14 @@ def note(name: str) -> None:
 
 
 def uncached_at_load(names) -> bool:
-    """Did any of these kernel modules lack a cache when first loaded?"""
+    """Did any of these kernel modules lack a cache when first loaded (and
+    has nothing compiled them since: ``compiled_now``)?"""
     return any(n in _uncached for n in names)
+
+
+def compiled_now(names) -> None:
+    """These kernel modules are compiled (and cached) in this process now."""
+    _uncached.difference_update(names)
 
 
 def announce(names) -> None:

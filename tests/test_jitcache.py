@@ -118,17 +118,24 @@ def test_progress_clock_starts_after_the_kernels_load(monkeypatch):
 def test_first_compile_shares_the_devices_step_with_a_second_process(tmp_path):
     """With an empty cache (a fresh NUMBA_CACHE_DIR), the engine's first
     compile loads the device's step from the cache the second process
-    (coupling/compile_aside.py) wrote: a cache hit, not a compile; and the
-    run equals a run with the cache already full, bit for bit."""
+    (coupling/compile_aside.py) wrote: a cache hit, not a compile; the
+    second process is started once per process (a later build of the same
+    device finds it compiled), never with a full cache; and the run equals
+    a run with the cache already full, bit for bit."""
     code = (
         "import numpy as np\n"
         "from fpd import kernels\n"
         "from fpd.schema import scene as scn\n"
         "from fpd.coupling.build import build\n"
         "from fpd.coupling.run import simulate\n"
+        "import fpd.coupling.compile_aside as ca\n"
+        "spawned = []\n"
+        "popen = ca.subprocess.Popen\n"
+        "ca.subprocess.Popen = lambda *a, **k: spawned.append(1) or popen(*a, **k)\n"
         "sim = build(scn.load('lab-sine', ['solver.duration=0.5']))\n"
+        "build(scn.load('lab-sine', ['solver.duration=0.5']))   # compiled already: no second process\n"
         "d = kernels.compiled(sim.mechanics.engine_device)\n"
-        "print(sum(d.step.stats.cache_hits.values()), sum(d.step.stats.cache_misses.values()))\n"
+        "print(sum(d.step.stats.cache_hits.values()), sum(d.step.stats.cache_misses.values()), len(spawned))\n"
         "r = simulate(sim)\n"
         "np.save(%r, np.column_stack([r[c] for c in r.columns]))\n")
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=str(ROOT), OPENBLAS_NUM_THREADS="1")
@@ -139,6 +146,8 @@ def test_first_compile_shares_the_devices_step_with_a_second_process(tmp_path):
                            cwd=tmp_path, timeout=600)
         assert p.returncode == 0, p.stderr[-2000:]
         runs.append((p.stdout.split(), out))
-    assert runs[0][0] == ["1", "0"], runs[0][0]      # first compile: the step came from the second process
+    # first compile: the step came from the second process, spawned once per process
+    assert runs[0][0] == ["1", "0", "1"], runs[0][0]
+    assert runs[1][0][2] == "0", runs[1][0]           # a full cache: none
     import numpy as np
     assert np.array_equal(np.load(runs[0][1]), np.load(runs[1][1]))
