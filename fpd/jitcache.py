@@ -4,7 +4,7 @@ numba caches each compiled kernel (``cache=True``) as an index file
 ``<module>.<function>-<line>.py<ver>.nbi`` in the ``__pycache__`` folder next
 to the module's source (or under ``NUMBA_CACHE_DIR``); the first run after an
 install or an edit of a kernel source finds none newer than the source and
-compiles, about 20 s in all (the default scene, on two cores; each device's engine compiles on its first use). ``needs_compile(names)`` says so without
+compiles, about 15 s in all (the default scene, on two cores; each device's engine compiles on its first use). ``needs_compile(names)`` says so without
 importing numba or the kernels; the loader (fpd.kernels ``compiled()``)
 calls ``announce(names)`` just before it loads, which prints the notice once per process when the
 command line (or ``fpd.run(progress=True)``) has ``enable()``-d it: never
@@ -17,7 +17,7 @@ import os
 import sys
 from pathlib import Path
 
-NOTICE = "fpd: compiling kernels once, about 20 s (cached for later runs)"
+NOTICE = "fpd: compiling kernels once, about 15 s (cached for later runs)"
 _write = None          # where the notice goes; None: nowhere (the default for library use)
 _done = False
 

@@ -232,7 +232,7 @@ _CLI_RULES = """\
   `failed` or `interrupted` and `message` why.
 - On a terminal, long runs show a progress bar on stderr (not with `--quiet`,
   not when stderr is not a terminal); the first run after an install compiles
-  the numba kernels once (a one-line notice, about 20 s) before the bar starts.
+  the numba kernels once (a one-line notice, about 15 s) before the bar starts.
 """
 
 _OUTPUTS = """\
