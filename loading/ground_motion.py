@@ -188,16 +188,10 @@ def parse_two_column(text: str, path="<record>", units: str = "g") -> Record:
     t, a = [], []
     header = []
     started = False
-    for j, line in enumerate(text.splitlines(), start=1):
-        s = line.strip()
-        if not s or s.startswith("#"):
-            continue
-        toks = s.replace(",", " ").replace(";", " ").split()
-        try:
-            row = [float(x) for x in toks]
-        except ValueError:
+    for j, s, toks, row in _lines(text):
+        if row is None:
             if started:
-                raise RecordError(path, f"'{s[:40]}' is not two numbers (time, acceleration)", j) from None
+                raise RecordError(path, f"'{s[:40]}' is not two numbers (time, acceleration)", j)
             header.append(s)
             continue
         if len(row) != 2:
@@ -231,17 +225,26 @@ def guess_format(text: str) -> str:
 def _first_data_line(text: str):
     """(line number, number of values) of the first all-numeric line after
     any leading header lines (comments '#' and blank lines skipped), or None."""
+    for j, _s, toks, row in _lines(text):
+        if row is not None:
+            return j, len(toks)
+    return None
+
+
+def _lines(text: str):
+    """(line number, stripped line, its tokens, their values or None when one
+    is not a number) of each line that is neither blank nor a '#' comment;
+    commas and semicolons separate values as spaces do."""
     for j, line in enumerate(text.splitlines(), start=1):
         s = line.strip()
         if not s or s.startswith("#"):
             continue
         toks = s.replace(",", " ").replace(";", " ").split()
         try:
-            [float(x) for x in toks]
+            row = [float(x) for x in toks]
         except ValueError:
-            continue
-        return j, len(toks)
-    return None
+            row = None
+        yield j, s, toks, row
 
 
 def parse_samples(text: str, path="<record>", dt: float = 0.0, units: str = "g") -> Record:
@@ -252,18 +255,12 @@ def parse_samples(text: str, path="<record>", dt: float = 0.0, units: str = "g")
     k dt, k = 0, 1, ..."""
     a, header = [], []
     started = False
-    for j, line in enumerate(text.splitlines(), start=1):
-        s = line.strip()
-        if not s or s.startswith("#"):
-            continue
-        toks = s.replace(",", " ").replace(";", " ").split()
-        try:
-            row = [float(x) for x in toks]
-        except ValueError:
+    for j, s, toks, row in _lines(text):
+        if row is None:
             if started:
                 bad = next(x for x in toks if not _is_float(x))
                 raise RecordError(path, f"'{bad[:30]}' is not a number (acceleration samples, loading.dt "
-                                  f"= {dt:g} s)", j) from None
+                                  f"= {dt:g} s)", j)
             header.append(s)
             continue
         for tok, x in zip(toks, row):
