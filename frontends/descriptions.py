@@ -138,6 +138,16 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "surface holds up to static_ratio times mu(T, p, v = 0), so the breakaway follows "
                                   "the temperature and pressure as the law does. With mu_static the larger holds. "
                                   "DFP, SFP, TFP and the flat bearing."),
+    "friction.mu_static_inf": ("", "The static coefficient after a long dwell: a surface stuck for a time t "
+                                   "holds up to mu_s(t) = mu_static_inf - (mu_static_inf - mu_s0) "
+                                   "exp(-(t / dwell_time_s)^dwell_exponent) (Kato, Sato and Matsubayashi 1972), "
+                                   "mu_s0 the static coefficient at zero dwell (mu_static, static_ratio, else the "
+                                   "sliding mu). Must be >= mu_s0 (at rest, 20 degC); needs dwell_time_s. The "
+                                   "planar DFP / SFP test machine (its stepper keeps the time stuck, per surface; "
+                                   "loading.hold_s rests the bearing under its load before the programme)."),
+    "friction.dwell_time_s": ("s", "Time constant tau (> 0) of the static coefficient's growth with dwell "
+                                   "(mu_static_inf): 1 - 1/e of the growth after tau stuck (exponent 1)."),
+    "friction.dwell_exponent": ("", "Exponent m (> 0) of the dwell law, exp(-(t / tau)^m); 1 when absent."),
     "friction.wear_k_mm3_per_Nm": ("mm3/(N m)", "Archard wear coefficient k_w of the surface: the wear depth "
                                                 "grows by k_w p ds (p = N / contact area, ds the sliding path). "
                                                 "Absent: no wear columns."),
@@ -280,6 +290,11 @@ KEYS: dict[str, tuple[str, str]] = {
                                                           "(stick-slip; docs/model.md 11.3). F_N is the link's force. "
                                                           "Needs link_mass_kg."),
     "loading.displacement.link_mass_kg": ("kg", "The mass of the plate the compliant link drives."),
+    "loading.displacement.hold_s": ("s", "The machine holds the start position this long (rounded to whole steps) "
+                                         "before the programme starts: the bearing rests under its load, so the "
+                                         "first breakaway comes after that dwell (friction.mu_static_inf). The "
+                                         "planar DFP / SFP machine (waveform \"sine\" or \"triangle\", "
+                                         "direction_deg = 0)."),
     "loading.displacement.vertical_file": ("", 'vertical = "series": a text file of (time s, load N) rows, two '
                                                'numbers a line (whitespace or a comma; # comments), times '
                                                'increasing, loads > 0, covering the run from t = 0; linear '

@@ -108,7 +108,8 @@ LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table":
 
 
 # keys of a surface beside its law's (schema.scene.SURFACE_KEYS): read by surface_of
-SURFACE_KEYS = ("mu_static", "static_ratio", "wear_k_mm3_per_Nm", "wear_T_C", "wear_k_T_mm3_per_Nm", "liner")
+SURFACE_KEYS = ("mu_static", "static_ratio", "mu_static_inf", "dwell_time_s", "dwell_exponent",
+                "wear_k_mm3_per_Nm", "wear_T_C", "wear_k_T_mm3_per_Nm", "liner")
 
 # liner presets: name -> {"values": the [friction] keys it sets, "sources": where each comes from}.
 # Representative values inside the ranges the sources report (docs/liners.md says which
@@ -159,6 +160,15 @@ def static_mu(spec: dict) -> tuple:
     sliding mu at rest; 0.0 each when not given (friction_kernel.holding_mu:
     the sliding mu holds a stuck surface)."""
     return float(spec.get("mu_static", 0.0)), float(spec.get("static_ratio", 0.0))
+
+
+def dwell_law(spec: dict) -> tuple:
+    """The surface's dwell law of the static coefficient (friction_kernel.dwell_mu):
+    (mu_s after a long dwell, the time constant in s, the exponent); zeros when
+    not given (no growth with the time stuck)."""
+    if spec.get("dwell_time_s") is None:
+        return 0.0, 0.0, 0.0
+    return float(spec["mu_static_inf"]), float(spec["dwell_time_s"]), float(spec.get("dwell_exponent", 1.0))
 
 
 MM3_PER_NM = 1e-9          # 1 mm^3 / (N m) in m^2 / N
