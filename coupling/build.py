@@ -347,9 +347,13 @@ def bidirectional_loading_of(scene: Scene, dt: float):
     ld = scene["loading"]
     duration = scene["solver"].get("duration")
     if ld["kind"] == "displacement":
-        from fpd.loading.orbits import orbit_programme
-        return orbit_programme(ld["waveform"], ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt,
+        from fpd.loading.orbits import held_orbit, orbit_programme
+        hold = ld.get("hold_s", 0.0)
+        if duration is not None and hold:
+            duration = max(dt, duration - round(hold / dt) * dt)
+        prog = orbit_programme(ld["waveform"], ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt,
                                duration, ld["direction_deg"])
+        return held_orbit(prog, hold) if hold else prog
     if ld["kind"] != "record":
         gx = loading_of(scene, dt)
         return gx, None

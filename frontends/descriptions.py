@@ -143,8 +143,9 @@ KEYS: dict[str, tuple[str, str]] = {
                                    "exp(-(t / dwell_time_s)^dwell_exponent) (Kato, Sato and Matsubayashi 1972), "
                                    "mu_s0 the static coefficient at zero dwell (mu_static, static_ratio, else the "
                                    "sliding mu). Must be >= mu_s0 (at rest, 20 degC); needs dwell_time_s. The "
-                                   "planar DFP / SFP test machine (its stepper keeps the time stuck, per surface; "
-                                   "loading.hold_s rests the bearing under its load before the programme)."),
+                                   "DFP / SFP test machines, planar and orbit (their steppers keep the time "
+                                   "stuck, per surface; loading.hold_s rests the bearing under its load before "
+                                   "the programme)."),
     "friction.dwell_time_s": ("s", "Time constant tau (> 0) of the static coefficient's growth with dwell "
                                    "(mu_static_inf): 1 - 1/e of the growth after tau stuck (exponent 1)."),
     "friction.dwell_exponent": ("", "Exponent m (> 0) of the dwell law, exp(-(t / tau)^m); 1 when absent."),
@@ -292,9 +293,9 @@ KEYS: dict[str, tuple[str, str]] = {
     "loading.displacement.link_mass_kg": ("kg", "The mass of the plate the compliant link drives."),
     "loading.displacement.hold_s": ("s", "The machine holds the start position this long (rounded to whole steps) "
                                          "before the programme starts: the bearing rests under its load, so the "
-                                         "first breakaway comes after that dwell (friction.mu_static_inf). The "
-                                         "planar DFP / SFP machine (waveform \"sine\" or \"triangle\", "
-                                         "direction_deg = 0)."),
+                                         "first breakaway comes after that dwell (friction.mu_static_inf); the "
+                                         "programme then starts with its launch speed. The DFP / SFP test "
+                                         "machines, planar and orbit."),
     "loading.displacement.vertical_file": ("", 'vertical = "series": a text file of (time s, load N) rows, two '
                                                'numbers a line (whitespace or a comma; # comments), times '
                                                'increasing, loads > 0, covering the run from t = 0; linear '

@@ -63,3 +63,17 @@ def orbit_programme(waveform: str, amplitude_m: float, frequency_Hz: float, cycl
     name = f"{waveform} {A:g} m {frequency_Hz:g} Hz x {cycles:g}"
     return OrbitProgramme(name, dt, t, np.ascontiguousarray(u), np.ascontiguousarray(ud),
                           np.ascontiguousarray(udd))
+
+
+def held_orbit(prog: OrbitProgramme, hold_s: float) -> OrbitProgramme:
+    """The orbit after a hold: the machine keeps the start position, at rest,
+    for hold_s (rounded to whole steps; the bearing dwells under its load),
+    then runs ``prog`` (built for the time left) and launches the bearing."""
+    nh = int(round(hold_s / prog.dt))
+    if nh == 0:
+        return prog
+    z = np.zeros((nh, 2))
+    u = np.concatenate([np.repeat(prog.u[:1], nh, axis=0), prog.u])
+    return OrbitProgramme(f"hold {nh * prog.dt:g} s, {prog.name}", prog.dt, np.arange(len(prog.t) + nh) * prog.dt,
+                          np.ascontiguousarray(u), np.ascontiguousarray(np.concatenate([z, prog.ud])),
+                          np.ascontiguousarray(np.concatenate([z, prog.udd])))

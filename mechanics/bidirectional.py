@@ -398,6 +398,7 @@ class BidirectionalTestMachine(_Base):
         self._setup(geom, programme.dt, programme.n_steps, True, jit,
                     u0=(float(u0[0]), float(u0[1])), v0=(float(v0[0]), float(v0[1])), seated=True)
         self.prog = programme
+        self.C[K.C_DT] = self.dt                # the dwell time's step (bidirectional_kernel.machine_step)
         self._U = np.ascontiguousarray(programme.u, dtype=float)
         self._UD = np.ascontiguousarray(programme.ud, dtype=float)
         self._UDD = np.ascontiguousarray(programme.udd, dtype=float)
@@ -420,6 +421,16 @@ class BidirectionalTestMachine(_Base):
         """As the stepper's; the bearing starts at rest (stuck) before the
         programme launches it, so its first step breaks it away."""
         super().set_static(mu_s1, mu_s2, ratio1, ratio2)
+        self.S[K.S_MODE] = K.STICK
+
+    def set_dwell(self, lower: tuple, upper: tuple) -> None:
+        """The static coefficients' growth with the time stuck, per surface (mu_s
+        after a long dwell, time constant tau in s, exponent; tau = 0: none):
+        bidirectional_kernel C_MUI1.., friction_kernel.dwell_mu. The bearing
+        starts at rest, its dwell time zero."""
+        C = self.C
+        C[K.C_MUI1], C[K.C_TAU1], C[K.C_EXP1] = (float(x) for x in lower)
+        C[K.C_MUI2], C[K.C_TAU2], C[K.C_EXP2] = (float(x) for x in upper)
         self.S[K.S_MODE] = K.STICK
 
     def ground_position(self):

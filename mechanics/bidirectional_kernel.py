@@ -51,7 +51,7 @@ docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
-from .friction_kernel import holding_mu
+from .friction_kernel import dwell_advance, holding_mu, holding_mu_dwell
 from .two_phase_kernel import _sinc as sinc, pivot_angle, rocking_increment   # the planar stepper's, one source
 
 __kernel__ = True
@@ -84,7 +84,10 @@ C_MUR1, C_MUR2 = 38, 39
 # a rim of finite stiffness (docs/model.md 9): k sum R_i^2 over the surfaces that bound the tilt
 # (N m / rad^2), the axis's moment k R_i^2 (theta - thmax) beyond it; 0: the rigid rim
 C_KRIM = 40
-N_C = 41
+# the orbit machine's dwell law of the static coefficients (friction_kernel.dwell_mu): mu_s after
+# a long dwell, the time constant (0: none), the exponent, lower and upper; the programme's step
+C_MUI1, C_MUI2, C_TAU1, C_TAU2, C_EXP1, C_EXP2, C_DT = 41, 42, 43, 44, 45, 46, 47
+N_C = 48
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -108,7 +111,9 @@ S_FLY, S_ZF, S_ZFD, S_ELAND, S_NLIFT, S_TFLY = 42, 43, 44, 45, 46, 47
 # in flight: the flying unit's horizontal displacement since take-off and its horizontal
 # velocity (relative to the ground; S_ZF, S_ZFD its vertical ones)
 S_XF, S_YF, S_VXF, S_VYF = 48, 49, 50, 51
-N_S = 52
+# the orbit machine: the lower and upper surface's dwell time (s stuck; friction_kernel.dwell_advance)
+S_DW1, S_DW2 = 52, 53
+N_S = 54
 
 STICK, SLIP, TILT = 0, 1, 2
 FLAG_OK, FLAG_ROCKING, FLAG_OVERTURN = 0, 1, 2
@@ -1154,6 +1159,10 @@ def machine_step(C, S, U, UD, UDD, GV, i, mu1, mu2):
     Fb = machine_point(C, U[i + 1, 0], U[i + 1, 1], UD[i + 1, 0], UD[i + 1, 1], UDD[i + 1, 0],
                        UDD[i + 1, 1], t1[0], t1[1], t1[2], mu1, mu2, gvb)
     R1, R2 = C[C_R1], C[C_R2]
+    launch = ang == 0.0 and S[S_WX] == 0.0 and S[S_WY] == 0.0 and S[S_WZ] == 0.0
+    Ek0 = 0.0
+    if launch:
+        Ek0 = energies(C, S)[0]
     S[S_W1] += mu1 * 0.5 * (Fa[2] + Fb[2]) * R1 * ang
     S[S_W2] += mu2 * 0.5 * (Fa[3] + Fb[3]) * R2 * ang
     # generalised force Q = L F + S u'' (the plate's d'Alembert force is -S a_g = S u'')
@@ -1167,10 +1176,18 @@ def machine_step(C, S, U, UD, UDD, GV, i, mu1, mu2):
     S[S_FX], S[S_FY], S[S_N1], S[S_N2] = Fb[0], Fb[1], Fb[2], Fb[3]
     S[S_FF1] = mu1 * Fb[2]
     S[S_FF2] = mu2 * Fb[3]
-    hm1, hm2 = holding_mu(mu1, C[C_MUS1], C[C_MUR1]), holding_mu(mu2, C[C_MUS2], C[C_MUR2])
+    if launch:
+        # at rest: a programme that starts after a hold launches the bearing by an
+        # impulse at fixed position, whose work is the kinetic energy it gives
+        S[S_EIN] += energies(C, S)[0] - Ek0
+    hm1 = holding_mu_dwell(mu1, C[C_MUS1], C[C_MUR1], C[C_MUI1], C[C_TAU1], C[C_EXP1], S[S_DW1])
+    hm2 = holding_mu_dwell(mu2, C[C_MUS2], C[C_MUR2], C[C_MUI2], C[C_TAU2], C[C_EXP2], S[S_DW2])
+    dwell_advance(S, S_DW1, ang == 0.0, C[C_DT])
+    dwell_advance(S, S_DW2, ang == 0.0, C[C_DT])
     if S[S_MODE] == STICK and ang != 0.0 and (hm1 > mu1 or hm2 > mu2):
         # breakaway from rest: the restraint carries the static cap at the step's
-        # start; the step's row reports that force, the largest of the step
+        # start (grown by the time stuck so far); the step's row reports that force,
+        # the largest of the step
         Fs = machine_point(C, U[i, 0], U[i, 1], UD[i, 0], UD[i, 1], UDD[i, 0], UDD[i, 1],
                            t0[0], t0[1], t0[2], hm1, hm2, gva)
         S[S_FX], S[S_FY] = Fs[0], Fs[1]

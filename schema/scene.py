@@ -779,10 +779,10 @@ def _validate(raw: dict, path: str) -> Scene:
 
 def _dwell_checks(ctx: _Ctx, data: dict, given) -> None:
     """The static coefficient's growth with the time stuck (mu_static_inf,
-    dwell_time_s) is modelled on the planar DFP / SFP test machine (its
-    stepper keeps the dwell time); refused elsewhere in one line."""
+    dwell_time_s) is modelled on the DFP / SFP test machines, planar and
+    orbit (their steppers keep the dwell time); refused elsewhere in one line."""
     ld = data["loading"]
-    if data["device"]["kind"] in ("DFP", "SFP") and ld["kind"] == "displacement" and not is_bidirectional(data):
+    if data["device"]["kind"] in ("DFP", "SFP") and ld["kind"] == "displacement":
         return
     given = given if isinstance(given, dict) else {}
     for side, spec in data["friction"].items():
@@ -790,9 +790,8 @@ def _dwell_checks(ctx: _Ctx, data: dict, given) -> None:
             if key in spec:
                 own = isinstance(given.get(side), dict) and key in given[side]
                 ctx.fail(f"friction.{side}.{key}" if own else f"friction.{key}", spec[key],
-                         "the static coefficient's growth with dwell is modelled on the planar DFP / SFP test "
-                         'machine only (loading kind = "displacement", waveform "sine" or "triangle", '
-                         "direction_deg = 0)")
+                         "the static coefficient's growth with dwell is modelled on the DFP / SFP test "
+                         'machines only (loading kind = "displacement")')
 
 
 def _mass_or_weight(ctx: _Ctx, sup: dict) -> None:
@@ -834,9 +833,6 @@ def _cross_checks(ctx: _Ctx, data: dict):
         if link and (ld["waveform"] not in ("sine", "triangle") or ld["direction_deg"] != 0.0):
             ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link drives the planar machine only '
                      '(waveform "sine" or "triangle", direction_deg = 0)')
-        if "hold_s" in ld and (ld["waveform"] not in ("sine", "triangle") or ld["direction_deg"] != 0.0):
-            ctx.fail("loading.hold_s", ld["hold_s"], 'the hold is the planar machine\'s (waveform "sine" or '
-                     '"triangle", direction_deg = 0)')
         if link and ld.get("vertical") not in (None, "constant"):
             ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link needs the vertical load held '
                      '(loading.vertical = "constant")')
@@ -1380,7 +1376,7 @@ def planar_only(ctx, data, device: str) -> None:
             if key in ld:
                 ctx.fail(f"loading.{key}", ld[key], f"the compliant link is the DFP / SFP test machine's: {why}")
         if "hold_s" in ld:
-            ctx.fail("loading.hold_s", ld["hold_s"], f"the hold is the planar DFP / SFP test machine's: {why}")
+            ctx.fail("loading.hold_s", ld["hold_s"], f"the hold is the DFP / SFP test machines': {why}")
         if ld.get("direction_deg", 0.0) != 0.0:
             ctx.fail("loading.direction_deg", ld["direction_deg"], f"must be 0: {why}")
     if mech.get("normal_force") not in (None, "start"):
@@ -1436,7 +1432,7 @@ def tfp3d_checks(ctx, data) -> None:
                 ctx.fail(f"loading.{key}", ld[key], "the compliant link is the planar DFP / SFP test machine's "
                          "(not the TFP's)")
         if "hold_s" in ld:
-            ctx.fail("loading.hold_s", ld["hold_s"], "the hold is the planar DFP / SFP test machine's (not the TFP's)")
+            ctx.fail("loading.hold_s", ld["hold_s"], "the hold is the DFP / SFP test machines' (not the TFP's)")
         if ld.get("vertical") is not None:
             ctx.fail("loading.vertical", ld["vertical"], "is a key of the DFP / SFP test machine; the TFP's "
                      "machine passes the superstructure's weight and inertia down the stack (leave it out)")
