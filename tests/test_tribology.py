@@ -185,6 +185,25 @@ def test_breakaway_after_a_hold_follows_the_dwell_law(hold, m, direction):
     assert np.max(np.abs(ledger)) < 1e-6 * float(res["W1_J"][-1] + res["W2_J"][-1])
 
 
+def test_a_hold_shifts_the_programme_and_its_cycles():
+    """A hold of 1.5 s before the programme: the run after it is the run without
+    it, shifted (no static coefficient: nothing depends on the time at rest;
+    lumped plates at their initial temperature meanwhile), and the per-cycle
+    test quantities count the cycles from the programme's start."""
+    base = {"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 0.5, "cycles": 2}
+    a = fpd.run(lab(loading=base), output={"plots": False})
+    b = fpd.run(lab(loading=dict(base, hold_s=1.5)), output={"plots": False})
+    n = 1500
+    assert np.all(b.history["u_m"][:n + 1] == 0.0) and np.all(b.history["F_N"][:n + 1] == 0.0)
+    for col in ("u_m", "F_N", "W1_J", "T1_C"):
+        np.testing.assert_allclose(b.history[col][n:], a.history[col], rtol=1e-12, atol=1e-9)
+    ca, cb = a.summary["test_machine"]["cycles"], b.summary["test_machine"]["cycles"]
+    assert len(ca) == len(cb) == 2
+    for x, y in zip(ca, cb):
+        assert y["t_start_s"] == pytest.approx(x["t_start_s"] + 1.5, abs=1e-12)
+        assert y["EDC_J"] == pytest.approx(x["EDC_J"], rel=1e-12)
+
+
 def test_dwell_grows_the_threshold_under_a_compliant_link():
     """Through the compliant link from zero force, the plate stuck from the
     start (or after a hold): the first breakaway comes when the link's force
