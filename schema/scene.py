@@ -490,11 +490,12 @@ def _surface_checks(ctx: _Ctx, where: str, res: dict) -> None:
     if dwell:
         law = make_law(res)
         p_ref = res.get("p_ref_MPa", 0.0) * 1e6 if res["law"] == "kumar2015" else 0.0
-        floor = max(law(20.0, p_ref, 0.0), res.get("mu_static", 0.0))
+        mu0 = law(20.0, p_ref, 0.0)
+        floor = max(mu0, res.get("mu_static", 0.0), res.get("static_ratio", 0.0) * mu0)
         if res["mu_static_inf"] < floor:
             ctx.fail(f"{where}.mu_static_inf", res["mu_static_inf"],
-                     f"must be >= the static coefficient at zero dwell ({floor:.6g}: mu_static, else the "
-                     "sliding mu at rest and 20 degC)")
+                     f"must be >= the static coefficient at zero dwell ({floor:.6g}: mu_static or static_ratio "
+                     "times the sliding mu, else the sliding mu, at rest and 20 degC)")
     T, k = res.get("wear_T_C"), res.get("wear_k_T_mm3_per_Nm")
     if (T is None) != (k is None):
         given = "wear_T_C" if T is not None else "wear_k_T_mm3_per_Nm"

@@ -241,6 +241,9 @@ def test_dwell_keys_refused():
     with pytest.raises(SceneError, match=r"friction.lower.mu_static_inf = 0.07: must be >= the static coefficient "
                                          r"at zero dwell \(0.075"):
         fpd.load_scene(lab(friction=dict(base, mu_static=0.075, lower={"mu_static_inf": 0.07, "dwell_time_s": 1.0})))
+    with pytest.raises(SceneError, match=r"friction.mu_static_inf = 0.07: must be >= the static coefficient "
+                                         r"at zero dwell \(0.08"):
+        fpd.load_scene(lab(friction=dict(base, static_ratio=1.6, mu_static_inf=0.07, dwell_time_s=1.0)))
     with pytest.raises(SceneError, match=r"loading.hold_s = -2: must be >= 0"):
         fpd.load_scene(lab(loading=dict(LAB["loading"], hold_s=-2.0)))
     # the DFP / SFP test machines only: a ground motion, the TFP refuse it in one line
