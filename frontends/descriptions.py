@@ -142,10 +142,11 @@ KEYS: dict[str, tuple[str, str]] = {
                                    "holds up to mu_s(t) = mu_static_inf - (mu_static_inf - mu_s0) "
                                    "exp(-(t / dwell_time_s)^dwell_exponent) (Kato, Sato and Matsubayashi 1972), "
                                    "mu_s0 the static coefficient at zero dwell (mu_static, static_ratio, else the "
-                                   "sliding mu). Must be >= mu_s0 (at rest, 20 degC); needs dwell_time_s. The "
-                                   "DFP / SFP test machines, planar and orbit (their steppers keep the time "
-                                   "stuck, per surface; loading.hold_s rests the bearing under its load before "
-                                   "the programme)."),
+                                   "sliding mu). Must be >= mu_s0 (at rest, 20 degC); needs dwell_time_s. The DFP "
+                                   "and the SFP: ground motions (planar and 3D, both models) and both test "
+                                   "machines (their steppers keep the time stuck per surface, from zero at the "
+                                   "run's start; loading.hold_s rests the bearing under its load before a test "
+                                   "machine's programme). Refused for the TFP and the flat bearing."),
     "friction.dwell_time_s": ("s", "Time constant tau (> 0) of the static coefficient's growth with dwell "
                                    "(mu_static_inf): 1 - 1/e of the growth after tau stuck (exponent 1)."),
     "friction.dwell_exponent": ("", "Exponent m (> 0) of the dwell law, exp(-(t / tau)^m); 1 when absent."),

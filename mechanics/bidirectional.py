@@ -159,6 +159,15 @@ class _Base(TwoInterfaces):
         self.C[K.C_MUS1], self.C[K.C_MUS2] = float(mu_s1), float(mu_s2)
         self.C[K.C_MUR1], self.C[K.C_MUR2] = float(ratio1), float(ratio2)
 
+    def set_dwell(self, lower: tuple, upper: tuple) -> None:
+        """The static coefficients' growth with the time stuck, per surface (mu_s
+        after a long dwell, time constant tau in s, exponent; tau = 0: none):
+        bidirectional_kernel C_MUI1.., friction_kernel.dwell_mu. The time stuck
+        starts at zero with the run."""
+        C = self.C
+        C[K.C_MUI1], C[K.C_TAU1], C[K.C_EXP1] = (float(x) for x in lower)
+        C[K.C_MUI2], C[K.C_TAU2], C[K.C_EXP2] = (float(x) for x in upper)
+
     def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0,
                 stiffness: float | None = None) -> None:
         """The slide capacities (arc from each surface's centre, m; the SFP's
@@ -424,13 +433,8 @@ class BidirectionalTestMachine(_Base):
         self.S[K.S_MODE] = K.STICK
 
     def set_dwell(self, lower: tuple, upper: tuple) -> None:
-        """The static coefficients' growth with the time stuck, per surface (mu_s
-        after a long dwell, time constant tau in s, exponent; tau = 0: none):
-        bidirectional_kernel C_MUI1.., friction_kernel.dwell_mu. The bearing
-        starts at rest, its dwell time zero."""
-        C = self.C
-        C[K.C_MUI1], C[K.C_TAU1], C[K.C_EXP1] = (float(x) for x in lower)
-        C[K.C_MUI2], C[K.C_TAU2], C[K.C_EXP2] = (float(x) for x in upper)
+        """As the stepper's; the bearing starts at rest before the programme."""
+        super().set_dwell(lower, upper)
         self.S[K.S_MODE] = K.STICK
 
     def ground_position(self):

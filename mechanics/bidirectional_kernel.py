@@ -51,7 +51,7 @@ docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
-from .friction_kernel import dwell_advance, holding_mu, holding_mu_dwell
+from .friction_kernel import dwell_advance, holding_mu_dwell
 from .two_phase_kernel import _sinc as sinc, pivot_angle, rocking_increment   # the planar stepper's, one source
 
 __kernel__ = True
@@ -84,8 +84,8 @@ C_MUR1, C_MUR2 = 38, 39
 # a rim of finite stiffness (docs/model.md 9): k sum R_i^2 over the surfaces that bound the tilt
 # (N m / rad^2), the axis's moment k R_i^2 (theta - thmax) beyond it; 0: the rigid rim
 C_KRIM = 40
-# the orbit machine's dwell law of the static coefficients (friction_kernel.dwell_mu): mu_s after
-# a long dwell, the time constant (0: none), the exponent, lower and upper; the programme's step
+# the dwell law of the static coefficients (friction_kernel.dwell_mu): mu_s after a long dwell,
+# the time constant (0: none), the exponent, lower and upper; the orbit machine's programme step
 C_MUI1, C_MUI2, C_TAU1, C_TAU2, C_EXP1, C_EXP2, C_DT = 41, 42, 43, 44, 45, 46, 47
 N_C = 48
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
@@ -111,7 +111,7 @@ S_FLY, S_ZF, S_ZFD, S_ELAND, S_NLIFT, S_TFLY = 42, 43, 44, 45, 46, 47
 # in flight: the flying unit's horizontal displacement since take-off and its horizontal
 # velocity (relative to the ground; S_ZF, S_ZFD its vertical ones)
 S_XF, S_YF, S_VXF, S_VYF = 48, 49, 50, 51
-# the orbit machine: the lower and upper surface's dwell time (s stuck; friction_kernel.dwell_advance)
+# the lower and upper surface's dwell time (s stuck; friction_kernel.dwell_advance)
 S_DW1, S_DW2 = 52, 53
 N_S = 54
 
@@ -548,7 +548,9 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
     nx, ny, nz = S[S_NX], S[S_NY], S[S_NZ]
     w0x, w0y, w0z = S[S_WX], S[S_WY], S[S_WZ]
     moving = w0x != 0.0 or w0y != 0.0 or w0z != 0.0
-    hm1, hm2 = holding_mu(mu1, C[C_MUS1], C[C_MUR1]), holding_mu(mu2, C[C_MUS2], C[C_MUR2])
+    # the static caps, grown by the time stuck so far (friction_kernel.holding_mu_dwell)
+    hm1 = holding_mu_dwell(mu1, C[C_MUS1], C[C_MUR1], C[C_MUI1], C[C_TAU1], C[C_EXP1], S[S_DW1])
+    hm2 = holding_mu_dwell(mu2, C[C_MUS2], C[C_MUR2], C[C_MUI2], C[C_TAU2], C[C_EXP2], S[S_DW2])
     if not moving and (hm1 > mu1 or hm2 > mu2):
         # at rest: the stick trial with the static cap; a drive beyond it breaks
         # the pad away and the step slides with the sliding cap
@@ -581,6 +583,7 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
             _slide(C, S, d, ex, ey, ez, 0.0, 0.0, 0.0, ax, ay, gv, f1, f2)
             S[S_MODE] = STICK
             S[S_SV1] = S[S_SV2] = 0.0
+            S[S_DW1] = S[S_DW2] = 0.0           # arrested at tau: its dwell starts there
             return tau, FLAG_OK
     S[S_N1], S[S_N2] = N1, N2
     f1, f2 = mu1 * N1 * R1, mu2 * N2 * R2
@@ -594,6 +597,8 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
             S[S_WX] = S[S_WY] = S[S_WZ] = 0.0
         S[S_MODE] = STICK
         S[S_SV1] = S[S_SV2] = 0.0
+        dwell_advance(S, S_DW1, not moving, h)      # at rest all the part-step, or stopped at its end
+        dwell_advance(S, S_DW2, not moving, h)
         if not moving:
             S[S_BETA1] = S[S_BETA2] = S[S_TILT] = 0.0
         if not moving and S[S_NOROCK] == 0.0:
@@ -616,6 +621,7 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
     d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
     _slide(C, S, d, Dx / d, Dy / d, Dz / d, v1x, v1y, v1z, ax, ay, gv, f1, f2)
     S[S_MODE] = SLIP
+    S[S_DW1] = S[S_DW2] = 0.0
     w = math.sqrt(S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ])
     S[S_SV1], S[S_SV2] = R1 * w, R2 * w
     return h, FLAG_OK
@@ -860,6 +866,7 @@ def _flight(C, S, ax, ay, gv, h):
         S[S_ELAND] += Ek0 - 0.5 * Mt * (vx * vx + vy * vy + vz * vz)
         S[S_FLY] = 1.0
         S[S_NLIFT] += 1.0
+        S[S_DW1] = S[S_DW2] = 0.0               # out of contact: a landing dwells anew
         S[S_XF] = S[S_YF] = S[S_ZF] = 0.0
         S[S_VXF], S[S_VYF], S[S_ZFD] = vx, vy, vz
     x0, y0, z0 = S[S_XF], S[S_YF], S[S_ZF]

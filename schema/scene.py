@@ -780,10 +780,9 @@ def _validate(raw: dict, path: str) -> Scene:
 
 def _dwell_checks(ctx: _Ctx, data: dict, given) -> None:
     """The static coefficient's growth with the time stuck (mu_static_inf,
-    dwell_time_s) is modelled on the DFP / SFP test machines, planar and
-    orbit (their steppers keep the dwell time); refused elsewhere in one line."""
-    ld = data["loading"]
-    if data["device"]["kind"] in ("DFP", "SFP") and ld["kind"] == "displacement":
+    dwell_time_s) is modelled for the DFP and the SFP (their steppers keep the
+    time stuck); refused for the TFP and the flat bearing in one line."""
+    if data["device"]["kind"] in ("DFP", "SFP"):
         return
     given = given if isinstance(given, dict) else {}
     for side, spec in data["friction"].items():
@@ -791,8 +790,8 @@ def _dwell_checks(ctx: _Ctx, data: dict, given) -> None:
             if key in spec:
                 own = isinstance(given.get(side), dict) and key in given[side]
                 ctx.fail(f"friction.{side}.{key}" if own else f"friction.{key}", spec[key],
-                         "the static coefficient's growth with dwell is modelled on the DFP / SFP test "
-                         'machines only (loading kind = "displacement")')
+                         "the static coefficient's growth with dwell is modelled for the DFP and the SFP "
+                         f"only, not the {data['device']['kind']}")
 
 
 def _mass_or_weight(ctx: _Ctx, sup: dict) -> None:

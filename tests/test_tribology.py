@@ -226,6 +226,33 @@ def test_dwell_grows_the_threshold_under_a_compliant_link():
         assert F[first - 1] == pytest.approx(_caps(sc, kato(ts, 0.06, 0.10, 4.0))[0], rel=5e-3)
 
 
+@pytest.mark.parametrize("model", ["seated", "two-phase"])
+def test_dwell_raises_the_threshold_under_a_ground_motion(model):
+    """The ground at rest for t0 = 10 s, then a cosine velocity pulse whose
+    acceleration peaks at t0 + Tp / 4: the pad, stuck from the start, holds
+    while S a_g stays inside the static cap with mu_s(t), the coefficient
+    grown by the time stuck (tau = 10 s: mu_s 0.060 -> 0.079 at the peak).
+    A peak 1 % below the threshold with mu_s(t0 + Tp / 4) leaves it stuck,
+    1 % above breaks it away; without the dwell law the lower pulse slides."""
+    t0, Tp, tau = 10.0, 0.5, 10.0
+    sc0 = fpd.load_scene(lab())
+    Fs, g = _caps(sc0, kato(t0 + 0.25 * Tp, 0.06, 0.09, tau))
+    a_break = Fs * g.L / g.S
+    peaks = {}
+    for fac in (0.99, 1.01):
+        for dwell in (True, False):
+            fr = {"law": "constant", "mu": 0.05, "mu_static": 0.06}
+            if dwell:
+                fr.update(mu_static_inf=0.09, dwell_time_s=tau)
+            _, res = _run(lab(friction=fr, mechanics={"model": model},
+                              loading={"kind": "pulse", "shape": "cosine", "velocity_mps": fac * a_break * Tp / math.pi,
+                                       "period_s": Tp, "t0_s": t0, "duration_s": t0 + Tp + 0.5}))
+            peaks[fac, dwell] = float(np.max(np.abs(res["u_m"])))
+    assert peaks[0.99, True] == 0.0
+    assert peaks[1.01, True] > 1e-3
+    assert peaks[0.99, False] > 1e-3
+
+
 def test_dwell_keys_refused():
     base = {"law": "constant", "mu": 0.05}
     with pytest.raises(SceneError, match=r"friction.dwell_time_s = -1: must be > 0"):
@@ -246,30 +273,41 @@ def test_dwell_keys_refused():
         fpd.load_scene(lab(friction=dict(base, static_ratio=1.6, mu_static_inf=0.07, dwell_time_s=1.0)))
     with pytest.raises(SceneError, match=r"loading.hold_s = -2: must be >= 0"):
         fpd.load_scene(lab(loading=dict(LAB["loading"], hold_s=-2.0)))
-    # the DFP / SFP test machines only: a ground motion, the TFP refuse it in one line
+    # the DFP and the SFP only: the TFP and the flat bearing refuse it in one line
     dwell = dict(base, mu_static_inf=0.08, dwell_time_s=1.0)
-    with pytest.raises(SceneError, match=r"friction.mu_static_inf = 0.08: the static coefficient's growth "
-                                         r"with dwell is modelled on the DFP / SFP test machines only"):
-        fpd.load_scene(lab(friction=dwell, loading={"kind": "harmonic", "amplitude_m": 0.01, "frequency_Hz": 1.0,
-                                                   "cycles": 1}))
-    with pytest.raises(SceneError, match=r"friction.S1.mu_static_inf = 0.9: .*DFP / SFP test machines only"):
+    with pytest.raises(SceneError, match=r"friction.S1.mu_static_inf = 0.9: the static coefficient's growth with "
+                                         r"dwell is modelled for the DFP and the SFP only, not the TFP"):
         fpd.load_scene("tfp-lab", **{"friction.S1.mu_static_inf": 0.9, "friction.S1.dwell_time_s": 1.0})
+    with pytest.raises(SceneError, match=r"friction.mu_static_inf = 0.95: .*DFP and the SFP only, not the flat"):
+        fpd.load_scene("flat-lab", **{"friction.mu_static_inf": 0.95, "friction.dwell_time_s": 1.0})
+    fpd.load_scene(lab(friction=dwell, loading={"kind": "harmonic", "amplitude_m": 0.01, "frequency_Hz": 1.0,
+                                               "cycles": 1}))
     with pytest.raises(SceneError, match=r"loading.hold_s = 1: the hold is the DFP / SFP test machines'"):
         fpd.load_scene("tfp-lab", **{"loading.hold_s": 1.0})
     fpd.load_scene(lab(friction=dwell, loading=dict(LAB["loading"], direction_deg=30.0, hold_s=1.0)))
 
 
-@pytest.mark.parametrize("direction", [0.0, 30.0])          # the planar machine; the orbit machine
+@pytest.mark.parametrize("direction", [0.0, 30.0, None])    # the planar machine; the orbit machine; a ground motion
 def test_dwell_compiled_equals_pure(monkeypatch, direction):
     """The dwell law and the hold in the compiled engine: the same history bit for bit."""
     pytest.importorskip("numba")
     from fpd import kernels
     if not kernels.available():
         pytest.skip("FPD_NO_JIT")
-    raw = lab(friction={"law": "constant", "mu": 0.05, "mu_static": 0.06, "mu_static_inf": 0.09,
-                        "dwell_time_s": 2.0, "dwell_exponent": 0.7},
-              loading={"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 0.5, "cycles": 1,
-                       "hold_s": 1.5, "direction_deg": direction})
+    fr = {"law": "constant", "mu": 0.05, "mu_static": 0.06, "mu_static_inf": 0.09, "dwell_time_s": 2.0,
+          "dwell_exponent": 0.7}
+    if direction is None:
+        raw = lab(friction=fr, loading={"kind": "pulse", "shape": "cosine", "velocity_mps": 0.3, "period_s": 0.5,
+                                        "t0_s": 1.5, "duration_s": 3.0})
+        _, a = _run(raw)
+        monkeypatch.setenv("FPD_NO_JIT", "1")
+        _, b = _run(raw)
+        assert a.columns == b.columns
+        np.testing.assert_array_equal(a.data, b.data)
+        assert np.max(np.abs(a["u_m"])) > 1e-3
+        return
+    raw = lab(friction=fr, loading={"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 0.5, "cycles": 1,
+                                    "hold_s": 1.5, "direction_deg": direction})
     _, a = _run(raw)
     monkeypatch.setenv("FPD_NO_JIT", "1")
     _, b = _run(raw)
