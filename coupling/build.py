@@ -411,6 +411,8 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
             except AxialError as exc:
                 raise SceneError(f"{exc} (loading.vertical_file)") from None
         mech = BidirectionalTestMachine(geom, loading, axial=axial)
+        if ld.get("link_stiffness_N_per_m"):
+            mech.set_link(ld["link_stiffness_N_per_m"], ld["link_mass_kg"])
         n_steps = loading.n_steps
     else:
         gx, gy = loading

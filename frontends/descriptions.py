@@ -250,8 +250,10 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'u = A (sin w t, sin(2 w t) / 2); A = amplitude_m, w = 2 pi '
                                           'frequency_Hz. circle and figure-eight are bidirectional orbits '
                                           '(DFP, SFP, TFP; docs/bidirectional.md, section 3). "triangle": constant '
-                                          'speed 4 A f from 0 towards +A, to -A and back (planar DFP, SFP).'),
-    "loading.displacement.direction_deg": ("deg", "DFP, SFP, TFP: direction of the sine in the plane, from x towards y; "
+                                          'speed 4 A f from 0 towards +A, to -A and back, along direction_deg (DFP, '
+                                          'SFP: a turned one runs the orbit machine).'),
+    "loading.displacement.direction_deg": ("deg", "DFP, SFP, TFP: direction of the sine (DFP, SFP: or the triangle) "
+                                                  "in the plane, from x towards y; "
                                                   "non-zero makes the run bidirectional. Not used by circle "
                                                   "and figure-eight."),
     "loading.displacement.vertical": ("", '"constant": the machine\'s vertical actuator holds the load at W = M g '
@@ -286,11 +288,13 @@ KEYS: dict[str, tuple[str, str]] = {
                                                           '(> 0; required).'),
     "loading.displacement.vertical_phase_deg": ("deg", 'vertical = "sine": the phase of the axial load\'s sine '
                                                         'at t = 0 (default 0: N(0) = W, rising).'),
-    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP, planar machine): a spring "
-                                                          "of this stiffness between the machine's imposed position "
-                                                          "and the plate, which then moves by its own dynamics "
-                                                          "(stick-slip; docs/model.md 11.3). F_N is the link's force. "
-                                                          "Needs link_mass_kg."),
+    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP; a straight programme, "
+                                                          "waveform sine or triangle: the planar machine with the "
+                                                          "load held, a turned one the orbit machine with the riding "
+                                                          "mass): a spring of this stiffness between the machine's "
+                                                          "imposed position and the plate, which then moves by its "
+                                                          "own dynamics (stick-slip; docs/model.md 11.3). F_N (Fx_N, "
+                                                          "Fy_N) is the link's force. Needs link_mass_kg."),
     "loading.displacement.link_mass_kg": ("kg", "The mass of the plate the compliant link drives."),
     "loading.displacement.hold_s": ("s", "The machine holds the start position this long (rounded to whole steps) "
                                          "before the programme starts: the bearing rests under its load, so the "

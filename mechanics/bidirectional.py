@@ -432,6 +432,32 @@ class BidirectionalTestMachine(_Base):
         super().set_static(mu_s1, mu_s2, ratio1, ratio2)
         self.S[K.S_MODE] = K.STICK
 
+    LINK_STEP = 0.02      # omega h per sub-step of the compliant link (as SeatedTestMachine's)
+
+    def set_link(self, stiffness: float, plate_mass: float) -> None:
+        """Drive the plate through a compliant link (bidirectional_kernel.link_step):
+        a spring of ``stiffness`` (N/m) between the machine and the plate of mass
+        ``plate_mass`` (kg); the bearing starts at rest at the programme's start.
+        Sub-steps keep omega h <= LINK_STEP, omega the link's frequency with the
+        bearing's restoring stiffness and inertia at u = 0."""
+        C, S = self.C, self.S
+        C[K.C_LINK], C[K.C_MPL] = float(stiffness), float(plate_mass)
+        g = C[K.C_G]
+        F0 = _pure.machine_point(C, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, g)[0]
+        B = _pure.machine_point(C, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, g)[0] - F0
+        du = 1e-6 * C[K.C_L]
+        Kb = (_pure.machine_point(C, du, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, g)[0] - F0) / du
+        m = plate_mass + B
+        if not m > 0.0:
+            raise ValueError(f"the plate's mass with the bearing's ({m:g} kg) must be > 0")
+        omega = math.sqrt((stiffness + Kb) / m)
+        C[K.C_NSUB] = float(max(1, math.ceil(self.dt * omega / self.LINK_STEP)))
+        S[K.S_WX] = S[K.S_WY] = S[K.S_WZ] = 0.0
+        S[K.S_MODE] = K.STICK
+        S[K.S_SV1] = S[K.S_SV2] = 0.0
+        Ek, Ep = _pure.energies(C, S)
+        S[K.S_EIN] = Ek + Ep
+
     def set_dwell(self, lower: tuple, upper: tuple) -> None:
         """As the stepper's; the bearing starts at rest before the programme."""
         super().set_dwell(lower, upper)

@@ -822,20 +822,19 @@ def _cross_checks(ctx: _Ctx, data: dict):
     if ld["kind"] == "displacement":
         if ld["amplitude_m"] >= geom.L:
             ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"must be < L = {geom.L:.4g} m")
-        if ld["waveform"] == "triangle" and ld["direction_deg"] != 0.0:
-            ctx.fail("loading.direction_deg", ld["direction_deg"], 'must be 0 with waveform = "triangle" (a planar '
-                     "programme)")
         link = [k for k in ("link_stiffness_N_per_m", "link_mass_kg") if k in ld]
         if len(link) == 1:
             other = "link_mass_kg" if link[0] == "link_stiffness_N_per_m" else "link_stiffness_N_per_m"
             ctx.fail(f"loading.{link[0]}", ld[link[0]], f"needs loading.{other} too (the compliant link: a spring "
                      "and the plate's mass)")
-        if link and (ld["waveform"] not in ("sine", "triangle") or ld["direction_deg"] != 0.0):
-            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link drives the planar machine only '
-                     '(waveform "sine" or "triangle", direction_deg = 0)')
-        if link and ld.get("vertical") not in (None, "constant"):
-            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link needs the vertical load held '
-                     '(loading.vertical = "constant")')
+        if link and ld["waveform"] not in ("sine", "triangle"):
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link drives a straight programme only '
+                     '(waveform "sine" or "triangle", in any direction_deg)')
+        held = "riding-mass" if is_bidirectional(data) else "constant"
+        if link and ld.get("vertical", held) != held:
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link needs the machine\'s default vertical '
+                     'load (the planar machine: "constant", held at M g; a turned programme: the riding mass), '
+                     'not an axial-load programme')
         if data["mechanics"]["model"] == "two-phase":
             # the test machine holds the superstructure: the seated model describes it
             data["mechanics"]["model"] = "seated"

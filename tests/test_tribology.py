@@ -287,6 +287,23 @@ def test_dwell_keys_refused():
     fpd.load_scene(lab(friction=dwell, loading=dict(LAB["loading"], direction_deg=30.0, hold_s=1.0)))
 
 
+def test_orbit_link_compiled_equals_pure(monkeypatch):
+    """The link on the orbit machine in the compiled engine: the same history bit for bit."""
+    pytest.importorskip("numba")
+    from fpd import kernels
+    if not kernels.available():
+        pytest.skip("FPD_NO_JIT")
+    raw = lab(friction={"law": "constant", "mu": 0.05, "mu_static": 0.08, "mu_static_inf": 0.09, "dwell_time_s": 2.0},
+              loading={"kind": "displacement", "waveform": "triangle", "amplitude_m": 0.15, "frequency_Hz": 0.05,
+                       "cycles": 0.25, "direction_deg": 30.0, "link_stiffness_N_per_m": 2e6, "link_mass_kg": 2000.0})
+    _, a = _run(raw)
+    monkeypatch.setenv("FPD_NO_JIT", "1")
+    _, b = _run(raw)
+    assert a.columns == b.columns
+    np.testing.assert_array_equal(a.data, b.data)
+    assert np.count_nonzero(np.diff(np.asarray(a["phase"])) > 0) >= 2     # it stuck and slipped
+
+
 @pytest.mark.parametrize("direction", [0.0, 30.0, None])    # the planar machine; the orbit machine; a ground motion
 def test_dwell_compiled_equals_pure(monkeypatch, direction):
     """The dwell law and the hold in the compiled engine: the same history bit for bit."""
@@ -368,6 +385,59 @@ def test_stick_slip_saw_tooth_matches_the_spring_block():
     # the slip lasts the closed form's time (to the rows' resolution)
     first_stop = starts[0] + np.where(ph[starts[0]:] == 0)[0][0]
     assert t[first_stop] - t[starts[0]] == pytest.approx(t_slip, abs=2.5e-3)
+
+
+def test_stick_slip_along_a_straight_orbit_matches_the_spring_block():
+    """The orbit machine (a triangle turned by 30 degrees, the superstructure a
+    riding mass) through the same link: the plate stays on the line (the force
+    across it below 1e-9 of the along one), and the saw-tooth's period and
+    force drop along the line are the spring-block's with the bearing's
+    restoring stiffness S g / L^2 and inertia I / L^2 - S / L (the riding
+    mass's, whose M L^2 and M L cancel) within 1 % (measured 2.3e-3 and 3e-3:
+    the riding mass's vertical inertia varies N slightly); the first
+    breakaway when the link carries the static cap."""
+    k, mp, V, d = 2e6, 2000.0, 0.01, math.radians(30.0)
+    sc, res = _run(lab(friction={"law": "constant", "mu": 0.05, "mu_static": 0.08},
+                       loading={"kind": "displacement", "waveform": "triangle", "amplitude_m": 0.15,
+                                "frequency_Hz": V / 0.6, "cycles": 0.25, "direction_deg": 30.0,
+                                "link_stiffness_N_per_m": k, "link_mass_kg": mp}))
+    Fs, g = _caps(sc, 0.08)
+    Fk, _ = _caps(sc, 0.05)
+    m = mp + g.I / g.L ** 2 - g.S / g.L
+    Kb = g.S * g.g / g.L ** 2
+    t_slip, t_stick, T, drop = spring_block(k, m, Kb, Fs, Fk, V)
+    F = res["Fx_N"] * math.cos(d) + res["Fy_N"] * math.sin(d)
+    across = -res["Fx_N"] * math.sin(d) + res["Fy_N"] * math.cos(d)
+    assert np.max(np.abs(across)) < 1e-9 * np.max(np.abs(F))
+    assert np.max(np.abs(-res["ux_m"] * math.sin(d) + res["uy_m"] * math.cos(d))) < 1e-12
+    t, ph = res["t_s"], np.asarray(res["phase"])
+    starts = np.where((ph[1:] != 0) & (ph[:-1] == 0))[0] + 1
+    assert len(starts) >= 4
+    assert t[starts[0]] == pytest.approx(Fs / (k * V), abs=2e-3)
+    assert F[starts[0] - 1] == pytest.approx(Fs, rel=5e-3)
+    periods = np.diff(t[starts])
+    for p in periods[:3]:
+        assert p == pytest.approx(T, rel=1e-2)
+    for a, b in zip(starts[:2], starts[1:3]):
+        stops = a + np.where(ph[a:b] == 0)[0][0]
+        seg = F[a - 1:stops + 1]
+        assert seg.max() - seg.min() == pytest.approx(drop, rel=1e-2)
+    ledger = res["E_input_J"] - (res["E_kin_J"] + res["E_pot_J"] + res["W1_J"] + res["W2_J"])
+    assert np.max(np.abs(ledger)) < 1e-3 * float(res["W1_J"][-1] + res["W2_J"][-1])
+
+
+def test_link_refused_off_a_straight_programme():
+    link = {"link_stiffness_N_per_m": 2e6, "link_mass_kg": 2000.0}
+    with pytest.raises(SceneError, match=r"loading.link_stiffness_N_per_m = 2e\+06: the compliant link drives a "
+                                         r"straight programme only"):
+        fpd.load_scene(lab(loading=dict(LAB["loading"], waveform="circle", **link)))
+    with pytest.raises(SceneError, match=r"loading.link_stiffness_N_per_m = 2e\+06: the compliant link needs the "
+                                         r"machine's default vertical load"):
+        fpd.load_scene(lab(loading=dict(LAB["loading"], vertical="riding-mass", **link)))
+    with pytest.raises(SceneError, match=r"loading.link_stiffness_N_per_m = 2e\+06: the compliant link needs"):
+        fpd.load_scene(lab(loading=dict(LAB["loading"], direction_deg=30.0, vertical="sine",
+                                        vertical_amplitude_ratio=0.1, vertical_frequency_Hz=1.0, **link)))
+    fpd.load_scene(lab(loading=dict(LAB["loading"], direction_deg=30.0, waveform="triangle", **link)))
 
 
 # -- wear ------------------------------------------------------------------------------------
