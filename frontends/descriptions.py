@@ -138,6 +138,18 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "surface holds up to static_ratio times mu(T, p, v = 0), so the breakaway follows "
                                   "the temperature and pressure as the law does. With mu_static the larger holds. "
                                   "DFP, SFP, TFP and the flat bearing."),
+    "friction.mu_static_inf": ("", "The static coefficient after a long dwell: a surface stuck for a time t "
+                                   "holds up to mu_s(t) = mu_static_inf - (mu_static_inf - mu_s0) "
+                                   "exp(-(t / dwell_time_s)^dwell_exponent) (Kato, Sato and Matsubayashi 1972), "
+                                   "mu_s0 the static coefficient at zero dwell (mu_static, static_ratio, else the "
+                                   "sliding mu). Must be >= mu_s0 (at rest, 20 degC); needs dwell_time_s. The DFP "
+                                   "and the SFP: ground motions (planar and 3D, both models) and both test "
+                                   "machines (their steppers keep the time stuck per surface, from zero at the "
+                                   "run's start; loading.hold_s rests the bearing under its load before a test "
+                                   "machine's programme). Refused for the TFP and the flat bearing."),
+    "friction.dwell_time_s": ("s", "Time constant tau (> 0) of the static coefficient's growth with dwell "
+                                   "(mu_static_inf): 1 - 1/e of the growth after tau stuck (exponent 1)."),
+    "friction.dwell_exponent": ("", "Exponent m (> 0) of the dwell law, exp(-(t / tau)^m); 1 when absent."),
     "friction.wear_k_mm3_per_Nm": ("mm3/(N m)", "Archard wear coefficient k_w of the surface: the wear depth "
                                                 "grows by k_w p ds (p = N / contact area, ds the sliding path). "
                                                 "Absent: no wear columns."),
@@ -238,8 +250,10 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'u = A (sin w t, sin(2 w t) / 2); A = amplitude_m, w = 2 pi '
                                           'frequency_Hz. circle and figure-eight are bidirectional orbits '
                                           '(DFP, SFP, TFP; docs/bidirectional.md, section 3). "triangle": constant '
-                                          'speed 4 A f from 0 towards +A, to -A and back (planar DFP, SFP).'),
-    "loading.displacement.direction_deg": ("deg", "DFP, SFP, TFP: direction of the sine in the plane, from x towards y; "
+                                          'speed 4 A f from 0 towards +A, to -A and back, along direction_deg (DFP, '
+                                          'SFP: a turned one runs the orbit machine).'),
+    "loading.displacement.direction_deg": ("deg", "DFP, SFP, TFP: direction of the sine (DFP, SFP: or the triangle) "
+                                                  "in the plane, from x towards y; "
                                                   "non-zero makes the run bidirectional. Not used by circle "
                                                   "and figure-eight."),
     "loading.displacement.vertical": ("", '"constant": the machine\'s vertical actuator holds the load at W = M g '
@@ -274,12 +288,19 @@ KEYS: dict[str, tuple[str, str]] = {
                                                           '(> 0; required).'),
     "loading.displacement.vertical_phase_deg": ("deg", 'vertical = "sine": the phase of the axial load\'s sine '
                                                         'at t = 0 (default 0: N(0) = W, rising).'),
-    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP, planar machine): a spring "
-                                                          "of this stiffness between the machine's imposed position "
-                                                          "and the plate, which then moves by its own dynamics "
-                                                          "(stick-slip; docs/model.md 11.3). F_N is the link's force. "
-                                                          "Needs link_mass_kg."),
+    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP; a straight programme, "
+                                                          "waveform sine or triangle: the planar machine with the "
+                                                          "load held, a turned one the orbit machine with the riding "
+                                                          "mass): a spring of this stiffness between the machine's "
+                                                          "imposed position and the plate, which then moves by its "
+                                                          "own dynamics (stick-slip; docs/model.md 11.3). F_N (Fx_N, "
+                                                          "Fy_N) is the link's force. Needs link_mass_kg."),
     "loading.displacement.link_mass_kg": ("kg", "The mass of the plate the compliant link drives."),
+    "loading.displacement.hold_s": ("s", "The machine holds the start position this long (rounded to whole steps) "
+                                         "before the programme starts: the bearing rests under its load, so the "
+                                         "first breakaway comes after that dwell (friction.mu_static_inf); the "
+                                         "programme then starts with its launch speed. The DFP / SFP test "
+                                         "machines, planar and orbit."),
     "loading.displacement.vertical_file": ("", 'vertical = "series": a text file of (time s, load N) rows, two '
                                                'numbers a line (whitespace or a comma; # comments), times '
                                                'increasing, loads > 0, covering the run from t = 0; linear '

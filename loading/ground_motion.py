@@ -693,6 +693,26 @@ def triangle_programme(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> 
         u=u, ud=np.where(on, ud, 0.0), udd=zero, ud_smooth=ud_s, udd_smooth=zero)
 
 
+def held_programme(prog: DisplacementProgramme, hold_s: float) -> DisplacementProgramme:
+    """The programme after a hold: the machine keeps the start position, at
+    rest, for hold_s (rounded to whole steps; the bearing dwells under its
+    load), then runs ``prog`` (built for the time left)."""
+    nh = int(round(hold_s / prog.dt))
+    if nh == 0:
+        return prog
+    z = np.zeros(nh)
+
+    def pre(x, first):
+        return np.concatenate([np.full(nh, first), np.asarray(x, dtype=float)])
+
+    uds = prog.ud if prog.ud_smooth is None else prog.ud_smooth
+    udds = prog.udd if prog.udd_smooth is None else prog.udd_smooth
+    return DisplacementProgramme(
+        name=f"hold {nh * prog.dt:g} s, {prog.name}", dt=prog.dt, t=np.arange(len(prog.t) + nh) * prog.dt,
+        u=pre(prog.u, float(prog.u[0])), ud=np.concatenate([z, prog.ud]), udd=np.concatenate([z, prog.udd]),
+        ud_smooth=np.concatenate([z, uds]), udd_smooth=np.concatenate([z, udds]))
+
+
 def pulse_ground_motion(shape, velocity_mps, period_s, t0_s, duration, dt) -> GroundMotion:
     """Analytic ground velocity pulses (near-fault and impulsive loadings).
 

@@ -147,7 +147,8 @@ def cmd_compare_liners(args) -> int:
         text = (f"# Liner presets on {name}\n\n"
                 "The scene once per preset of docs/liners.md (its [friction] replaced by the preset on every "
                 "surface). Wear: the deepest surface's Archard depth; empty where the preset has no wear "
-                "coefficient. Presets marked as placeholders there are not measured values.\n\n"
+                "coefficient. The values no source states (marked * there, with the basis used) are not "
+                "measured values.\n\n"
                 + md_table(head, table))
         folder.path("liners.md").write_text(text)
         folder.path("summary.json").write_text(json.dumps(
