@@ -126,8 +126,9 @@ LINER_SOURCES = {
                  'seismic isolation." Bulletin of Earthquake Engineering 3(1), 75-99.',
     "en1337-2": 'CEN (2004). EN 1337-2:2004, "Structural bearings - Part 2: Sliding elements." European '
                 'Committee for Standardization, Brussels. Table 11 and Annex B, Eq. (B.1).',
-    "taylor1972": 'Taylor, M. E. (1972). "PTFE in highway bridge bearings." TRRL Laboratory Report LR 491, '
-                  'Transport and Road Research Laboratory, Crowthorne. Conclusions (summary).',
+    "trrl-lr491": 'Transport and Road Research Laboratory, Crowthorne. Laboratory Report LR 491: the friction '
+                  'and deformation of PTFE-based materials for the sliding bearings of bridges and viaducts '
+                  '(https://trl.co.uk/reports/LR491). Conclusions (summary).',
     "constantinou2007": 'Constantinou, M. C., Whittaker, A. S., Kalpakidis, Y., Fenz, D. M., Warn, G. P. (2007). '
                         '"Performance of seismic isolation hardware under service and seismic loading." '
                         'Technical Report MCEER-07-0012, MCEER, University at Buffalo. Section 4.',
@@ -188,13 +189,13 @@ LINERS: dict = {
         "sources": {
             "law": _src("constantinou2007", True, "composites containing PTFE are described as PTFE on stainless "
                         "steel is (Section 4), by the velocity law of constantinou1990"),
-            "mu_slow": _src("taylor1972", True, "0.03: the lower end of the range 0.03 to 0.07 in which the "
+            "mu_slow": _src("trrl-lr491", True, "0.03: the lower end of the range 0.03 to 0.07 in which the "
                             "coefficient of PTFE-based bearing materials lies for most practical applications "
                             "(dry running in the long term); taken at low speed"),
-            "mu_fast": _src("taylor1972", True, "0.07: the upper end of that range; taken at high speed"),
+            "mu_fast": _src("trrl-lr491", True, "0.07: the upper end of that range; taken at high speed"),
             "a_s_per_m": _src("kumar2015", True, "a = 100 s/m, the rate parameter of the velocity factor for the "
                               "PTFE-type composite liners of friction pendulum bearings"),
-            "mu_static": _src("taylor1972", False, "no published breakaway value for a composite liner: set to the "
+            "mu_static": _src("trrl-lr491", False, "no published breakaway value for a composite liner: set to the "
                               "upper end of the stated range (equal to mu_fast), so the breakaway is not below any "
                               "sliding value the source states"),
             "wear_k_mm3_per_Nm": _src("blanchet1992", False, "fillers lower unfilled PTFE's wear rate (1e-4 to "

@@ -559,7 +559,9 @@ def test_every_liner_value_cites_its_source():
                 assert src["ref"] is not None and f"{value:g}" in src["note"], (name, key)
     assert cited == set(LINER_SOURCES)
     for ref, text in LINER_SOURCES.items():
-        assert re.search(r"\((19|20)\d\d\)", text) and '"' in text or "Handbook" in text, ref
+        # a publication by year and title, or a report by its number and where to find it
+        assert re.search(r"\((19|20)\d\d\)", text) and '"' in text or "Handbook" in text \
+            or re.search(r"Report \w+ \d+.*https://", text), ref
     # EN 1337-2 Eq. (B.1) at >= 30 MPa gives the lubricated preset's 0.03
     assert LINERS["ptfe-lubricated"]["values"]["mu_static"] == pytest.approx(1.2 / (10.0 + 30.0), abs=1e-15)
     doc = (Path(__file__).resolve().parents[1] / "docs" / "liners.md").read_text()
