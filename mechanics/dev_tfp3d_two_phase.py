@@ -1,0 +1,45 @@
+"""The two-phase TFP in both horizontal directions
+(mechanics/tfp3d_two_phase.py) as the coupled engine sees it: the device
+interface of mechanics/dev_two_phase.py, four interfaces S1..S4 with 2D
+footprint centres, the loading and scratch of mechanics/dev_tfp3d.py.
+"""
+from fpd.mechanics import tfp3d_kernel as k3
+from fpd.mechanics import tfp3d_two_phase_kernel as k2
+from fpd.mechanics import tfp_kernel as tk
+
+__kernel__ = True
+
+
+def normal(C, S, i):
+    return S[k3.S_N + i]
+
+
+def slip(C, S, i):
+    return S[k3.S_SV + i]
+
+
+def centre(C, S, i):
+    """Footprint centre (x, y) on part i (TFP3DStepper.footprints)."""
+    if i == 0:
+        return C[tk.I_R1] * S[0], C[tk.I_R1] * S[1]
+    if i == 1:
+        return C[tk.I_R2] * S[2], C[tk.I_R2] * S[3]
+    if i == 2:
+        return -C[tk.I_R3] * S[2], -C[tk.I_R3] * S[3]
+    return -C[tk.I_R4] * S[0], -C[tk.I_R4] * S[1]
+
+
+def step(C, S, L, X, n, dt, mu, dW):
+    fail = k2.advance(C, S, dt, L[0][n - 1], L[1][n - 1], L[2][n - 1], mu[0], mu[1], mu[2], mu[3],
+                      0, 0.0, 0.0, 0.0, 0.0, X[0], X[1])
+    for i in range(4):
+        dW[i] = S[k3.S_DW + i]
+    return fail
+
+
+def ok(C, S):
+    return True
+
+
+def values(C, S, L, n, dt, row):
+    k2.row_values(C, S, n * dt, L[3][n], L[4][n], row, L[5])
