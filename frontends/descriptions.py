@@ -301,9 +301,8 @@ KEYS: dict[str, tuple[str, str]] = {
     # [mechanics]
     "mechanics.model": ("", '"two-phase": the paper\'s rigid-body stepper (stick/slip/tilt, pad rocking); '
                             '"seated": the classical seated model (the pad never tilts). A displacement loading '
-                            'always uses the seated test machine (a TFP: either model in the machine too; in both '
-                            'directions, a record pair or a turned record takes either model, an orbit the '
-                            'seated one). The flat bearing has its seated model only ("two-phase" is refused).'),
+                            'always uses the seated test machine (a TFP: either model in the machine too, and in '
+                            'both directions: a record pair, a turned record or an orbit). The flat bearing has its seated model only ("two-phase" is refused).'),
     "mechanics.normal_force": ("", 'The normal forces of a step: "midpoint" (the default): at the step '
                                    'midpoint, inside the fixed point (second order); "start": frozen at the '
                                    'start of the step, the velocity projected on re-seating (the paper\'s '

@@ -31,7 +31,7 @@ def centre(C, S, i):
 
 def step(C, S, L, X, n, dt, mu, dW):
     fail = k2.advance(C, S, dt, L[0][n - 1], L[1][n - 1], L[2][n - 1], mu[0], mu[1], mu[2], mu[3],
-                      0, 0.0, 0.0, 0.0, 0.0, X[0], X[1])
+                      int(L[10][0]), L[6][n], L[7][n], L[8][n], L[9][n], X[0], X[1])
     for i in range(4):
         dW[i] = S[k3.S_DW + i]
     return fail

@@ -4,8 +4,8 @@ stepper around mechanics/tfp3d_two_phase_kernel.py (docs/model.md 6.9).
 The seated 3D TFP's stepper (mechanics/tfp3d.py) with the two-phase step:
 phase 1 in the metric frozen at t_n, the re-seating of phases 2 and 3 a
 projection whose loss is E_reseat_J, the phase-1 pivots in the plane of each
-pair's slide. A ground motion (a record pair, a turned record); a record
-with no y component is the planar two-phase TFP's run.
+pair's slide. A ground motion (a record pair, a turned record) or the test
+machine's orbit; a record with no y component is the planar two-phase TFP's run.
 """
 from __future__ import annotations
 
@@ -26,17 +26,14 @@ assert len(COLUMNS) == K.N_ROW
 
 
 class TFP3DTwoPhaseStepper(TFP3DStepper):
-    """The two-phase TFP under a two-component ground motion (gx, gy as
-    TFP3DStepper's; the test machine is the seated model's)."""
+    """The two-phase TFP under a two-component ground motion or on the test
+    machine along an orbit (gx, gy as TFP3DStepper's)."""
 
     columns = COLUMNS
     model = "two-phase"
     engine_device = "fpd.mechanics.dev_tfp3d_two_phase"
 
     def __init__(self, geom, gx, gy=None, kernel=None, az=None):
-        if np.ndim(getattr(gx, "u", None)) == 2:
-            raise ValueError("the two-phase TFP in both directions runs ground motions (the test machine's "
-                             "orbits run the seated model)")
         super().__init__(geom, gx, gy, kernel=kernel if kernel is not None else K, az=az)
         self.par = geom.pack(two_phase=True)
         S = np.zeros(K.N_S)
@@ -62,7 +59,11 @@ class TFP3DTwoPhaseStepper(TFP3DStepper):
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
         n = self.n
         fail = self.k.advance(self.par, self.S, self.dt, self._ax[n], self._ay[n], self._az[n],
-                              mu1, mu2, mu3, mu4, 0, 0.0, 0.0, 0.0, 0.0, self.out, self._sc)
+                              mu1, mu2, mu3, mu4, 1 if self.machine else 0, self._ux[n + 1], self._uy[n + 1],
+                              self._udx[n + 1], self._udy[n + 1], self.out, self._sc)
+        if fail == K3.FAIL_CAPACITY:
+            raise TFP3DFailure("the test machine's force did not make the bearing follow the orbit "
+                               "(Newton on the machine's force did not converge; lower solver.dt)")
         if fail == K.FAIL_ROCKING:
             q = self.S[0:4]
             ax, ay = self._ax[n], self._ay[n]

@@ -114,12 +114,16 @@ def reseat(par, q0, q1, v, w, sc):
                   + Jphi * _dot(sc, 12, 12) + Jpsi * _dot(sc, 15, 15))
 
 
-def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
-    """One two-phase step under a ground motion. st = [phi(2), alpha(2), rates(4)]
-    (updated): phase 1 in the frozen metric M(q0) (the increment the minimiser
-    of tfp3d_kernel's cone program with H = 2 M(q0) / dt^2 and the discrete
-    gradients of V + ag . b + az b_z, without T's), arrests in the phase-1
-    field, the re-seating at q1. out: tfp3d_kernel's O_*, and O_RESEAT.
+def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc):
+    """One two-phase step. st = [phi(2), alpha(2), rates(4)] (updated): phase 1
+    in the frozen metric M(q0) (the increment the minimiser of tfp3d_kernel's
+    cone program with H = 2 M(q0) / dt^2 and the discrete gradients of
+    V + ag . b + az b_z, without T's), arrests in the phase-1 field, the
+    re-seating at q1. machine = 1: the test machine imposes u(t_n+1) = (u1x,
+    u1y) through the constraint of the seated 3D step (its force the
+    multiplier, tfp3d_kernel.machine_force, started from sc[256:258]) and,
+    after the re-seating, u'(t_n+1) = (ud1x, ud1y) through the sliding blocks
+    (tfp3d_kernel.machine_velocity). out: tfp3d_kernel's O_*, and O_RESEAT.
     sc: scratch of length tfp3d_kernel.N_SC."""
     for i in range(N_OUT):
         out[i] = 0.0
@@ -160,6 +164,16 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
     for i in range(4):
         x[i] = dt * st[4 + i]
         y[i] = 0.0
+    D = sc[240:248]
+    Dy = sc[248:256]
+    Fm = sc[256:258]
+    ex = 0.0
+    ey = 0.0
+    mfail = False
+    if machine == 1:
+        k3.u_rel(par, q0, tmp)
+        ex = u1x - tmp[0]
+        ey = u1y - tmp[1]
     it = 0
     converged = False
     ch = 0.0
@@ -177,7 +191,21 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
             i0 = 2 * blk
             ry[i0] = (l22 * r[i0] - l12 * r[i0 + 1]) / det
             ry[i0 + 1] = (l11 * r[i0 + 1] - l12 * r[i0]) / det
-        k3.socp(Hy, ry, c_o, c_i, y, sc)
+        if machine == 1:
+            # D: the discrete gradient of u (D^T dq = u(q1) - u(q0)); in y, L^-1 D
+            k3.dgrad_u(par, q0, q1, D, sc)
+            for blk in range(2):
+                k0 = 4 * blk
+                l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
+                i0 = 2 * blk
+                for c in range(2):
+                    a0 = D[2 * i0 + c]
+                    a1 = D[2 * (i0 + 1) + c]
+                    Dy[2 * i0 + c] = (l22 * a0 - l12 * a1) / det
+                    Dy[2 * (i0 + 1) + c] = (l11 * a1 - l12 * a0) / det
+            mfail = k3.machine_force(Hy, ry, Dy, c_o, c_i, ex, ey, y, Fm, sc) != 0
+        else:
+            k3.socp(Hy, ry, c_o, c_i, y, sc)
         ch = 0.0
         for blk in range(2):
             k0 = 4 * blk
@@ -192,6 +220,13 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
             break
     if not converged and ch > 1e-12 * (1.0 + abs(x[0]) + abs(x[1]) + abs(x[2]) + abs(x[3])):
         out[k3.O_FAIL] = k3.FAIL_FIXED_POINT
+    if mfail:
+        out[k3.O_FAIL] = k3.FAIL_CAPACITY
+    if machine == 1:
+        # the cone program the machine's force makes: r' + Dy F (Phi = r - H dq
+        # below is friction less the machine's force: p1 takes both)
+        for i in range(4):
+            ry[i] += Dy[2 * i] * Fm[0] + Dy[2 * i + 1] * Fm[1]
     out[k3.O_KKT] = k3.kkt_residual(Hy, ry, c_o, c_i, y)
     # Phi = r - H dq; p1 = p0 + dt (G - Phi); the phase-1 rates v = M(q0)^-1 p1
     for i in range(4):
@@ -208,6 +243,12 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
     b0x, b0y, b0z = tmp[0], tmp[1], tmp[2]
     k3.moments(par, q1, tmp)
     ein = -agx * (tmp[0] - b0x) - agy * (tmp[1] - b0y) - az * (tmp[2] - b0z)
+    if machine == 1:
+        # the machine's work: F . (D^T dq)
+        for i in range(4):
+            ein += (D[2 * i] * Fm[0] + D[2 * i + 1] * Fm[1]) * x[i]
+        out[k3.O_FX] = Fm[0]
+        out[k3.O_FY] = Fm[1]
     # a block that stuck ends at rest in the phase-1 field (metric M(q0)): an
     # impulse on it alone, the other block keeping its momentum
     z1 = x[0] == 0.0 and x[1] == 0.0
@@ -252,6 +293,10 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, out, sc):
     for i in range(4):
         st[i] = q1[i]
         st[4 + i] = w[i]
+    if machine == 1:
+        # the machine imposes u'(t_n+1) through the blocks still sliding, in M(q1)
+        k3.mass_matrix(par, q1, H, tmp)
+        ein += k3.machine_velocity(par, st, H, z1, z2, ud1x, ud1y, sc)
     for i in range(4):
         out[k3.O_DQ + i] = x[i]
     out[k3.O_EIN] = ein
@@ -318,13 +363,16 @@ def pivots(par, S, q0, dq, sc):
 
 # -- the whole step of the stepper (mechanics/tfp3d_two_phase.py and the compiled loop) ---------
 def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
-    """tfp3d_kernel.advance with the two-phase step (a ground motion: machine
-    is 0, the machine's arguments unused): normal forces at the start of the
+    """tfp3d_kernel.advance with the two-phase step (machine = 1: the test
+    machine along an orbit, u(t_n+1) = (u1x, u1y), u'(t_n+1) = (ud1x, ud1y),
+    its force the last step's in the normal forces): normal forces at the start of the
     step, caps, ``step``, the friction work of each surface, the bearing's
     force, phase, regime, sliding flags and speeds, then the phases and the
     rocking check. Returns the failure flag (tfp3d_kernel.FAIL_*, FAIL_ROCKING)."""
     N = S[k3.S_N:k3.S_N + 4]
-    k3.normal_forces(par, S[0:4], S[4:8], agx, agy, az, 0.0, 0.0, N, sc[200:220])
+    fx = S[k3.S_F] if machine == 1 else 0.0
+    fy = S[k3.S_F + 1] if machine == 1 else 0.0
+    k3.normal_forces(par, S[0:4], S[4:8], agx, agy, az, fx, fy, N, sc[200:220])
     R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
     a1 = mu1 * N[0] * R1
     a4 = mu4 * N[3] * R4
@@ -337,7 +385,9 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     for i in range(4):
         sc[228 + i] = S[i]
     rest0 = S[4] == 0.0 and S[5] == 0.0 and S[6] == 0.0 and S[7] == 0.0
-    step(par, S[0:8], dt, agx, agy, az, c_o, c_i, out, sc)
+    sc[256] = S[k3.S_F]         # the machine's force: Newton starts from the last step's
+    sc[257] = S[k3.S_F + 1]
+    step(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
     fail = int(out[k3.O_FAIL])
     S[k3.S_ITER] = out[k3.O_ITER]
     S[k3.S_KKT] = out[k3.O_KKT]
@@ -355,8 +405,12 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     S[S_ERS] += out[O_RESEAT]
     k3.u_dot(par, S[0:4], S[4:8], sc, 220)
     Ms = par[tk.I_MSUP]
-    S[k3.S_F] = -Ms * (agx + (sc[220] - ux0) / dt)
-    S[k3.S_F + 1] = -Ms * (agy + (sc[221] - uy0) / dt)
+    if machine == 1:
+        S[k3.S_F] = out[k3.O_FX]
+        S[k3.S_F + 1] = out[k3.O_FY]
+    else:
+        S[k3.S_F] = -Ms * (agx + (sc[220] - ux0) / dt)
+        S[k3.S_F + 1] = -Ms * (agy + (sc[221] - uy0) / dt)
     dp = math.sqrt(out[k3.O_DQ] * out[k3.O_DQ] + out[k3.O_DQ + 1] * out[k3.O_DQ + 1])
     da = math.sqrt(out[k3.O_DQ + 2] * out[k3.O_DQ + 2] + out[k3.O_DQ + 3] * out[k3.O_DQ + 3])
     so = 1.0 if dp != 0.0 else 0.0
