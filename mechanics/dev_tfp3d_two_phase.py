@@ -5,28 +5,9 @@ footprint centres, the loading and scratch of mechanics/dev_tfp3d.py.
 """
 from fpd.mechanics import tfp3d_kernel as k3
 from fpd.mechanics import tfp3d_two_phase_kernel as k2
-from fpd.mechanics import tfp_kernel as tk
+from fpd.mechanics.dev_tfp3d import centre, normal, ok, slip  # noqa: F401 (the seated 3D TFP's)
 
 __kernel__ = True
-
-
-def normal(C, S, i):
-    return S[k3.S_N + i]
-
-
-def slip(C, S, i):
-    return S[k3.S_SV + i]
-
-
-def centre(C, S, i):
-    """Footprint centre (x, y) on part i (TFP3DStepper.footprints)."""
-    if i == 0:
-        return C[tk.I_R1] * S[0], C[tk.I_R1] * S[1]
-    if i == 1:
-        return C[tk.I_R2] * S[2], C[tk.I_R2] * S[3]
-    if i == 2:
-        return -C[tk.I_R3] * S[2], -C[tk.I_R3] * S[3]
-    return -C[tk.I_R4] * S[0], -C[tk.I_R4] * S[1]
 
 
 def step(C, S, L, X, n, dt, mu, dW):
@@ -35,10 +16,6 @@ def step(C, S, L, X, n, dt, mu, dW):
     for i in range(4):
         dW[i] = S[k3.S_DW + i]
     return fail
-
-
-def ok(C, S):
-    return True
 
 
 def values(C, S, L, n, dt, row):

@@ -13,7 +13,6 @@ import numpy as np
 
 from . import tfp3d_kernel as K3
 from . import tfp3d_two_phase_kernel as K
-from . import tfp_kernel as TK
 from .tfp3d import COLUMNS as SEATED_COLUMNS, TFP3DFailure, TFP3DStepper
 
 # the two-phase model's own columns, after the seated 3D TFP's: the re-seating
@@ -57,30 +56,16 @@ class TFP3DTwoPhaseStepper(TFP3DStepper):
         return tuple(self._row.tolist())
 
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
+        """TFP3DStepper.step with this kernel (whose advance has the same
+        arguments and failures), and the rocking check from rest."""
         n = self.n
-        fail = self.k.advance(self.par, self.S, self.dt, self._ax[n], self._ay[n], self._az[n],
-                              mu1, mu2, mu3, mu4, 1 if self.machine else 0, self._ux[n + 1], self._uy[n + 1],
-                              self._udx[n + 1], self._udy[n + 1], self.out, self._sc)
-        if fail == K3.FAIL_CAPACITY:
-            raise TFP3DFailure("the test machine's force did not make the bearing follow the orbit "
-                               "(Newton on the machine's force did not converge; lower solver.dt)")
-        if fail == K.FAIL_ROCKING:
-            q = self.S[0:4]
-            ax, ay = self._ax[n], self._ay[n]
-            gv = self.geom.g + self._az[n]
-            part = "pad" if K.rocking_from_rest(self.par, q, ax, ay, gv) == 1 else "slider plates"
+        dW = super().step(mu1, mu2, mu3, mu4)
+        if self.S[K.S_NPH] < 0.0:
+            self.n, self.t = n, n * self.dt          # the step is not taken (as the planar TFP's)
+            ax, ay, gv = self._ax[n], self._ay[n], self.geom.g + self._az[n]
+            part = "pad" if K.rocking_from_rest(self.par, self.S[0:4], ax, ay, gv) == 1 else "slider plates"
             raise TFP3DFailure(f"the {part} would start rocking on a corner (ground acceleration "
                                f"{float(np.hypot(ax, ay)) / gv:.3g} (g + a_z) beyond the restoring moment of "
                                "Eq. 7): rocking of the TFP's parts is not modelled (docs/model.md 6.6)")
-        if fail == K3.FAIL_RIM:
-            raise TFP3DFailure("a surface reached its rim: rim impacts of the TFP in both directions are not "
-                               "modelled yet (the planar TFP has them)")
-        if fail == K3.FAIL_FIXED_POINT:
-            raise TFP3DFailure(f"the step's fixed point on q(t_n+1) did not converge in {K3.FIXED_POINT_ITERS} "
-                               "iterations (lower solver.dt)")
-        self.n = n + 1
-        self.t = self.n * self.dt
-        return tuple(float(x) for x in self.S[K3.S_DW:K3.S_DW + 4])
+        return dW
 
-
-assert TK.FAIL_ROCKING == K.FAIL_ROCKING

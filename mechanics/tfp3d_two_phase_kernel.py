@@ -64,6 +64,31 @@ def _dot(o, a, b):
     return o[a] * o[b] + o[a + 1] * o[b + 1] + o[a + 2] * o[b + 2]
 
 
+def linv(Lm, blk, a0, a1):
+    """L^-1 (a0, a1) for the block blk of the arc metric Lm (tfp3d_kernel.metric_root)."""
+    k = 4 * blk
+    return (Lm[k + 2] * a0 - Lm[k + 1] * a1) / Lm[k + 3], (Lm[k] * a1 - Lm[k + 1] * a0) / Lm[k + 3]
+
+
+def matvec(A, x, o):
+    """o = A x, A 4x4 row-major."""
+    for i in range(4):
+        o[i] = A[4 * i] * x[0] + A[4 * i + 1] * x[1] + A[4 * i + 2] * x[2] + A[4 * i + 3] * x[3]
+
+
+def stop_block(M, v, blk, p):
+    """An impulse on block blk alone brings it to rest: the other block keeps
+    its momentum p = M v (into p), its rates M_oo^-1 p_o."""
+    matvec(M, v, p)
+    o = 2 - 2 * blk
+    m11, m12, m22 = M[5 * o], M[5 * o + 1], M[5 * o + 5]
+    det = m11 * m22 - m12 * m12
+    v[2 * blk] = 0.0
+    v[2 * blk + 1] = 0.0
+    v[o] = (m22 * p[o] - m12 * p[o + 1]) / det
+    v[o + 1] = (m11 * p[o + 1] - m12 * p[o]) / det
+
+
 def reseat(par, q0, q1, v, w, sc):
     """Phases 2 and 3 (docs/model.md 6.9): the phase-1 velocity field, every body
     k moving with -a_k X0 - b_k Y0 (X0 = De(phi0)[phi'], Y0 = De(psi0)[psi'])
@@ -147,11 +172,7 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         q0[i] = st[i]
         z4[i] = 0.0
     k3.mass_matrix(par, q0, M0, tmp)
-    for i in range(4):
-        s = 0.0
-        for j in range(4):
-            s += M0[4 * i + j] * st[4 + j]
-        p0[i] = s
+    matvec(M0, st[4:8], p0)
     kk = 2.0 / (dt * dt)
     for i in range(16):
         H[i] = kk * M0[i]
@@ -184,34 +205,20 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         k3.dgrad(par, q0, q1, z4, agx, agy, az, G, sc)
         for i in range(4):
             r[i] = 2.0 * p0[i] / dt + G[i]
-        # ry = L^-1 r, blockwise
         for blk in range(2):
-            k0 = 4 * blk
-            l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-            i0 = 2 * blk
-            ry[i0] = (l22 * r[i0] - l12 * r[i0 + 1]) / det
-            ry[i0 + 1] = (l11 * r[i0 + 1] - l12 * r[i0]) / det
+            ry[2 * blk], ry[2 * blk + 1] = linv(Lm, blk, r[2 * blk], r[2 * blk + 1])
         if machine == 1:
             # D: the discrete gradient of u (D^T dq = u(q1) - u(q0)); in y, L^-1 D
             k3.dgrad_u(par, q0, q1, D, sc)
-            for blk in range(2):
-                k0 = 4 * blk
-                l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-                i0 = 2 * blk
+            for i0 in range(0, 4, 2):
                 for c in range(2):
-                    a0 = D[2 * i0 + c]
-                    a1 = D[2 * (i0 + 1) + c]
-                    Dy[2 * i0 + c] = (l22 * a0 - l12 * a1) / det
-                    Dy[2 * (i0 + 1) + c] = (l11 * a1 - l12 * a0) / det
+                    Dy[2 * i0 + c], Dy[2 * i0 + 2 + c] = linv(Lm, i0 // 2, D[2 * i0 + c], D[2 * i0 + 2 + c])
             mfail = k3.machine_force(Hy, ry, Dy, c_o, c_i, ex, ey, y, Fm, sc) != 0
         else:
             k3.socp(Hy, ry, c_o, c_i, y, sc)
         ch = 0.0
         for blk in range(2):
-            k0 = 4 * blk
-            l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-            a0 = (l22 * y[2 * blk] - l12 * y[2 * blk + 1]) / det
-            a1 = (l11 * y[2 * blk + 1] - l12 * y[2 * blk]) / det
+            a0, a1 = linv(Lm, blk, y[2 * blk], y[2 * blk + 1])
             ch += abs(a0 - x[2 * blk]) + abs(a1 - x[2 * blk + 1])
             x[2 * blk] = a0
             x[2 * blk + 1] = a1
@@ -231,11 +238,9 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     # Phi = r - H dq; p1 = p0 + dt (G - Phi); the phase-1 rates v = M(q0)^-1 p1
     for i in range(4):
         q1[i] = q0[i] + x[i]
+    matvec(H, x, tmp[4:8])
     for i in range(4):
-        s = r[i]
-        for j in range(4):
-            s -= H[4 * i + j] * x[j]
-        tmp[i] = p0[i] + dt * (G[i] - s)
+        tmp[i] = p0[i] + dt * (G[i] - (r[i] - tmp[4 + i]))
     k3.chol_solve(M0, tmp[0:4], v, sc[200:216])
     wo = c_o * math.sqrt(y[0] * y[0] + y[1] * y[1])
     wi = c_i * math.sqrt(y[2] * y[2] + y[3] * y[3])
@@ -257,36 +262,16 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     arr_i = 0.0
     if z1 or z2:
         K0 = k3.kinetic(par, q0, v, tmp[8:20])
-        for i in range(4):
-            s = 0.0
-            for j in range(4):
-                s += M0[4 * i + j] * v[j]
-            tmp[i] = s
+        stop_block(M0, v, 0 if z1 else 1, tmp)
+        Ka = k3.kinetic(par, q0, v, tmp[8:20])
         if z1:
-            m11, m12, m22 = M0[10], M0[11], M0[15]
-            det = m11 * m22 - m12 * m12
-            wa0 = (m22 * tmp[2] - m12 * tmp[3]) / det
-            wa1 = (m11 * tmp[3] - m12 * tmp[2]) / det
-            v[0] = 0.0
-            v[1] = 0.0
-            v[2] = wa0
-            v[3] = wa1
-            Ka = k3.kinetic(par, q0, v, tmp[8:20])
             arr_o = K0 - Ka
             if z2:
                 v[2] = 0.0
                 v[3] = 0.0
                 arr_i = Ka
         else:
-            m11, m12, m22 = M0[0], M0[1], M0[5]
-            det = m11 * m22 - m12 * m12
-            wa0 = (m22 * tmp[0] - m12 * tmp[1]) / det
-            wa1 = (m11 * tmp[1] - m12 * tmp[0]) / det
-            v[0] = wa0
-            v[1] = wa1
-            v[2] = 0.0
-            v[3] = 0.0
-            arr_i = K0 - k3.kinetic(par, q0, v, tmp[8:20])
+            arr_i = K0 - Ka
     # phases 2 and 3: re-seated at q1 (what the projection leaves on a block
     # that stuck is the next step's to hold or not, against its cap)
     out[O_RESEAT] = reseat(par, q0, q1, v, w, sc)
@@ -337,10 +322,8 @@ def pivots(par, S, q0, dq, sc):
         dx = dq[2 * blk]
         dy = dq[2 * blk + 1]
         i0 = S_G1 if blk == 0 else S_B1
-        S[i0] = 0.0
-        S[i0 + 1] = 0.0
-        S[i0 + 2] = 0.0
-        S[i0 + 3] = 0.0
+        for k in range(4):
+            S[i0 + k] = 0.0
         if dx == 0.0 and dy == 0.0:
             continue
         n += 1
@@ -348,12 +331,9 @@ def pivots(par, S, q0, dq, sc):
         yx = sc[0] * dx + sc[1] * dy
         yy = sc[1] * dx + sc[2] * dy
         arc = math.sqrt(yx * yx + yy * yy)
-        ux = yx / arc
-        uy = yy / arc
-        if blk == 1:
-            b = tk.pad_pivot(par, arc)
-        else:
-            b = tk.stack_pivot(par, q0[2] * ux + q0[3] * uy, arc)
+        ux, uy = yx / arc, yy / arc
+        # the pad's in the plane of its slide; the slider plates' with the pad's tilt in theirs
+        b = tk.pad_pivot(par, arc) if blk == 1 else tk.stack_pivot(par, q0[2] * ux + q0[3] * uy, arc)
         S[i0] = b * ux
         S[i0 + 1] = b * uy
         S[i0 + 2] = (arc - b) * ux
