@@ -192,7 +192,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                "them. Not with a PEER .AT2 file (its header gives DT)."),
     "loading.record.baseline": ("", "Quadratic-velocity baseline correction of the integrated record "
                                     "(docs/model.md, Loading)."),
-    "loading.record.file_y": ("", "Bidirectional run (DFP, SFP; a TFP seated): a record file of the y component (path relative to "
+    "loading.record.file_y": ("", "Bidirectional run (DFP, SFP, TFP): a record file of the y component (path relative to "
                                   "the scene file, the formats of file), scaled by scale and baseline-corrected "
                                   "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
                                   "components). The x record sets the length; after a shorter y record the "
@@ -223,7 +223,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                     "the vertical in the plane, [1, 2] the horizontal pair alone. A V2 file must "
                                     "carry exactly two horizontal channels (\"<azimuth> Deg\") and one vertical "
                                     "(\"Up\"); otherwise it is refused naming what it has."),
-    "loading.record.angle_deg": ("deg", "DFP, SFP, TFP (seated): turns the ground-motion pair (x towards y) by this angle before the "
+    "loading.record.angle_deg": ("deg", "DFP, SFP, TFP: turns the ground-motion pair (x towards y) by this angle before the "
                                         "run; non-zero with a single component makes the run bidirectional "
                                         "(the record along the turned direction)."),
     "loading.amplitude_m": ("m", "Amplitude of the sine."),
