@@ -308,8 +308,7 @@ def rocking_from_rest(par, q, agx, agy, gv):
         n = math.sqrt(ex * ex + ey * ey)
     if n == 0.0:
         ex, ey, n = 1.0, 0.0, 1.0
-    ex /= n
-    ey /= n
+    ex, ey = ex / n, ey / n
     return tk.rocking_in_field(par, q[0] * ex + q[1] * ey, q[2] * ex + q[3] * ey, agx * ex + agy * ey, gv)
 
 
@@ -395,10 +394,8 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     da = math.sqrt(out[k3.O_DQ + 2] * out[k3.O_DQ + 2] + out[k3.O_DQ + 3] * out[k3.O_DQ + 3])
     so = 1.0 if dp != 0.0 else 0.0
     si = 1.0 if da != 0.0 else 0.0
-    S[k3.S_SLIDE] = so
-    S[k3.S_SLIDE + 1] = si
-    S[k3.S_SLIDE + 2] = si
-    S[k3.S_SLIDE + 3] = so
+    for i in range(4):
+        S[k3.S_SLIDE + i] = so if i == 0 or i == 3 else si
     if so != 0.0 and si != 0.0:
         S[k3.S_PHASE] = tk.PHASE_BOTH
         S[k3.S_REG] = 6.0
@@ -411,10 +408,8 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     else:
         S[k3.S_PHASE] = tk.PHASE_STICK
         S[k3.S_REG] = 0.0
-    lo_ = wo - out[k3.O_ARR_O]
-    li_ = wi - out[k3.O_ARR_I]
-    ao = lo_ / c_o if c_o > 0.0 else dp
-    ai = li_ / c_i if c_i > 0.0 else da
+    ao = (wo - out[k3.O_ARR_O]) / c_o if c_o > 0.0 else dp     # the arcs slid
+    ai = (wi - out[k3.O_ARR_I]) / c_i if c_i > 0.0 else da
     S[k3.S_SV] = R1 * ao / dt
     S[k3.S_SV + 1] = R2 * ai / dt
     S[k3.S_SV + 2] = R3 * ai / dt
