@@ -508,7 +508,11 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     loading = bidirectional_loading_of(scene, dt)
     # an orbit (or a turned sine) on the test machine, or a ground-motion pair
     gx, gy = (loading, None) if ld["kind"] == "displacement" else loading
-    mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps))
+    if scene["mechanics"]["model"] == "two-phase":
+        from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
+        mech = TFP3DTwoPhaseStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps, "tfp3d_two_phase_kernel"))
+    else:
+        mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps))
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}
     for comp, g in (("record", gx), ("record_y", gy)):
@@ -519,12 +523,13 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     return Simulation(scene, dt, gx.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
 
 
-def _tfp3d_kernel(n_steps: int):
-    """The compiled step of the TFP in both directions past a few hundred steps
-    (its Python step costs ~6 ms), when numba is there; else the pure one."""
+def _tfp3d_kernel(n_steps: int, name: str = "tfp3d_kernel"):
+    """The compiled step of the TFP in both directions (the kernel module
+    mechanics/<name>) past a few hundred steps (its Python step costs ~6 ms),
+    when numba is there; else the pure one."""
     from fpd import kernels
     if n_steps >= 500 and kernels.available():
-        return kernels.compiled("fpd.mechanics.tfp3d_kernel")
+        return kernels.compiled("fpd.mechanics." + name)
     return None
 
 

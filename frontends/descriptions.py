@@ -204,7 +204,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                "them. Not with a PEER .AT2 file (its header gives DT)."),
     "loading.record.baseline": ("", "Quadratic-velocity baseline correction of the integrated record "
                                     "(docs/model.md, Loading)."),
-    "loading.record.file_y": ("", "Bidirectional run (DFP, SFP; a TFP seated): a record file of the y component (path relative to "
+    "loading.record.file_y": ("", "Bidirectional run (DFP, SFP, TFP): a record file of the y component (path relative to "
                                   "the scene file, the formats of file), scaled by scale and baseline-corrected "
                                   "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
                                   "components). The x record sets the length; after a shorter y record the "
@@ -235,7 +235,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                     "the vertical in the plane, [1, 2] the horizontal pair alone. A V2 file must "
                                     "carry exactly two horizontal channels (\"<azimuth> Deg\") and one vertical "
                                     "(\"Up\"); otherwise it is refused naming what it has."),
-    "loading.record.angle_deg": ("deg", "DFP, SFP, TFP (seated): turns the ground-motion pair (x towards y) by this angle before the "
+    "loading.record.angle_deg": ("deg", "DFP, SFP, TFP: turns the ground-motion pair (x towards y) by this angle before the "
                                         "run; non-zero with a single component makes the run bidirectional "
                                         "(the record along the turned direction)."),
     "loading.amplitude_m": ("m", "Amplitude of the sine."),
@@ -322,8 +322,8 @@ KEYS: dict[str, tuple[str, str]] = {
     # [mechanics]
     "mechanics.model": ("", '"two-phase": the paper\'s rigid-body stepper (stick/slip/tilt, pad rocking); '
                             '"seated": the classical seated model (the pad never tilts). A displacement loading '
-                            'always uses the seated test machine (a TFP: either model in the machine too). The '
-                            'flat bearing has its seated model only ("two-phase" is refused).'),
+                            'always uses the seated test machine (a TFP: either model in the machine too, and in '
+                            'both directions: a record pair, a turned record or an orbit). The flat bearing has its seated model only ("two-phase" is refused).'),
     "mechanics.normal_force": ("", 'The normal forces of a step: "midpoint" (the default): at the step '
                                    'midpoint, inside the fixed point (second order); "start": frozen at the '
                                    'start of the step, the velocity projected on re-seating (the paper\'s '
@@ -572,6 +572,21 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "gamma1_rad": ("rad", "TFP two-phase: phase-1 rotation of the slider plates and the frozen pad about "
                           "the lower slider plate's trailing corner on S1 (Fig. 6e-n, 7b)."),
     "gamma2_rad": ("rad", "TFP two-phase: phase-3 re-seating rotation of the slider plates, dphi - gamma1."),
+    "beta1x_rad": ("rad", "TFP two-phase in both directions: x component of the pad's phase-1 pivot as a tilt "
+                          "vector along its slide (the planar beta1 in the plane of the pad's axis and its "
+                          "slide, about the corner on S2 trailing it)."),
+    "beta1y_rad": ("rad", "TFP two-phase in both directions: y component of the pad's phase-1 pivot."),
+    "beta2x_rad": ("rad", "TFP two-phase in both directions: x component of the pad's re-seating rotation "
+                          "(its arc |L(alpha) dalpha| less beta1, along its slide)."),
+    "beta2y_rad": ("rad", "TFP two-phase in both directions: y component of the pad's re-seating rotation."),
+    "gamma1x_rad": ("rad", "TFP two-phase in both directions: x component of the slider plates' phase-1 pivot "
+                           "(the planar gamma1 in the plane of their slide, the pad's tilt taken in that "
+                           "plane), a tilt vector along the slide."),
+    "gamma1y_rad": ("rad", "TFP two-phase in both directions: y component of the slider plates' phase-1 pivot."),
+    "gamma2x_rad": ("rad", "TFP two-phase in both directions: x component of the slider plates' re-seating "
+                           "rotation (their arc |L(phi) dphi| less gamma1, along their slide)."),
+    "gamma2y_rad": ("rad", "TFP two-phase in both directions: y component of the slider plates' re-seating "
+                           "rotation."),
     "diagonal_plates": ("", "TFP two-phase: diagonal of the slider plates' phase-1 pivot: 0 = the corner "
                             "behind a slide towards +x, 1 = on the way back."),
     "phases": ("", "TFP two-phase: the paper's phases in the step: 0 stick, 2 one pair of surfaces slid "

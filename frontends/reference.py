@@ -93,6 +93,7 @@ COLUMN_SOURCES = (
     "fpd.mechanics.tfp:COLUMNS",
     "fpd.mechanics.tfp:TWO_PHASE_COLUMNS",
     "fpd.mechanics.tfp3d:COLUMNS",
+    "fpd.mechanics.tfp3d_two_phase:TWO_PHASE_COLUMNS",
     "fpd.mechanics.flat:COLUMNS",
     "fpd.coupling.fast_loop:WEAR_COLUMNS",
 )
