@@ -240,6 +240,52 @@ def test_lean_glyph_loop_draws_the_same_pixels():
     assert np.array_equal(ref, lean)
 
 
+def _title_figure():
+    """Titles matplotlib leaves at y = 1 and titles it lifts: over x ticks on
+    top, over a y axis offset text, two lines over a small title pad."""
+    from fpd.outputs import drawing
+    fig, ax = drawing.new_figure(2, 2, figsize=(8.0, 6.0), hgap=0.9)
+    t = np.linspace(0.0, 1.0, 50)
+    for a in ax:
+        a.plot(t, t ** 2)
+    ax[0].set_title("plain")
+    ax[1].plot(t, 1e7 + t)                              # the y axis gets an offset text
+    ax[1].set_title("an offset text on the y axis: a long title over it")
+    ax[2].xaxis.tick_top()
+    ax[2].set_title("ticks on top")
+    ax[3].set_title("two\nlines", pad=-12)
+    return fig
+
+
+def test_lean_title_placement_is_matplotlibs():
+    """The command line's title placement (drawing._place_titles: no y axis
+    layout pass where it cannot move a title) puts every title where
+    matplotlib does, the lifted ones included: the same pixels."""
+    from matplotlib.axes._base import _AxesBase
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from fpd.outputs import drawing
+    place = _AxesBase.__dict__["_update_title_position"]
+    if getattr(place, "_fpd", False):
+        pytest.skip("this process places titles lean already")
+
+    def drawn():
+        fig = _title_figure()
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        return np.asarray(canvas.buffer_rgba()).copy(), [a.title.get_position()[1] for a in fig.axes]
+
+    ref, ys = drawn()
+    _AxesBase._update_title_position = drawing._place_titles(place)
+    try:
+        lean, lean_ys = drawn()
+    finally:
+        _AxesBase._update_title_position = place
+    assert ys[0] == 1.0 and min(ys[1:]) > 1.0           # matplotlib lifted the last three
+    assert lean_ys == ys
+    assert np.array_equal(ref, lean)
+
+
 def test_lean_process_draws_the_same_figures(tmp_path):
     """A process that imports matplotlib lean (fpd run's own: no set()
     signatures, no 3-D axes, the glyph loop) writes the same pixels as one
@@ -249,8 +295,8 @@ def test_lean_process_draws_the_same_figures(tmp_path):
 
     from PIL import Image
     code = ("import sys; from fpd.outputs import drawing; drawing.LEAN = sys.argv[1] == 'lean'; "
-            "sys.path.insert(0, sys.argv[3]); from test_plots import _text_figure; "
-            "drawing.save(_text_figure(), sys.argv[2]); "
+            "sys.path.insert(0, sys.argv[3]); from test_plots import _text_figure, _title_figure; "
+            "drawing.save(_text_figure(), sys.argv[2]); drawing.save(_title_figure(), sys.argv[2] + '.t.png'); "
             "import matplotlib.projections as p; print('3d' in p.get_projection_names())")
     here = str(Path(__file__).resolve().parent)
     out = {}
@@ -259,5 +305,6 @@ def test_lean_process_draws_the_same_figures(tmp_path):
                            capture_output=True, text=True, cwd=ROOT, check=True)
         out[mode] = r.stdout.split()[-1]
     assert out == {"lean": "False", "usual": "True"}     # the lean import left the 3-D axes out
-    a, b = (np.asarray(Image.open(tmp_path / f"{m}.png")) for m in ("lean", "usual"))
-    assert np.array_equal(a, b)
+    for suffix in ("", ".t.png"):
+        a, b = (np.asarray(Image.open(tmp_path / f"{m}.png{suffix}")) for m in ("lean", "usual"))
+        assert np.array_equal(a, b)
