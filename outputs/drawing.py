@@ -106,9 +106,9 @@ def _import_projections_without_3d() -> None:
 
 def _lean_drawing() -> None:
     """Draw text on the Agg canvas with ``_draw_glyphs`` and place the axes'
-    titles with ``_place_titles`` where matplotlib's functions are the ones
-    they replace (matplotlib 3.11: the same arguments; the glyphs as
-    (font, size, index, slant, extend, dx, dy))."""
+    titles with ``_place_titles`` where matplotlib's functions take the
+    arguments they take in matplotlib 3.11 (the glyphs as (font, size,
+    index, slant, extend, dx, dy)); elsewhere matplotlib's own draw."""
     import inspect
 
     from matplotlib.axes._base import _AxesBase
