@@ -432,7 +432,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
 # -- the triple friction pendulum (model.md 6) and the flat bearing (model.md 7) ---------
 
 def build_tfp(scene: Scene) -> Simulation:
-    from fpd.mechanics.tfp import TFPStepper, liftoff_step
+    from fpd.mechanics.tfp import TFPStepper
     from fpd.schema.scene import tfp_geometry
 
     dt = scene["solver"]["dt"]
@@ -442,14 +442,7 @@ def build_tfp(scene: Scene) -> Simulation:
         return _build_tfp3d(scene, dt, geom)
     loading = loading_of(scene, dt)
     gz = vertical_loading_of(scene, dt, loading)
-    if gz is not None:
-        k = liftoff_step(geom, gz.a_step)
-        if k is not None:
-            ld = scene["loading"]
-            key = "loading.file_z" if ld.get("file_z") is not None else "loading.channels"
-            raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
-                             f"t = {k * dt:.6g} s (g + a_z < 0): the TFP would lift off, which it does not model "
-                             "(a DFP or an SFP flies and lands); scale the vertical record down")
+    _tfp_no_liftoff(scene, geom, gz, dt)
     axial = None
     if scene["loading"]["kind"] == "displacement":
         from fpd.loading.axial import AxialError, programme_of
@@ -471,11 +464,27 @@ def build_tfp(scene: Scene) -> Simulation:
     if hasattr(loading, "record"):
         info["record"] = record_info(scene, loading)
     if gz is not None:
-        info["record_z"] = _record_info(gz, scene["loading"], loading)
+        info["record_z"] = vertical_info(gz, scene["loading"], loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made
     return sim
+
+
+def _tfp_no_liftoff(scene: Scene, geom, gz, dt: float) -> None:
+    """The TFP does not lift off: a vertical ground motion with g + a_z < 0 in
+    a step is refused before the run, naming the key, the instant and the value."""
+    from fpd.mechanics.tfp import liftoff_step
+    if gz is None:
+        return
+    k = liftoff_step(geom, gz.a_step)
+    if k is not None:
+        ld = scene["loading"]
+        key = next((f"loading.{k_}" for k_ in ("file_z", "vertical_scale") if ld.get(k_) is not None),
+                   "loading.channels")
+        raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
+                         f"t = {k * dt:.6g} s (g + a_z < 0): the TFP would lift off, which it does not model "
+                         "(a DFP or an SFP flies and lands); scale the vertical record down")
 
 
 def _tfp_parts(scene: Scene, dt: float):
@@ -496,7 +505,10 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     loading = bidirectional_loading_of(scene, dt)
     # an orbit (or a turned sine) on the test machine, or a ground-motion pair
     gx, gy = (loading, None) if ld["kind"] == "displacement" else loading
-    mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps))
+    # the vertical component (a record, a V2 file's vertical channel or a scaled copy of x as run): not turned
+    gz = vertical_loading_of(scene, dt, gx)
+    _tfp_no_liftoff(scene, geom, gz, dt)
+    mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}
     for comp, g in (("record", gx), ("record_y", gy)):
@@ -504,6 +516,8 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
             info[comp] = _record_info(g, ld, gx)
     if "record" in info:
         info["record"]["angle_deg"] = ld["angle_deg"]
+    if gz is not None:
+        info["record_z"] = vertical_info(gz, ld, gx)
     return Simulation(scene, dt, gx.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
 
 

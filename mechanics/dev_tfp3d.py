@@ -48,3 +48,4 @@ def ok(C, S):
 
 def values(C, S, L, n, dt, row):
     k3.row_values(C, S, n * dt, L[3][n], L[4][n], row, L[5])
+    k3.vertical_row(C, L[2][n - 1] if n > 0 else 0.0, row)

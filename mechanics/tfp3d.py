@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import tfp3d_kernel as K
+from . import tfp_kernel as tk
 from fpd.loading.ground_motion import float_array
 from .phases import MechanicsFailure
 from .tfp import TFPGeometry
@@ -30,6 +31,8 @@ COLUMNS = (
     "fp_iterations", "kkt_rel",
 )
 assert len(COLUMNS) == K.N_ROW
+# a loading with a vertical component (docs/model.md 10): the step's vertical ground acceleration, last
+VERTICAL_COLUMNS = ("az_mps2",)
 
 
 class TFP3DFailure(MechanicsFailure):
@@ -38,7 +41,8 @@ class TFP3DFailure(MechanicsFailure):
 
 class TFP3DStepper:
     """The rigid TFP under a two-component ground motion (gx, gy: GroundMotion
-    on the same grid; gy None: the y component absent). ``step(mu1..mu4)``
+    on the same grid; gy None: the y component absent; az: the vertical ground
+    acceleration per step, up, or None). ``step(mu1..mu4)``
     advances one step and returns the friction work of S1..S4 in it; the
     state is one float64 vector (tfp3d_kernel.S_*)."""
 
@@ -73,13 +77,29 @@ class TFP3DStepper:
                 self._ay = np.zeros_like(self._ax)
                 self._yg = np.zeros_like(self._xg)
             self._ux = self._uy = self._udx = self._udy = np.zeros_like(self._xg)
-        self._az = np.zeros_like(self._ax) if az is None else float_array(az)
         self.par = geom.pack()
+        if az is None:
+            self._az = np.zeros_like(self._ax)
+        else:
+            # every normal force, cap, the heat, the drive and the ledger see g + a_z (docs/model.md 10)
+            if self.machine:
+                raise ValueError("the test machine takes no vertical ground motion")
+            self._az = float_array(az)
+            if len(self._az) != len(self._ax):
+                raise ValueError("the vertical ground motion must share the horizontal one's time grid")
+            from .tfp import liftoff_step
+            lift = liftoff_step(geom, self._az)
+            if lift is not None:
+                raise ValueError(f"g + a_z < 0 at t = {lift * self.dt:.6g} s (a_z = "
+                                 f"{self._az[lift] / geom.g:.4g} g): the TFP would lift off, which is not "
+                                 "modelled for it (a DFP or an SFP flies and lands)")
+            self.par[tk.I_VERT] = 1.0
+            self.columns = COLUMNS + VERTICAL_COLUMNS
         self.S = np.zeros(K.N_S)
         self.N = self.S[K.S_N:K.S_N + 4]
         self.out = np.zeros(K.N_OUT)
         self._sc = np.zeros(K.N_SC)
-        self._row = np.zeros(K.N_ROW)
+        self._row = np.zeros(len(self.columns))
         self.n = 0
         self.t = 0.0
         if self.machine:
@@ -140,6 +160,7 @@ class TFP3DStepper:
     def values(self) -> tuple:
         n = self.n
         K.row_values(self.par, self.S, self.t, self._xg[n], self._yg[n], self._row, self._sc)
+        K.vertical_row(self.par, self._az[n - 1] if n > 0 else 0.0, self._row)
         return tuple(self._row.tolist())
 
     def save(self):

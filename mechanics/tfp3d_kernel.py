@@ -1147,6 +1147,14 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     return fail
 
 
+def vertical_row(par, az, row):
+    """The vertical ground motion's column (mechanics.tfp3d.VERTICAL_COLUMNS,
+    after the stepper's): az, the last step's a_z (0 in the first row); only
+    with a vertical loading (par[I_VERT] = 1)."""
+    if par[tk.I_VERT] == 1.0:
+        row[N_ROW] = az
+
+
 def row_values(par, S, t, xg, yg, row, sc):
     """The stepper's columns (mechanics.tfp3d.COLUMNS) into row[0:N_ROW]."""
     q = S[0:4]

@@ -1297,9 +1297,8 @@ def planar_only(ctx, data, device: str) -> None:
                 "(a DFP, an SFP, a TFP or the flat bearing takes it)")
         if ld.get("file_z") is not None and not vertical:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
-        if ld.get("vertical_scale") is not None and device != "flat bearing":
-            ctx.fail("loading.vertical_scale", ld["vertical_scale"], f"not yet for this device: the {device} takes "
-                     "its vertical record as loading.file_z (a DFP, an SFP or the flat bearing takes vertical_scale)")
+        if ld.get("vertical_scale") is not None and not vertical:
+            ctx.fail("loading.vertical_scale", ld["vertical_scale"], vwhy)
         if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not vertical)):
             ch = [c for c in ld["channels"] if c]
             what = vwhy if ld["channels"][2] and not vertical else why
@@ -1404,15 +1403,6 @@ def tfp3d_checks(ctx, data) -> None:
     if mech["model"] != "seated":
         ctx.fail("mechanics.model", mech["model"], 'must be "seated" for the TFP in both directions: '
                  "its two-phase model (phases in the plane of each step) is not built yet")
-    if ld.get("file_z") is not None:
-        ctx.fail("loading.file_z", ld["file_z"], "not yet for the TFP in both directions: "
-                 "its stepper takes the vertical acceleration, the loading does not pass it yet")
-    if ld.get("vertical_scale") is not None:
-        ctx.fail("loading.vertical_scale", ld["vertical_scale"], "not yet for the TFP in both directions "
-                 "(no vertical ground motion)")
-    if ld.get("channels") is not None and ld["channels"][2]:
-        ctx.fail("loading.channels", [c for c in ld["channels"] if c], "must not name a vertical channel: "
-                 "not yet for the TFP in both directions (no vertical ground motion)")
     if mech.get("normal_force") not in (None, "start"):
         ctx.fail("mechanics.normal_force", mech["normal_force"], "is a key of the DFP steppers")
     if data["coupling"]["substeps"] > 1:
