@@ -442,7 +442,8 @@ def build_tfp(scene: Scene) -> Simulation:
         return _build_tfp3d(scene, dt, geom)
     loading = loading_of(scene, dt)
     gz = vertical_loading_of(scene, dt, loading)
-    _tfp_no_liftoff(scene, geom, gz, dt)
+    if scene["mechanics"]["model"] != "seated":
+        _tfp_no_liftoff(scene, geom, gz, dt, "the two-phase TFP")
     axial = None
     if scene["loading"]["kind"] == "displacement":
         from fpd.loading.axial import AxialError, programme_of
@@ -471,9 +472,10 @@ def build_tfp(scene: Scene) -> Simulation:
     return sim
 
 
-def _tfp_no_liftoff(scene: Scene, geom, gz, dt: float) -> None:
-    """The TFP does not lift off: a vertical ground motion with g + a_z < 0 in
-    a step is refused before the run, naming the key, the instant and the value."""
+def _tfp_no_liftoff(scene: Scene, geom, gz, dt: float, what: str) -> None:
+    """Where the TFP does not lift off (two-phase, both directions), a vertical
+    ground motion with g + a_z < 0 in a step is refused before the run, naming
+    the key, the instant and the value."""
     from fpd.mechanics.tfp import liftoff_step
     if gz is None:
         return
@@ -483,8 +485,8 @@ def _tfp_no_liftoff(scene: Scene, geom, gz, dt: float) -> None:
         key = next((f"loading.{k_}" for k_ in ("file_z", "vertical_scale") if ld.get(k_) is not None),
                    "loading.channels")
         raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
-                         f"t = {k * dt:.6g} s (g + a_z < 0): the TFP would lift off, which it does not model "
-                         "(a DFP or an SFP flies and lands); scale the vertical record down")
+                         f"t = {k * dt:.6g} s (g + a_z < 0): {what} would lift off, which it does not model "
+                         "(the planar seated TFP, a DFP or an SFP flies and lands); scale the vertical record down")
 
 
 def _tfp_parts(scene: Scene, dt: float):
@@ -507,7 +509,7 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     gx, gy = (loading, None) if ld["kind"] == "displacement" else loading
     # the vertical component (a record, a V2 file's vertical channel or a scaled copy of x as run): not turned
     gz = vertical_loading_of(scene, dt, gx)
-    _tfp_no_liftoff(scene, geom, gz, dt)
+    _tfp_no_liftoff(scene, geom, gz, dt, "the TFP in both directions")
     mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}

@@ -92,7 +92,7 @@ class TFP3DStepper:
             if lift is not None:
                 raise ValueError(f"g + a_z < 0 at t = {lift * self.dt:.6g} s (a_z = "
                                  f"{self._az[lift] / geom.g:.4g} g): the TFP would lift off, which is not "
-                                 "modelled for it (a DFP or an SFP flies and lands)")
+                                 "modelled in both directions (the planar seated TFP, a DFP or an SFP flies and lands)")
             self.par[tk.I_VERT] = 1.0
             self.columns = COLUMNS + VERTICAL_COLUMNS
         self.S = np.zeros(K.N_S)
