@@ -509,7 +509,6 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     gx, gy = (loading, None) if ld["kind"] == "displacement" else loading
     # the vertical component (a record, a V2 file's vertical channel or a scaled copy of x as run): not turned
     gz = vertical_loading_of(scene, dt, gx)
-    _tfp_no_liftoff(scene, geom, gz, dt, "the TFP in both directions")
     mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}

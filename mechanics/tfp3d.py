@@ -32,7 +32,7 @@ COLUMNS = (
 )
 assert len(COLUMNS) == K.N_ROW
 # a loading with a vertical component (docs/model.md 10): the step's vertical ground acceleration, last
-VERTICAL_COLUMNS = ("az_mps2",)
+VERTICAL_COLUMNS = ("az_mps2", "lift_m", "n_lift", "t_flight_s", "E_land_J")
 
 
 class TFP3DFailure(MechanicsFailure):
@@ -78,6 +78,7 @@ class TFP3DStepper:
                 self._yg = np.zeros_like(self._xg)
             self._ux = self._uy = self._udx = self._udy = np.zeros_like(self._xg)
         self.par = geom.pack()
+        self._ev = np.zeros(2)
         if az is None:
             self._az = np.zeros_like(self._ax)
         else:
@@ -87,12 +88,6 @@ class TFP3DStepper:
             self._az = float_array(az)
             if len(self._az) != len(self._ax):
                 raise ValueError("the vertical ground motion must share the horizontal one's time grid")
-            from .tfp import liftoff_step
-            lift = liftoff_step(geom, self._az)
-            if lift is not None:
-                raise ValueError(f"g + a_z < 0 at t = {lift * self.dt:.6g} s (a_z = "
-                                 f"{self._az[lift] / geom.g:.4g} g): the TFP would lift off, which is not "
-                                 "modelled in both directions (the planar seated TFP, a DFP or an SFP flies and lands)")
             self.par[tk.I_VERT] = 1.0
             self.columns = COLUMNS + VERTICAL_COLUMNS
         self.S = np.zeros(K.N_S)
@@ -149,18 +144,29 @@ class TFP3DStepper:
                 (-g.R3 * q[2], -g.R3 * q[3]), (-g.R4 * q[0], -g.R4 * q[1]))
 
     def E_kin(self) -> float:
+        if self.par[tk.I_VERT] == 1.0:           # in flight too (docs/model.md 10)
+            K.energies_vertical(self.par, self.S, self._ev, self._sc)
+            return float(self._ev[0])
         return K.kinetic(self.par, self.S[0:4], self.S[4:8], self._sc)
 
     def E_pot(self) -> float:
+        if self.par[tk.I_VERT] == 1.0:
+            K.energies_vertical(self.par, self.S, self._ev, self._sc)
+            return float(self._ev[1])
         return K.potential(self.par, self.S[0:4])
 
+    @property
+    def E_land(self) -> float:
+        """Energy taken by the lift-offs and landings (docs/model.md 10)."""
+        return float(self.S[K.S_ELAND])
+
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W))
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_land)
 
     def values(self) -> tuple:
         n = self.n
         K.row_values(self.par, self.S, self.t, self._xg[n], self._yg[n], self._row, self._sc)
-        K.vertical_row(self.par, self._az[n - 1] if n > 0 else 0.0, self._row)
+        K.vertical_row(self.par, self.S, self._az[n - 1] if n > 0 else 0.0, self._row, self._sc)
         return tuple(self._row.tolist())
 
     def save(self):
@@ -200,15 +206,20 @@ class TFP3DStepper:
     # -- the step ---------------------------------------------------------------------------
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
         n = self.n
-        fail = self.k.advance(self.par, self.S, self.dt, self._ax[n], self._ay[n], self._az[n],
-                              mu1, mu2, mu3, mu4, 1 if self.machine else 0, self._ux[n + 1], self._uy[n + 1],
-                              self._udx[n + 1], self._udy[n + 1], self.out, self._sc)
+        # a vertical ground motion: the step may lift the stack off and land it
+        adv = self.k.advance_vertical if self.par[tk.I_VERT] == 1.0 else self.k.advance
+        fail = adv(self.par, self.S, self.dt, self._ax[n], self._ay[n], self._az[n],
+                   mu1, mu2, mu3, mu4, 1 if self.machine else 0, self._ux[n + 1], self._uy[n + 1],
+                   self._udx[n + 1], self._udy[n + 1], self.out, self._sc)
         if fail == K.FAIL_CAPACITY:
             raise TFP3DFailure("the test machine's force did not make the bearing follow the orbit "
                                "(Newton on the machine's force did not converge; lower solver.dt)")
         if fail == K.FAIL_RIM:
             raise TFP3DFailure("a surface reached its rim: rim impacts of the TFP in both directions are not "
                                "modelled yet (the planar TFP has them)")
+        if fail == K.FAIL_LAND:
+            raise TFP3DFailure("the TFP would land from its flight beyond the outer surfaces' reach: a landing "
+                               "on the rims is not modelled (docs/model.md 10)")
         if fail == K.FAIL_FIXED_POINT:
             raise TFP3DFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
                                "iterations (lower solver.dt)")

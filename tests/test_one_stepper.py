@@ -137,6 +137,10 @@ def test_planar_columns_are_signed():
     # the planar seated TFP flies and lands under a vertical pulse below -g
     ("tfp-elcentro", ["solver.duration=3", "mechanics.model=seated", f'loading.file_z="{PULSE}"',
                       "loading.baseline=false", "loading.scale=1"]),
+    # the TFP in both directions flies and lands under the pulse (the Imperial Valley pair)
+    ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=3",
+                      "solver.dt=2e-3", "loading.scale=1", f'loading.file_z="{PULSE}"', "loading.baseline=false",
+                      "thermal.model=lumped"]),
     # the TFP in both directions under a vertical ground motion (0.6 of the pair's x component), fe1d
     ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=6",
                       "solver.dt=2e-3", "loading.vertical_scale=0.6"]),
