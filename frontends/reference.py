@@ -92,7 +92,9 @@ COLUMN_SOURCES = (
     "fpd.mechanics.bidirectional:VERTICAL_COLUMNS",
     "fpd.mechanics.tfp:COLUMNS",
     "fpd.mechanics.tfp:TWO_PHASE_COLUMNS",
+    "fpd.mechanics.tfp:VERTICAL_COLUMNS",
     "fpd.mechanics.tfp3d:COLUMNS",
+    "fpd.mechanics.tfp3d:VERTICAL_COLUMNS",
     "fpd.mechanics.flat:COLUMNS",
     "fpd.coupling.fast_loop:WEAR_COLUMNS",
 )
