@@ -1318,15 +1318,9 @@ def _takeoff(par, S, sc):
     unit_momentum(par, S[0:4], S[4:8], sc[40:43], sc)
     vx, vy, vz = sc[40] / mt, sc[41] / mt, sc[42] / mt
     S[S_ELAND] += kinetic(par, S[0:4], S[4:8], sc) - 0.5 * mt * (vx * vx + vy * vy + vz * vz)
-    for i in range(4):
-        S[4 + i] = 0.0
+    S[4] = S[5] = S[6] = S[7] = S[S_XF] = S[S_YF] = S[S_ZF] = 0.0
     S[S_FLY] = 1.0
-    S[S_XF] = 0.0
-    S[S_YF] = 0.0
-    S[S_ZF] = 0.0
-    S[S_VXF] = vx
-    S[S_VYF] = vy
-    S[S_VZF] = vz
+    S[S_VXF], S[S_VYF], S[S_VZF] = vx, vy, vz
     S[S_NLIFT] += 1.0
 
 
@@ -1362,13 +1356,8 @@ def _land(par, S, sc):
     for i in range(4):
         S[4 + i] = sc[74 + i]
     S[S_ELAND] += e0 - (kinetic(par, S[0:4], S[4:8], sc) + potential(par, S[0:4]))
-    S[S_FLY] = 0.0
-    S[S_XF] = 0.0
-    S[S_YF] = 0.0
-    S[S_ZF] = 0.0
-    S[S_VXF] = 0.0
-    S[S_VYF] = 0.0
-    S[S_VZF] = 0.0
+    for i in range(S_FLY, S_VZF + 1):
+        S[i] = 0.0
     return FAIL_NONE
 
 
@@ -1460,16 +1449,9 @@ def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x,
             S[S_SV + i] = S[S_SV + i] * (rem / dt)
         return fail
     for i in range(4):
-        S[S_N + i] = 0.0
-        S[S_SV + i] = 0.0
-        S[S_DW + i] = 0.0
-        S[S_SLIDE + i] = 0.0
-    S[S_F] = 0.0
-    S[S_F + 1] = 0.0
+        S[S_N + i] = S[S_SV + i] = S[S_DW + i] = S[S_SLIDE + i] = 0.0
+    S[S_F] = S[S_F + 1] = S[S_REG] = S[S_ITER] = S[S_KKT] = 0.0
     S[S_PHASE] = tk.PHASE_STICK
-    S[S_REG] = 0.0
-    S[S_ITER] = 0.0
-    S[S_KKT] = 0.0
     return FAIL_NONE
 
 

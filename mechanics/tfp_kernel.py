@@ -1274,28 +1274,29 @@ def flight_lift(par, S, x, z):
     return uplift(par, phi, al) + z - uplift(par, ps, al)
 
 
+def unit_velocity(par, S):
+    """The moving parts' momentum over their mass (x, up): body k at
+    r_k = -a_k e(phi) - b_k e(psi), p = (P1 phi' cos phi + P2 psi' cos psi,
+    P1 phi' sin phi + P2 psi' sin psi)."""
+    phi, v1, ps, w = S[0], S[2], S[0] + S[1], S[2] + S[3]
+    P1, P2, mt = par[I_P1], par[I_P2], moving_mass(par)
+    return ((P1 * v1 * math.cos(phi) + P2 * w * math.cos(ps)) / mt,
+            (P1 * v1 * math.sin(phi) + P2 * w * math.sin(ps)) / mt)
+
+
 def _takeoff(par, S):
     """The unit leaves with the moving parts' momentum over their mass: the
     bodies' motion relative to each other (the rates of phi and alpha, the
     turning) is stopped by an internal plastic impulse, its energy to E_land."""
-    phi, al, v1, v2 = S[0], S[1], S[2], S[3]
-    P1, P2 = par[I_P1], par[I_P2]
-    ps = phi + al
-    mt = moving_mass(par)
-    vx = (P1 * v1 * math.cos(phi) + P2 * (v1 + v2) * math.cos(ps)) / mt
-    vz = (P1 * v1 * math.sin(phi) + P2 * (v1 + v2) * math.sin(ps)) / mt
-    S[S_ELAND] += kinetic(par, al, v1, v2) - 0.5 * mt * (vx * vx + vz * vz)
-    S[2] = 0.0
-    S[3] = 0.0
+    vx, vz = unit_velocity(par, S)
+    S[S_ELAND] += kinetic(par, S[1], S[2], S[3]) - 0.5 * moving_mass(par) * (vx * vx + vz * vz)
+    S[2] = S[3] = S[S_XF] = S[S_ZF] = 0.0
     S[S_FLY] = 1.0
-    S[S_XF] = 0.0
-    S[S_ZF] = 0.0
-    S[S_VXF] = vx
-    S[S_VZF] = vz
+    S[S_VXF], S[S_VZF] = vx, vz
     S[S_NLIFT] += 1.0
 
 
-def _land(par, S):
+def _land(par, S, M):
     """The landing: the seated configuration under the unit (the pad's tilt
     alpha kept, phi from the flown position) and a plastic impact, the flight
     velocity projected onto the seated motions in the kinetic-energy metric
@@ -1313,28 +1314,18 @@ def _land(par, S):
     sp = ps + al
     pa = P2 * (vx * math.cos(sp) + vz * math.sin(sp))
     pp = P1 * (vx * math.cos(ps) + vz * math.sin(ps)) + pa
-    c = math.cos(al)
-    B, K, Jpsi = par[I_B], par[I_K], par[I_JPSI]
-    m11 = par[I_AA] + B + 2.0 * K * c + par[I_JPHI] + Jpsi
-    m12 = B + K * c + Jpsi
-    m22 = B + Jpsi
-    det = m11 * m22 - m12 * m12
+    mass_matrix(par, al, M)
     S[0] = ps
-    S[2] = (m22 * pp - m12 * pa) / det
-    S[3] = (m11 * pa - m12 * pp) / det
+    solve2(M[0], M[1], M[2], pp, pa, S[2:4])
     S[S_ELAND] += e0 - (kinetic(par, al, S[2], S[3]) + potential(par, ps, al))
-    S[S_FLY] = 0.0
-    S[S_XF] = 0.0
-    S[S_ZF] = 0.0
-    S[S_VXF] = 0.0
-    S[S_VZF] = 0.0
+    S[S_FLY] = S[S_XF] = S[S_ZF] = S[S_VXF] = S[S_VZF] = 0.0
     # the stack and the pad land moving: both pairs of surfaces slide at the next step's start
     S[S_SLIDE] = S[S_SLIDE + 3] = 1.0 if S[2] != 0.0 else 0.0
     S[S_SLIDE + 1] = S[S_SLIDE + 2] = 1.0 if S[3] != 0.0 else 0.0
     return FAIL_NONE
 
 
-def _flight(par, S, ag, gv, h):
+def _flight(par, S, ag, gv, h, M):
     """Ballistic flight of the unit for at most h under the step's field
     (x'' = -ag, z'' = -gv relative to the ground), exact for the
     step-constant field; the work of the ground's d'Alembert force through
@@ -1345,12 +1336,7 @@ def _flight(par, S, ag, gv, h):
     when the landing is not modelled)."""
     az = gv - par[I_G]
     if S[S_FLY] == 0.0:
-        phi, al, v1, v2 = S[0], S[1], S[2], S[3]
-        P1, P2 = par[I_P1], par[I_P2]
-        mt = moving_mass(par)
-        ps = phi + al
-        vx = (P1 * v1 * math.cos(phi) + P2 * (v1 + v2) * math.cos(ps)) / mt
-        vz = (P1 * v1 * math.sin(phi) + P2 * (v1 + v2) * math.sin(ps)) / mt
+        vx, vz = unit_velocity(par, S)
         if not flight_lift(par, S, vx * h - 0.5 * ag * h * h, vz * h - 0.5 * gv * h * h) > 0.0:
             return -1.0
         _takeoff(par, S)
@@ -1378,7 +1364,7 @@ def _flight(par, S, ag, gv, h):
     S[S_EIN] += -moving_mass(par) * (ag * dx + az * dz)
     S[S_TFLY] += tau
     if landed:
-        fail = _land(par, S)
+        fail = _land(par, S, M)
         if fail != FAIL_NONE:
             return -2.0 - fail
     return tau
@@ -1400,7 +1386,7 @@ def advance_vertical(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, o
     for _ in range(FLIGHTS_MAX):
         if S[S_FLY] == 0.0 and not gv < 0.0:
             break
-        tau = _flight(par, S, ag, gv, rem)
+        tau = _flight(par, S, ag, gv, rem, M)
         if tau <= -2.0:
             return int(-2.0 - tau)
         if tau < 0.0:              # the seat's curvature keeps it down over the step: seated
@@ -1419,14 +1405,9 @@ def advance_vertical(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, o
             S[S_SV + i] = S[S_SV + i] * (rem / dt)
         return fail
     for i in range(4):
-        S[S_N + i] = 0.0
-        S[S_SV + i] = 0.0
-        S[S_DW + i] = 0.0
-        S[S_SLIDE + i] = 0.0
-    S[S_F] = 0.0
-    S[S_J] = 0.0
+        S[S_N + i] = S[S_SV + i] = S[S_DW + i] = S[S_SLIDE + i] = 0.0
+    S[S_F] = S[S_J] = S[S_REG] = 0.0
     S[S_PHASE] = PHASE_STICK
-    S[S_REG] = 0.0
     return FAIL_NONE
 
 
