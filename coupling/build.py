@@ -473,9 +473,9 @@ def build_tfp(scene: Scene) -> Simulation:
 
 
 def _tfp_no_liftoff(scene: Scene, geom, gz, dt: float, what: str) -> None:
-    """Where the TFP does not lift off (two-phase, both directions), a vertical
-    ground motion with g + a_z < 0 in a step is refused before the run, naming
-    the key, the instant and the value."""
+    """The two-phase TFP does not lift off: a vertical ground motion with
+    g + a_z < 0 in a step is refused before the run, naming the key, the
+    instant and the value."""
     from fpd.mechanics.tfp import liftoff_step
     if gz is None:
         return
@@ -486,7 +486,7 @@ def _tfp_no_liftoff(scene: Scene, geom, gz, dt: float, what: str) -> None:
                    "loading.channels")
         raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
                          f"t = {k * dt:.6g} s (g + a_z < 0): {what} would lift off, which it does not model "
-                         "(the planar seated TFP, a DFP or an SFP flies and lands); scale the vertical record down")
+                         "(the seated TFP, a DFP or an SFP flies and lands); scale the vertical record down")
 
 
 def _tfp_parts(scene: Scene, dt: float):

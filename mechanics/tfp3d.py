@@ -8,7 +8,9 @@ the slider plates (S2 and S3, R2 : R3). Friction on each surface is a vector
 opposing its slip, bounded by a disk; a step's increment is the minimiser of
 a small second-order cone program (tfp3d_kernel.socp). A run whose record has
 no y component is the planar TFP's to round-off; a record turned by an angle
-is the planar run turned.
+is the planar run turned. Under a vertical ground motion (az) every normal
+force, cap, the drive and the ledger see g + a_z, and when g + a_z < 0 the
+stack and the superstructure lift off, fly and land (docs/model.md 10).
 """
 from __future__ import annotations
 
