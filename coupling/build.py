@@ -442,8 +442,6 @@ def build_tfp(scene: Scene) -> Simulation:
         return _build_tfp3d(scene, dt, geom)
     loading = loading_of(scene, dt)
     gz = vertical_loading_of(scene, dt, loading)
-    if scene["mechanics"]["model"] != "seated":
-        _tfp_no_liftoff(scene, geom, gz, dt, "the two-phase TFP")
     axial = None
     if scene["loading"]["kind"] == "displacement":
         from fpd.loading.axial import AxialError, programme_of
@@ -470,23 +468,6 @@ def build_tfp(scene: Scene) -> Simulation:
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made
     return sim
-
-
-def _tfp_no_liftoff(scene: Scene, geom, gz, dt: float, what: str) -> None:
-    """The two-phase TFP does not lift off: a vertical ground motion with
-    g + a_z < 0 in a step is refused before the run, naming the key, the
-    instant and the value."""
-    from fpd.mechanics.tfp import liftoff_step
-    if gz is None:
-        return
-    k = liftoff_step(geom, gz.a_step)
-    if k is not None:
-        ld = scene["loading"]
-        key = next((f"loading.{k_}" for k_ in ("file_z", "vertical_scale") if ld.get(k_) is not None),
-                   "loading.channels")
-        raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
-                         f"t = {k * dt:.6g} s (g + a_z < 0): {what} would lift off, which it does not model "
-                         "(the seated TFP, a DFP or an SFP flies and lands); scale the vertical record down")
 
 
 def _tfp_parts(scene: Scene, dt: float):

@@ -209,14 +209,6 @@ class TFPFailure(MechanicsFailure):
     pass
 
 
-def liftoff_step(geom: TFPGeometry, az):
-    """The first step whose vertical field g + a_z is negative (the stack
-    would leave its lower plate), or None."""
-    import numpy as np
-    k = np.flatnonzero(geom.g + np.asarray(az, dtype=float) < 0.0)
-    return int(k[0]) if len(k) else None
-
-
 class TFPStepper:
     """The rigid TFP under a ground motion (GroundMotion) or in the test
     machine (DisplacementProgramme: the superstructure's relative displacement
@@ -247,11 +239,6 @@ class TFPStepper:
             if gz.n_steps != loading.n_steps or gz.dt != loading.dt:
                 raise ValueError("the vertical ground motion must share the horizontal one's time grid")
             self._az = float_array(gz.a_step)
-            lift = liftoff_step(geom, self._az)
-            if lift is not None and model != "seated":
-                raise ValueError(f"g + a_z < 0 at t = {lift * loading.dt:.6g} s (a_z = "
-                                 f"{self._az[lift] / geom.g:.4g} g): the two-phase TFP would lift off, which is "
-                                 "not modelled for it (the seated TFP flies and lands)")
             self.columns = self.columns + VERTICAL_COLUMNS
         self.geom = geom
         self.k = kernel if kernel is not None else K
