@@ -205,9 +205,8 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "solver.duration) sets the length, after a shorter vertical record the ground "
                                   "stops accelerating vertically. Every normal force, friction cap, the heat, the "
                                   "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
-                                  "(docs/model.md 10); the TFP planar and in both directions (seated). Where g + a_z < 0 the "
-                                  "moving parts lift off and land (the two-phase TFP does not: such a record is "
-                                  "refused before the run). Refused when the record's channels already give z."),
+                                  "(docs/model.md 10); the TFP planar and in both directions. Where g + a_z < 0 the "
+                                  "moving parts lift off and land. Refused when the record's channels already give z."),
     "loading.record.vertical_scale": ("", "DFP, SFP, TFP, flat bearing: the vertical ground acceleration as this "
                                           "factor times the horizontal (x) one as run (after scale, "
                                           "target_pga_g, baseline and the pair's angle), up; e.g. 0.67 for the "
@@ -509,7 +508,7 @@ COLUMNS: dict[str, tuple[str, str]] = {
                     "includes it. The flat bearing's slips go on friction-free; the DFP / SFP's superstructure "
                     "flies from its take-off position and velocity (u_m / ux_m, uy_m, v_m follow the flight; "
                     "the tilt and footprint columns keep the take-off's), its height measured above the seat "
-                    "under its flown position. The seated TFP's stack and superstructure fly as one unit (its "
+                    "under its flown position. The TFP's stack and superstructure fly as one unit (its "
                     "tilt columns keep the take-off's; the seat under it holds the pad's tilt)."),
     "n_lift": ("", "DFP / SFP / TFP / flat bearing under a vertical record: lift-offs so far."),
     "t_flight_s": ("s", "DFP / SFP / TFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "

@@ -1407,6 +1407,7 @@ def advance_vertical(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, o
     for i in range(4):
         S[S_N + i] = S[S_SV + i] = S[S_DW + i] = S[S_SLIDE + i] = 0.0
     S[S_F] = S[S_J] = S[S_REG] = 0.0
+    S[S_B1] = S[S_B2] = S[S_G1] = S[S_G2] = S[S_NPH] = 0.0     # two-phase: no phases in the air
     S[S_PHASE] = PHASE_STICK
     return FAIL_NONE
 
