@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from fpd.mechanics.friction import make_law, static_mu
+from fpd.mechanics.friction import dwell_law, make_law, static_mu
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC
 from fpd.thermal.params import PlateParams
 
@@ -81,10 +81,13 @@ def loading_of(scene: Scene, dt: float):
         return gm
     if ld["kind"] == "harmonic":
         return gmod.harmonic_ground_motion(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
-    if ld["kind"] == "displacement" and ld["waveform"] == "triangle":
-        return gmod.triangle_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "displacement":
-        return gmod.sine_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
+        hold = ld.get("hold_s", 0.0)
+        if duration is not None and hold:
+            duration = max(dt, duration - round(hold / dt) * dt)
+        make = gmod.triangle_programme if ld["waveform"] == "triangle" else gmod.sine_programme
+        prog = make(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
+        return gmod.held_programme(prog, hold) if hold else prog
     if ld["kind"] == "pulse":
         from fpd.schema.scene import loading_length
         return gmod.pulse_ground_motion(ld["shape"], ld["velocity_mps"], ld["period_s"], ld["t0_s"],
@@ -324,6 +327,9 @@ def _set_static(scene: Scene, mech) -> None:
     (m1, r1), (m2, r2) = (static_mu(scene.friction(side)) for side in ("lower", "upper"))
     if m1 > 0.0 or m2 > 0.0 or r1 > 0.0 or r2 > 0.0:
         mech.set_static(m1, m2, r1, r2)
+    dwell = tuple(dwell_law(scene.friction(side)) for side in ("lower", "upper"))
+    if any(d[1] > 0.0 for d in dwell):
+        mech.set_dwell(*dwell)          # the planar test machine's (schema/scene.py refuses it elsewhere)
 
 
 # -- bidirectional runs (model.md 8) ----------------------------------------------------
@@ -341,9 +347,13 @@ def bidirectional_loading_of(scene: Scene, dt: float):
     ld = scene["loading"]
     duration = scene["solver"].get("duration")
     if ld["kind"] == "displacement":
-        from fpd.loading.orbits import orbit_programme
-        return orbit_programme(ld["waveform"], ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt,
+        from fpd.loading.orbits import held_orbit, orbit_programme
+        hold = ld.get("hold_s", 0.0)
+        if duration is not None and hold:
+            duration = max(dt, duration - round(hold / dt) * dt)
+        prog = orbit_programme(ld["waveform"], ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt,
                                duration, ld["direction_deg"])
+        return held_orbit(prog, hold) if hold else prog
     if ld["kind"] != "record":
         gx = loading_of(scene, dt)
         return gx, None
@@ -401,6 +411,8 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
             except AxialError as exc:
                 raise SceneError(f"{exc} (loading.vertical_file)") from None
         mech = BidirectionalTestMachine(geom, loading, axial=axial)
+        if ld.get("link_stiffness_N_per_m"):
+            mech.set_link(ld["link_stiffness_N_per_m"], ld["link_mass_kg"])
         n_steps = loading.n_steps
     else:
         gx, gy = loading
@@ -490,7 +502,11 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     gx, gy = (loading, None) if ld["kind"] == "displacement" else loading
     # the vertical component (a record, a V2 file's vertical channel or a scaled copy of x as run): not turned
     gz = vertical_loading_of(scene, dt, gx)
-    mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
+    if scene["mechanics"]["model"] == "two-phase":
+        from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
+        mech = TFP3DTwoPhaseStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps, "tfp3d_two_phase_kernel"))
+    else:
+        mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}
     for comp, g in (("record", gx), ("record_y", gy)):
@@ -503,12 +519,13 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     return Simulation(scene, dt, gx.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
 
 
-def _tfp3d_kernel(n_steps: int):
-    """The compiled step of the TFP in both directions past a few hundred steps
-    (its Python step costs ~6 ms), when numba is there; else the pure one."""
+def _tfp3d_kernel(n_steps: int, name: str = "tfp3d_kernel"):
+    """The compiled step of the TFP in both directions (the kernel module
+    mechanics/<name>) past a few hundred steps (its Python step costs ~6 ms),
+    when numba is there; else the pure one."""
     from fpd import kernels
     if n_steps >= 500 and kernels.available():
-        return kernels.compiled("fpd.mechanics.tfp3d_kernel")
+        return kernels.compiled("fpd.mechanics." + name)
     return None
 
 

@@ -159,6 +159,15 @@ class _Base(TwoInterfaces):
         self.C[K.C_MUS1], self.C[K.C_MUS2] = float(mu_s1), float(mu_s2)
         self.C[K.C_MUR1], self.C[K.C_MUR2] = float(ratio1), float(ratio2)
 
+    def set_dwell(self, lower: tuple, upper: tuple) -> None:
+        """The static coefficients' growth with the time stuck, per surface (mu_s
+        after a long dwell, time constant tau in s, exponent; tau = 0: none):
+        bidirectional_kernel C_MUI1.., friction_kernel.dwell_mu. The time stuck
+        starts at zero with the run."""
+        C = self.C
+        C[K.C_MUI1], C[K.C_TAU1], C[K.C_EXP1] = (float(x) for x in lower)
+        C[K.C_MUI2], C[K.C_TAU2], C[K.C_EXP2] = (float(x) for x in upper)
+
     def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0,
                 stiffness: float | None = None) -> None:
         """The slide capacities (arc from each surface's centre, m; the SFP's
@@ -398,6 +407,7 @@ class BidirectionalTestMachine(_Base):
         self._setup(geom, programme.dt, programme.n_steps, True, jit,
                     u0=(float(u0[0]), float(u0[1])), v0=(float(v0[0]), float(v0[1])), seated=True)
         self.prog = programme
+        self.C[K.C_DT] = self.dt                # the dwell time's step (bidirectional_kernel.machine_step)
         self._U = np.ascontiguousarray(programme.u, dtype=float)
         self._UD = np.ascontiguousarray(programme.ud, dtype=float)
         self._UDD = np.ascontiguousarray(programme.udd, dtype=float)
@@ -420,6 +430,37 @@ class BidirectionalTestMachine(_Base):
         """As the stepper's; the bearing starts at rest (stuck) before the
         programme launches it, so its first step breaks it away."""
         super().set_static(mu_s1, mu_s2, ratio1, ratio2)
+        self.S[K.S_MODE] = K.STICK
+
+    LINK_STEP = 0.02      # omega h per sub-step of the compliant link (as SeatedTestMachine's)
+
+    def set_link(self, stiffness: float, plate_mass: float) -> None:
+        """Drive the plate through a compliant link (bidirectional_kernel.link_step):
+        a spring of ``stiffness`` (N/m) between the machine and the plate of mass
+        ``plate_mass`` (kg); the bearing starts at rest at the programme's start.
+        Sub-steps keep omega h <= LINK_STEP, omega the link's frequency with the
+        bearing's restoring stiffness and inertia at u = 0."""
+        C, S = self.C, self.S
+        C[K.C_LINK], C[K.C_MPL] = float(stiffness), float(plate_mass)
+        g = C[K.C_G]
+        F0 = _pure.machine_point(C, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, g)[0]
+        B = _pure.machine_point(C, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, g)[0] - F0
+        du = 1e-6 * C[K.C_L]
+        Kb = (_pure.machine_point(C, du, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, g)[0] - F0) / du
+        m = plate_mass + B
+        if not m > 0.0:
+            raise ValueError(f"the plate's mass with the bearing's ({m:g} kg) must be > 0")
+        omega = math.sqrt((stiffness + Kb) / m)
+        C[K.C_NSUB] = float(max(1, math.ceil(self.dt * omega / self.LINK_STEP)))
+        S[K.S_WX] = S[K.S_WY] = S[K.S_WZ] = 0.0
+        S[K.S_MODE] = K.STICK
+        S[K.S_SV1] = S[K.S_SV2] = 0.0
+        Ek, Ep = _pure.energies(C, S)
+        S[K.S_EIN] = Ek + Ep
+
+    def set_dwell(self, lower: tuple, upper: tuple) -> None:
+        """As the stepper's; the bearing starts at rest before the programme."""
+        super().set_dwell(lower, upper)
         self.S[K.S_MODE] = K.STICK
 
     def ground_position(self):

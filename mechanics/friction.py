@@ -108,40 +108,117 @@ LAWS = {"constant": Constant, "linear": Linear, "kumar2015": Kumar2015, "table":
 
 
 # keys of a surface beside its law's (schema.scene.SURFACE_KEYS): read by surface_of
-SURFACE_KEYS = ("mu_static", "static_ratio", "wear_k_mm3_per_Nm", "wear_T_C", "wear_k_T_mm3_per_Nm", "liner")
+SURFACE_KEYS = ("mu_static", "static_ratio", "mu_static_inf", "dwell_time_s", "dwell_exponent",
+                "wear_k_mm3_per_Nm", "wear_T_C", "wear_k_T_mm3_per_Nm", "liner")
 
-# liner presets: name -> {"values": the [friction] keys it sets, "sources": where each comes from}.
-# Representative values inside the ranges the sources report (docs/liners.md says which
-# and how); starting points for comparisons, not design values.
-_MOKHA = "Mokha, Constantinou and Reinhorn (1990), J. Struct. Eng. 116(2); Constantinou, Mokha and Reinhorn (1990)"
-_DOLCE = "Dolce, Cardone and Croatto (2005), Bull. Earthquake Eng. 3"
-_BLANCHET = "Blanchet and Kennedy (1992), Wear 153"
-_KURTZ = "Kurtz (ed.), UHMWPE Biomaterials Handbook"
-_PLACEHOLDER = "none: a placeholder to be replaced by the product's own test (docs/liners.md)"
+# liner presets: name -> {"values": the [friction] keys it sets, "sources": per key, where the
+# value comes from}. Each source entry: "ref" (a key of LINER_SOURCES, or None), "stated"
+# (True: the reference states this number; False: a pick or a basis of ours, which "note"
+# gives) and "note" (what the reference says and how the value relates to it). docs/liners.md
+# renders this (frontends.reference.liner_markdown); starting points for comparisons, not
+# design values: a product's own qualification tests replace them.
+LINER_SOURCES = {
+    "mokha1990": 'Mokha, A., Constantinou, M. C., Reinhorn, A. M. (1990). "Teflon bearings in base isolation. '
+                 'I: Testing." Journal of Structural Engineering (ASCE) 116(2), 438-454.',
+    "constantinou1990": 'Constantinou, M. C., Mokha, A., Reinhorn, A. M. (1990). "Teflon bearings in base '
+                        'isolation. II: Modeling." Journal of Structural Engineering (ASCE) 116(2), 455-474.',
+    "dolce2005": 'Dolce, M., Cardone, D., Croatto, F. (2005). "Frictional behavior of steel-PTFE interfaces for '
+                 'seismic isolation." Bulletin of Earthquake Engineering 3(1), 75-99.',
+    "en1337-2": 'CEN (2004). EN 1337-2:2004, "Structural bearings - Part 2: Sliding elements." European '
+                'Committee for Standardization, Brussels. Table 11 and Annex B, Eq. (B.1).',
+    "trrl-lr491": 'Transport and Road Research Laboratory, Crowthorne. Laboratory Report LR 491: the friction '
+                  'and deformation of PTFE-based materials for the sliding bearings of bridges and viaducts '
+                  '(https://trl.co.uk/reports/LR491). Conclusions (summary).',
+    "constantinou2007": 'Constantinou, M. C., Whittaker, A. S., Kalpakidis, Y., Fenz, D. M., Warn, G. P. (2007). '
+                        '"Performance of seismic isolation hardware under service and seismic loading." '
+                        'Technical Report MCEER-07-0012, MCEER, University at Buffalo. Section 4.',
+    "kumar2015": 'Kumar, M., Whittaker, A. S., Constantinou, M. C. (2015). "Characterizing friction in sliding '
+                 'isolation bearings." Earthquake Engineering and Structural Dynamics 44(9), 1409-1425. The '
+                 'velocity factor k_v = 1 - 0.5 exp(-a v).',
+    "blanchet1992": 'Blanchet, T. A., Kennedy, F. E. (1992). "Sliding wear mechanism of polytetrafluoroethylene '
+                    '(PTFE) and PTFE composites." Wear 153(1), 229-243.',
+    "kurtz2016": 'Kurtz, S. M. (ed.) (2016). UHMWPE Biomaterials Handbook, 3rd ed. Academic Press / William '
+                 'Andrew, Oxford.',
+}
+
+
+def _src(ref, stated, note):
+    return {"ref": ref, "stated": stated, "note": note}
+
+
+_VEL_LAW = _src("constantinou1990", True, "the velocity law fitted there to PTFE on polished stainless steel")
+_PTFE_RATE = _src("constantinou1990", False, "of the order of the rates fitted there (mu covers 1 - 1/e of its way "
+                  "from mu_slow to mu_fast at 10 mm/s); the kumar2015 law's default")
 LINERS: dict = {
     "ptfe": {
         "values": {"law": "constantinou", "mu_slow": 0.04, "mu_fast": 0.10, "a_s_per_m": 100.0,
                    "mu_static": 0.10, "wear_k_mm3_per_Nm": 3e-4},
-        "sources": {"law": _MOKHA, "mu_slow": _MOKHA, "mu_fast": _MOKHA, "a_s_per_m": _MOKHA,
-                    "mu_static": _MOKHA, "wear_k_mm3_per_Nm": _BLANCHET},
+        "sources": {
+            "law": _VEL_LAW,
+            "mu_slow": _src("mokha1990", False, "a pick inside the low-speed values of a few hundredths the tests "
+                            "report (falling with pressure), at the packaged scenes' ~20 MPa"),
+            "mu_fast": _src("mokha1990", False, "a pick inside the high-speed values of the order of 0.1 the tests "
+                            "report (falling with pressure), at ~20 MPa"),
+            "a_s_per_m": _PTFE_RATE,
+            "mu_static": _src("mokha1990", False, "a pick (equal to mu_fast): the tests report breakaway above the "
+                              "low-speed sliding value, growing with dwell and falling with pressure, but no single "
+                              "value; the least certain number of the preset"),
+            "wear_k_mm3_per_Nm": _src("blanchet1992", False, "unfilled PTFE wears at specific rates of the order "
+                                      "of 1e-4 to 1e-3 mm3/(N m); a pick inside that range"),
+        },
     },
     "ptfe-lubricated": {
         "values": {"law": "constantinou", "mu_slow": 0.01, "mu_fast": 0.03, "a_s_per_m": 100.0,
                    "mu_static": 0.03},
-        "sources": {"law": _MOKHA, "mu_slow": _DOLCE, "mu_fast": _DOLCE, "a_s_per_m": _MOKHA,
-                    "mu_static": _DOLCE},
+        "sources": {
+            "law": _src("dolce2005", True, "the Constantinou form, extended there and fitted to lubricated "
+                        "steel-PTFE interfaces"),
+            "mu_slow": _src("dolce2005", False, "lubrication lowers the coefficient to roughly a third or less of "
+                            "the dry one with the same rise with speed; a pick at that fraction of ptfe's"),
+            "mu_fast": _src("en1337-2", True, "0.03: the maximum design coefficient of lubricated (dimpled) PTFE "
+                            "on austenitic steel at contact pressures >= 30 MPa (Table 11; Eq. (B.1), mu_max = "
+                            "1.2 / (10 + sigma_p), sigma_p in MPa)"),
+            "a_s_per_m": _PTFE_RATE,
+            "mu_static": _src("en1337-2", True, "0.03: the same design maximum at >= 30 MPa, taken for the "
+                              "breakaway too (an upper bound, not a measured breakaway)"),
+        },
     },
     "ptfe-composite": {
         "values": {"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.07, "a_s_per_m": 100.0,
                    "mu_static": 0.07, "wear_k_mm3_per_Nm": 1e-6},
-        "sources": {"law": _MOKHA, "mu_slow": _PLACEHOLDER, "mu_fast": _PLACEHOLDER, "a_s_per_m": _MOKHA,
-                    "mu_static": _PLACEHOLDER, "wear_k_mm3_per_Nm": _BLANCHET},
+        "sources": {
+            "law": _src("constantinou2007", True, "composites containing PTFE are described as PTFE on stainless "
+                        "steel is (Section 4), by the velocity law of constantinou1990"),
+            "mu_slow": _src("trrl-lr491", True, "0.03: the lower end of the range 0.03 to 0.07 in which the "
+                            "coefficient of PTFE-based bearing materials lies for most practical applications "
+                            "(dry running in the long term); taken at low speed"),
+            "mu_fast": _src("trrl-lr491", True, "0.07: the upper end of that range; taken at high speed"),
+            "a_s_per_m": _src("kumar2015", True, "a = 100 s/m, the rate parameter of the velocity factor for the "
+                              "PTFE-type composite liners of friction pendulum bearings"),
+            "mu_static": _src("trrl-lr491", False, "no published breakaway value for a composite liner: set to the "
+                              "upper end of the stated range (equal to mu_fast), so the breakaway is not below any "
+                              "sliding value the source states"),
+            "wear_k_mm3_per_Nm": _src("blanchet1992", False, "fillers lower unfilled PTFE's wear rate (1e-4 to "
+                                      "1e-3 mm3/(N m)) by two orders of magnitude or more; 1e-6 is a pick at that "
+                                      "reduction (a proprietary liner's own coefficient is not published)"),
+        },
     },
     "uhmwpe": {
         "values": {"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.06, "a_s_per_m": 100.0,
                    "mu_static": 0.06, "wear_k_mm3_per_Nm": 1e-6},
-        "sources": {"law": _MOKHA, "mu_slow": _PLACEHOLDER, "mu_fast": _PLACEHOLDER, "a_s_per_m": _MOKHA,
-                    "mu_static": _PLACEHOLDER, "wear_k_mm3_per_Nm": _KURTZ},
+        "sources": {
+            "law": _src("constantinou1990", False, "the PTFE velocity law applied to UHMWPE: no fit of a UHMWPE "
+                        "isolator liner is cited here"),
+            "mu_slow": _src(None, False, "no published value found for UHMWPE isolator liners (their friction is "
+                            "given in proprietary European Technical Assessments); basis: a low-friction dry "
+                            "polymer liner, set at ptfe-composite's low-speed value"),
+            "mu_fast": _src(None, False, "no published value found (as mu_slow); basis: between ptfe-lubricated "
+                            "and ptfe-composite, a smaller rise with speed than PTFE's"),
+            "a_s_per_m": _src(None, False, "no published value found; basis: the PTFE presets' rate"),
+            "mu_static": _src(None, False, "no published value found; basis: equal to mu_fast, as ptfe-composite"),
+            "wear_k_mm3_per_Nm": _src("kurtz2016", False, "pin-on-disc wear factors of UHMWPE against polished "
+                                      "metal counterfaces of the order of 1e-6 mm3/(N m); taken at that order"),
+        },
     },
 }
 
@@ -159,6 +236,15 @@ def static_mu(spec: dict) -> tuple:
     sliding mu at rest; 0.0 each when not given (friction_kernel.holding_mu:
     the sliding mu holds a stuck surface)."""
     return float(spec.get("mu_static", 0.0)), float(spec.get("static_ratio", 0.0))
+
+
+def dwell_law(spec: dict) -> tuple:
+    """The surface's dwell law of the static coefficient (friction_kernel.dwell_mu):
+    (mu_s after a long dwell, the time constant in s, the exponent); zeros when
+    not given (no growth with the time stuck)."""
+    if spec.get("dwell_time_s") is None:
+        return 0.0, 0.0, 0.0
+    return float(spec["mu_static_inf"]), float(spec["dwell_time_s"]), float(spec.get("dwell_exponent", 1.0))
 
 
 MM3_PER_NM = 1e-9          # 1 mm^3 / (N m) in m^2 / N

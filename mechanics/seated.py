@@ -262,6 +262,14 @@ class SeatedTestMachine(_SeatedState):
         self.C[K.CMUS1], self.C[K.CMUS2] = float(mu_s1), float(mu_s2)
         self.C[K.CMUR1], self.C[K.CMUR2] = float(ratio1), float(ratio2)
 
+    def set_dwell(self, lower: tuple, upper: tuple) -> None:
+        """The static coefficients' growth with the time stuck, per interface
+        (mu_s after a long dwell, time constant tau in s, exponent; tau = 0:
+        none): seated_kernel CMUI1.., friction_kernel.dwell_mu."""
+        C = self.C
+        C[K.CMUI1], C[K.CTAU1], C[K.CEXP1] = (float(x) for x in lower)
+        C[K.CMUI2], C[K.CTAU2], C[K.CEXP2] = (float(x) for x in upper)
+
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         return K.machine_step(self.C, self.S, self._u, self._ud, self._udd, self._sm, self._uds, self._udds,
                               self._gv, mu1, mu2)

@@ -261,9 +261,11 @@ def grad_f(par, q, p, agx, agy, az, blk, g, sc):
     """The gradient of f = V + ag . b + az b_z + T(., p) (p fixed) in the block
     blk (0: phi with alpha fixed, psi moving with it; 1: alpha) into g[0:2].
     sc: scratch >= 60 (M at sc[0:16], w at sc[16:20], L at sc[20:36])."""
-    mass_matrix(par, q, sc, sc[40:52])
-    chol_solve(sc, p, sc[16:20], sc[20:36])
-    w0, w1, w2, w3 = sc[16], sc[17], sc[18], sc[19]
+    w0, w1, w2, w3 = 0.0, 0.0, 0.0, 0.0
+    if p[0] != 0.0 or p[1] != 0.0 or p[2] != 0.0 or p[3] != 0.0:   # (p = 0: the two-phase model's)
+        mass_matrix(par, q, sc, sc[40:52])
+        chol_solve(sc, p, sc[16:20], sc[20:36])
+        w0, w1, w2, w3 = sc[16], sc[17], sc[18], sc[19]
     aa = par[tk.I_AA] + par[tk.I_JPHI]
     bb = par[tk.I_B] + par[tk.I_JPSI]
     K = par[tk.I_K]

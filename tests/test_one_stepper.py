@@ -131,6 +131,12 @@ def test_planar_columns_are_signed():
     # the TFP in both directions: a record pair, fe1d on the four parts along 2D footprint paths
     ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=6",
                       "solver.dt=2e-3"]),
+    # its two-phase model (the scene's), all four surfaces sliding
+    ("tfp-elcentro", ['loading.record="impvall-1979-e11"', "solver.duration=6", "solver.dt=2e-3",
+                      "friction.mu_ref=0.04"]),
+    # and on the test machine along a circle
+    ("tfp-lab", ['loading.waveform="circle"', "loading.amplitude_m=0.04", "loading.cycles=1",
+                 'mechanics.model="two-phase"', 'thermal.model="lumped"']),
     # the TFP under a vertical record (Ferndale's vertical channel x 3 at El Centro's first 35 s)
     ("tfp-elcentro", ["solver.duration=35", "thermal.model=lumped", "mechanics.model=two-phase",
                       f'loading.file_z="{V2}"', "loading.scale=3"]),

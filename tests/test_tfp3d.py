@@ -265,7 +265,7 @@ def test_fe3d_on_the_four_parts_along_the_2d_paths(tmp_path):
 
 
 @pytest.mark.parametrize("sets,key", [
-    (['mechanics.model="two-phase"'], "mechanics.model"),
+    (['loading.vertical_scale=1.0'], "loading.vertical_scale"),
     (['thermal.model="axisym"'], "thermal.lower.model"),
     (["coupling.substeps=2"], "coupling.substeps"),
 ])
