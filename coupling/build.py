@@ -444,7 +444,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
 # -- the triple friction pendulum (model.md 6) and the flat bearing (model.md 7) ---------
 
 def build_tfp(scene: Scene) -> Simulation:
-    from fpd.mechanics.tfp import TFPStepper, liftoff_step
+    from fpd.mechanics.tfp import TFPStepper
     from fpd.schema.scene import tfp_geometry
 
     dt = scene["solver"]["dt"]
@@ -454,14 +454,6 @@ def build_tfp(scene: Scene) -> Simulation:
         return _build_tfp3d(scene, dt, geom)
     loading = loading_of(scene, dt)
     gz = vertical_loading_of(scene, dt, loading)
-    if gz is not None:
-        k = liftoff_step(geom, gz.a_step)
-        if k is not None:
-            ld = scene["loading"]
-            key = "loading.file_z" if ld.get("file_z") is not None else "loading.channels"
-            raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
-                             f"t = {k * dt:.6g} s (g + a_z < 0): the TFP would lift off, which it does not model "
-                             "(a DFP or an SFP flies and lands); scale the vertical record down")
     axial = None
     if scene["loading"]["kind"] == "displacement":
         from fpd.loading.axial import AxialError, programme_of
@@ -483,7 +475,7 @@ def build_tfp(scene: Scene) -> Simulation:
     if hasattr(loading, "record"):
         info["record"] = record_info(scene, loading)
     if gz is not None:
-        info["record_z"] = _record_info(gz, scene["loading"], loading)
+        info["record_z"] = vertical_info(gz, scene["loading"], loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made
@@ -508,11 +500,13 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     loading = bidirectional_loading_of(scene, dt)
     # an orbit (or a turned sine) on the test machine, or a ground-motion pair
     gx, gy = (loading, None) if ld["kind"] == "displacement" else loading
+    # the vertical component (a record, a V2 file's vertical channel or a scaled copy of x as run): not turned
+    gz = vertical_loading_of(scene, dt, gx)
     if scene["mechanics"]["model"] == "two-phase":
         from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
         mech = TFP3DTwoPhaseStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps, "tfp3d_two_phase_kernel"))
     else:
-        mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps))
+        mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}
     for comp, g in (("record", gx), ("record_y", gy)):
@@ -520,6 +514,8 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
             info[comp] = _record_info(g, ld, gx)
     if "record" in info:
         info["record"]["angle_deg"] = ld["angle_deg"]
+    if gz is not None:
+        info["record_z"] = vertical_info(gz, ld, gx)
     return Simulation(scene, dt, gx.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
 
 

@@ -217,17 +217,16 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "solver.duration) sets the length, after a shorter vertical record the ground "
                                   "stops accelerating vertically. Every normal force, friction cap, the heat, the "
                                   "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
-                                  "(docs/model.md 10). The TFP does not lift off: a record with g + a_z < 0 is "
-                                  "refused before the run. Refused when the record's channels already give z."),
-    "loading.record.vertical_scale": ("", "DFP, SFP, flat bearing: the vertical ground acceleration as this "
+                                  "(docs/model.md 10); the TFP planar and in both directions. Where g + a_z < 0 the "
+                                  "moving parts lift off and land. Refused when the record's channels already give z."),
+    "loading.record.vertical_scale": ("", "DFP, SFP, TFP, flat bearing: the vertical ground acceleration as this "
                                           "factor times the horizontal (x) one as run (after scale, "
                                           "target_pga_g, baseline and the pair's angle), up; e.g. 0.67 for the "
                                           "common two-thirds rule. Only where named (never a default; a FEMA "
                                           "P695 set member has no vertical otherwise); not with file_z or a "
                                           "record's vertical channel (one vertical component); non-zero. The "
                                           "run is then one under a vertical record (columns, lift-off, "
-                                          "docs/model.md 10; summary record_z names the copy). Not yet for the "
-                                          "TFP (give file_z)."),
+                                          "docs/model.md 10; summary record_z names the copy)."),
     "loading.record.channels": ("", "A three-channel CSMIP V2 record (record = \"ferndale-2022\", or a .v2 file): "
                                     "the channels to run, by number; horizontal channels go on x then y in the "
                                     "order given, the vertical one on z. Default: all three in file order ([1, 2, "
@@ -524,20 +523,23 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
     "az_mps2": ("m/s2", "Vertical ground acceleration, up (the step's mean, the field is g + az_mps2): a run with a "
                         "vertical record only (loading.file_z, or a three-channel record's vertical channel)."),
-    "lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: height of the moving assembly (superstructure and pad) "
-                    "above its seat, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
+    "lift_m": ("m", "DFP / SFP / TFP / flat bearing under a vertical record: height of the moving assembly "
+                    "(superstructure and pad; the TFP's with its slider plates) above its seat, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
                     "and flies ballistically relative to the ground until it lands (docs/model.md 10); z_m "
                     "includes it. The flat bearing's slips go on friction-free; the DFP / SFP's superstructure "
                     "flies from its take-off position and velocity (u_m / ux_m, uy_m, v_m follow the flight; "
                     "the tilt and footprint columns keep the take-off's), its height measured above the seat "
-                    "under its flown position."),
-    "n_lift": ("", "DFP / SFP / flat bearing under a vertical record: lift-offs so far."),
-    "t_flight_s": ("s", "DFP / SFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "
+                    "under its flown position. The TFP's stack and superstructure fly as one unit (its "
+                    "tilt columns keep the take-off's; the seat under it holds the pad's tilt)."),
+    "n_lift": ("", "DFP / SFP / TFP / flat bearing under a vertical record: lift-offs so far."),
+    "t_flight_s": ("s", "DFP / SFP / TFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "
                         "forces, friction, heat and the force on the ground are 0)."),
-    "E_land_J": ("J", "DFP / SFP / flat bearing under a vertical record: cumulative energy taken by the landings after a "
+    "E_land_J": ("J", "DFP / SFP / TFP / flat bearing under a vertical record: cumulative energy taken by the landings after a "
                       "lift-off (plastic: the velocity normal to the seat is stopped, (M + m) v_n^2 / 2 at "
                       "touch-down; the DFP / SFP: the tangential velocity kept, the pad's share of order m / M "
-                      "included, and at take-off the pad's motion relative to the superstructure stopped)."),
+                      "included, and at take-off the pad's motion relative to the superstructure stopped; the "
+                      "TFP: at take-off the bodies' motion relative to each other stopped, at landing the "
+                      "velocity projected onto the seated motions with the pad's tilt held)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
                          "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
@@ -666,12 +668,12 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
     "rim_loss_J": ("J", "Energy taken by the rims (final E_rim_J)."),
-    "lift_off.count": ("", "DFP / SFP / flat bearing under a vertical record: number of lift-offs (final n_lift)."),
-    "lift_off.flight_time_s": ("s", "DFP / SFP / flat bearing under a vertical record: total time in flight (final "
+    "lift_off.count": ("", "DFP / SFP / TFP / flat bearing under a vertical record: number of lift-offs (final n_lift)."),
+    "lift_off.flight_time_s": ("s", "DFP / SFP / TFP / flat bearing under a vertical record: total time in flight (final "
                                     "t_flight_s)."),
-    "lift_off.peak_lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: the highest the moving assembly rose "
+    "lift_off.peak_lift_m": ("m", "DFP / SFP / TFP / flat bearing under a vertical record: the highest the moving assembly rose "
                                   "above its seat (peak lift_m)."),
-    "lift_off.landing_loss_J": ("J", "DFP / SFP / flat bearing under a vertical record: energy taken by the landings (final "
+    "lift_off.landing_loss_J": ("J", "DFP / SFP / TFP / flat bearing under a vertical record: energy taken by the landings (final "
                                      "E_land_J)."),
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
     "rim_impacts.lower": ("", "DFP / SFP / flat bearing: number of rim impacts on the lower surface (final n_rim1)."),

@@ -1336,9 +1336,8 @@ def planar_only(ctx, data, device: str) -> None:
                 "(a DFP, an SFP, a TFP or the flat bearing takes it)")
         if ld.get("file_z") is not None and not vertical:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
-        if ld.get("vertical_scale") is not None and device != "flat bearing":
-            ctx.fail("loading.vertical_scale", ld["vertical_scale"], f"not yet for this device: the {device} takes "
-                     "its vertical record as loading.file_z (a DFP, an SFP or the flat bearing takes vertical_scale)")
+        if ld.get("vertical_scale") is not None and not vertical:
+            ctx.fail("loading.vertical_scale", ld["vertical_scale"], vwhy)
         if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not vertical)):
             ch = [c for c in ld["channels"] if c]
             what = vwhy if ld["channels"][2] and not vertical else why
@@ -1444,15 +1443,14 @@ def tfp3d_checks(ctx, data) -> None:
         if "duration" in sol and sol["duration"] > loading_length(ld) * (1 + 1e-12):
             ctx.fail("solver.duration", sol["duration"], f"must not exceed the orbit's length "
                      f"{loading_length(ld):g} s (cycles / frequency_Hz) on the test machine in both directions")
-    if ld.get("file_z") is not None:
-        ctx.fail("loading.file_z", ld["file_z"], "not yet for the TFP in both directions: "
-                 "its stepper takes the vertical acceleration, the loading does not pass it yet")
-    if ld.get("vertical_scale") is not None:
-        ctx.fail("loading.vertical_scale", ld["vertical_scale"], "not yet for the TFP in both directions "
-                 "(no vertical ground motion)")
-    if ld.get("channels") is not None and ld["channels"][2]:
-        ctx.fail("loading.channels", [c for c in ld["channels"] if c], "must not name a vertical channel: "
-                 "not yet for the TFP in both directions (no vertical ground motion)")
+    if mech["model"] != "seated":
+        # the seated TFP in both directions takes the vertical ground motion; its two-phase model not yet
+        why = 'not yet for the two-phase TFP in both directions (mechanics.model = "seated" takes it)'
+        for key in ("file_z", "vertical_scale"):
+            if ld.get(key) is not None:
+                ctx.fail(f"loading.{key}", ld[key], why)
+        if ld.get("channels") is not None and ld["channels"][2]:
+            ctx.fail("loading.channels", [c for c in ld["channels"] if c], f"must not name a vertical channel: {why}")
     if mech.get("normal_force") not in (None, "start"):
         ctx.fail("mechanics.normal_force", mech["normal_force"], "is a key of the DFP steppers")
     if data["coupling"]["substeps"] > 1:
