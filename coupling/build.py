@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from fpd.mechanics.friction import dwell_law, make_law, static_mu
+from fpd.tribology.friction import dwell_law, make_law, static_mu
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC
 from fpd.thermal.params import PlateParams
 
@@ -32,12 +32,12 @@ class Simulation:
     substeps: int = 1
     info: dict = field(default_factory=dict)
 
-    # per interface the Archard wear coefficient's law (mechanics.friction.wear_laws), or None: no wear
+    # per interface the Archard wear coefficient's law (tribology.friction.wear_laws), or None: no wear
     wear: tuple | None = None
 
     def __post_init__(self):
         if self.mechanics is not None and self.wear is None:
-            from fpd.mechanics.friction import wear_laws
+            from fpd.tribology.friction import wear_laws
             sides = TFP_SURFACES if len(self.laws) == 4 else ("lower", "upper")
             self.wear = wear_laws([self.scene.friction(s) for s in sides])
 

@@ -274,16 +274,16 @@ _OUTPUTS = """\
 """
 
 
-LINER_BEGIN = "<!-- liner presets: generated from mechanics/friction.py LINERS (fpd.frontends.reference) -->"
+LINER_BEGIN = "<!-- liner presets: generated from tribology/friction.py LINERS (fpd.frontends.reference) -->"
 LINER_END = "<!-- end of the generated liner presets -->"
 
 
 def liner_markdown() -> list[str]:
-    """The liner presets (mechanics.friction.LINERS) as markdown: their values,
+    """The liner presets (tribology.friction.LINERS) as markdown: their values,
     per value its source and what the source states (or the basis used where
     none states the number), and the references in full. docs/reference.md
     and docs/liners.md carry it (tests/test_tribology.py checks the latter)."""
-    from fpd.mechanics.friction import LINER_SOURCES, LINERS
+    from fpd.tribology.friction import LINER_SOURCES, LINERS
 
     keys = []
     for preset in LINERS.values():

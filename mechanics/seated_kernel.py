@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from .friction_kernel import dwell_advance, holding_mu_dwell
+from fpd.tribology.friction_kernel import dwell_advance, holding_mu_dwell
 from .phases import SLIP, STICK
 
 __kernel__ = True

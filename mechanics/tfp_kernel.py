@@ -37,7 +37,7 @@ handful of candidates (2 coordinates); a fixed point handles q1 in H and G.
 """
 import math
 
-from .friction_kernel import holding_mu
+from fpd.tribology.friction_kernel import holding_mu
 from .two_phase_kernel import _sinc as sinc, pivot_angle   # the planar stepper's, one source
 
 __kernel__ = True

@@ -77,12 +77,12 @@ def _temp(x):
 
 
 def _law_keys(law: str, checks: dict, required=()) -> dict:
-    """A law's keys with the defaults of its class in mechanics.friction
+    """A law's keys with the defaults of its class in tribology.friction
     (one source of truth; a field without a default, or named in
     ``required`` (a scene must state it), is REQUIRED)."""
     from dataclasses import MISSING, fields
 
-    from fpd.mechanics.friction import LAWS
+    from fpd.tribology.friction import LAWS
 
     out = {}
     for f in fields(LAWS[law]):
@@ -109,7 +109,7 @@ def _wear_table(x):
 
 
 # keys of every law (per surface, as the law's own): the static coefficient, the wear
-# coefficient (constant, or a table in temperature) and a liner preset (mechanics.friction.LINERS)
+# coefficient (constant, or a table in temperature) and a liner preset (tribology.friction.LINERS)
 SURFACE_KEYS = {
     "mu_static": ("float", None, _mu),
     "static_ratio": ("float", None, _atleast(1)),
@@ -124,8 +124,8 @@ SURFACE_KEYS = {
 
 
 def liner_names() -> list:
-    """The liner presets' names (mechanics.friction.LINERS)."""
-    from fpd.mechanics.friction import LINERS
+    """The liner presets' names (tribology.friction.LINERS)."""
+    from fpd.tribology.friction import LINERS
     return list(LINERS)
 
 
@@ -453,10 +453,10 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
 
 
 def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
-    """A liner preset (mechanics.friction.LINERS) under the keys the scene gives:
+    """A liner preset (tribology.friction.LINERS) under the keys the scene gives:
     the preset's law and values, each overridable key by key (a law given in the
     scene replaces the preset's law and its keys)."""
-    from fpd.mechanics.friction import LINERS
+    from fpd.tribology.friction import LINERS
 
     name = merged["liner"]
     owner = where if "liner" in over else "friction"
@@ -471,7 +471,7 @@ def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
 
 def _surface_checks(ctx: _Ctx, where: str, res: dict) -> None:
     """The static coefficient against the sliding law at rest; the wear table's shape."""
-    from fpd.mechanics.friction import make_law
+    from fpd.tribology.friction import make_law
 
     if "mu_static" in res:
         law = make_law(res)

@@ -90,9 +90,9 @@ def lumped_validity(scene) -> dict:
 
 
 def liner_cases(scene_arg, fast=False, log=lambda s: None) -> list[Case]:
-    """The scene once per liner preset (mechanics.friction.LINERS): its
+    """The scene once per liner preset (tribology.friction.LINERS): its
     [friction] table replaced by the preset on every surface."""
-    from fpd.mechanics.friction import LINERS
+    from fpd.tribology.friction import LINERS
 
     base = scn.load(scene_arg)
     extra = []

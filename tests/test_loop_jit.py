@@ -19,7 +19,7 @@ from fpd import kernels
 pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba not installed (or FPD_NO_JIT)")
 
 from fpd.mechanics import two_phase_kernel as K  # noqa: E402
-from fpd.mechanics.friction import Constant, Kumar2015, Linear, Table  # noqa: E402
+from fpd.tribology.friction import Constant, Kumar2015, Linear, Table  # noqa: E402
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC  # noqa: E402
 from fpd.mechanics.two_phase import PadOverturned, TwoPhaseStepper  # noqa: E402
 from tests.records_helper import elcentro, pulse  # noqa: E402
@@ -99,7 +99,7 @@ LAWS = [Constant(0.05), Linear(0.06, 20.0, -2e-4, 0.02), Kumar2015(0.06),
 @pytest.mark.parametrize("law", LAWS, ids=lambda x: type(x).__name__)
 def test_friction_law_kernel_matches_python(law):
     P = np.array(law.P)
-    law_mu = kernels.compiled("fpd.mechanics.friction_kernel").law_mu
+    law_mu = kernels.compiled("fpd.tribology.friction_kernel").law_mu
     rng = np.random.default_rng(3)
     T = np.r_[rng.uniform(-50, 400, 300), 20.0, 100.0, 250.0, 50.0, -1e3, 1e4]
     p = rng.uniform(0, 80e6, len(T))

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import fpd
-from fpd.mechanics import friction_kernel as fk
-from fpd.mechanics.friction import Constantinou1990, make_law
+from fpd.tribology import friction_kernel as fk
+from fpd.tribology.friction import Constantinou1990, make_law
 from fpd.schema.scene import SceneError
 
 G = 9.80665
@@ -501,7 +501,7 @@ def test_constantinou_compiled_equals_pure(monkeypatch):
 
 # -- liner presets ---------------------------------------------------------------------------
 def test_liner_presets_apply_and_override_key_by_key():
-    from fpd.mechanics.friction import LINERS
+    from fpd.tribology.friction import LINERS
     from pathlib import Path
     doc = (Path(__file__).resolve().parents[1] / "docs" / "liners.md").read_text()
     for name, preset in LINERS.items():
@@ -541,7 +541,7 @@ def test_every_liner_value_cites_its_source():
     import re
     from pathlib import Path
     from fpd.frontends.reference import LINER_BEGIN, LINER_END, liner_markdown
-    from fpd.mechanics.friction import LINER_SOURCES, LINERS
+    from fpd.tribology.friction import LINER_SOURCES, LINERS
     cited = set()
     for name, preset in LINERS.items():
         assert set(preset["sources"]) == set(preset["values"]), name
@@ -578,7 +578,7 @@ def test_compare_liners_tabulates_each_preset(tmp_path):
     import csv
     import json
     from fpd.frontends import cli
-    from fpd.mechanics.friction import LINERS
+    from fpd.tribology.friction import LINERS
     out = tmp_path / "cl"
     assert cli.main(["compare", "lab-sine", "--liners", "--fast", "--out", str(out), "--quiet"]) == 0
     with open(out / "liners.csv") as fh:

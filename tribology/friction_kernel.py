@@ -1,9 +1,9 @@
 """The friction laws mu(T, p, v), written once (kernel module, fpd/kernels.py).
 
 A law is a row of floats ``P`` (kind, parameters; a table's points after
-N_HEAD slots), built by mechanics.friction from the ``[friction]`` table.
+N_HEAD slots), built by tribology.friction from the ``[friction]`` table.
 ``law_mu(P, T_C, p_Pa, v_mps)`` is the one evaluation: the pure path calls it
-through the law objects of mechanics/friction.py (P a Python list), the
+through the law objects of tribology/friction.py (P a Python list), the
 compiled loop calls its numba copy (P a float64 array).
 
 Kumar, Whittaker and Constantinou (2015): mu = mu_ref k_p k_T k_v with

@@ -2,7 +2,7 @@
 
 Each law is a small callable ``law(T_C, p_Pa, v_mps) -> mu`` evaluated once
 per step at the surface temperature the thermal model returns. The
-evaluation itself is written once, in mechanics/friction_kernel.py (a kernel
+evaluation itself is written once, in tribology/friction_kernel.py (a kernel
 module: the compiled loop runs the same source); the classes here hold the
 parameters, their defaults and the law's row ``P`` that the kernel reads.
 """
@@ -55,7 +55,7 @@ class Kumar2015(_Law):
     k_p = 0.70^((p - p_ref) / 50 MPa), k_T = 0.79 (0.70^(T / 50 C) + 0.40),
     k_v = 1 - 0.5 exp(-a v). Each factor can be switched off (then 1).
     k_T is 1.00 at 20 C and falls to 0.70 at 100 C, 0.45 at 250 C
-    (constants: mechanics/friction_kernel.py)."""
+    (constants: tribology/friction_kernel.py)."""
 
     mu_ref: float
     p_ref_MPa: float = 50.0
