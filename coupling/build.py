@@ -290,7 +290,7 @@ def build(scene: Scene) -> Simulation:
     loading = loading_of(scene, dt)
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
-        from fpd.mechanics.seated import SeatedTestMachine
+        from fpd.machines.seated import SeatedTestMachine
         from fpd.loading.axial import AxialError, programme_of
         try:
             axial = programme_of(ld, geom.mass * geom.g)
@@ -398,7 +398,8 @@ def _turned(gx, gy, ang):
 
 
 def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> Simulation:
-    from fpd.mechanics.bidirectional import BidirectionalStepper, BidirectionalTestMachine
+    from fpd.machines.orbit import BidirectionalTestMachine
+    from fpd.mechanics.bidirectional import BidirectionalStepper
 
     ld = scene["loading"]
     loading = bidirectional_loading_of(scene, dt)

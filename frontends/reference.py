@@ -86,7 +86,7 @@ def stale_descriptions() -> list[str]:
 # names): a new stepper or loop with its own columns adds a line here
 COLUMN_SOURCES = (
     "fpd.coupling.run:CANONICAL",
-    "fpd.mechanics.seated:SEATED_COLUMNS",
+    "fpd.machines.seated:SEATED_COLUMNS",
     "fpd.mechanics.two_phase:COLUMNS",
     "fpd.mechanics.bidirectional:COLUMNS",
     "fpd.mechanics.bidirectional:VERTICAL_COLUMNS",

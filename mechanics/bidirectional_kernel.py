@@ -1418,7 +1418,7 @@ def planar_sign(S):
 
 def values_planar(C, S, t, xg, out):
     """The planar steppers' columns (mechanics.two_phase.COLUMNS; with
-    C[C_PLANAR] == PLANAR_SEATED mechanics.seated.SEATED_COLUMNS) of a
+    C[C_PLANAR] == PLANAR_SEATED machines.seated.SEATED_COLUMNS) of a
     motion in the x-z plane: the displacement, velocity, force, angle and arcs
     signed as the ground's x axis."""
     L = C[C_L]

@@ -67,7 +67,7 @@ from fpd.schema.scene import TFP_PARTS
 from .placement import _e, place_field, place_part_field, surface_centres
 
 N_ARC = 32          # points per arc of the planar polygons
-TILT = 2            # phase code of a rocking pad (mechanics.seated.PHASES)
+TILT = 2            # phase code of a rocking pad (machines.seated.PHASES)
 N_RING, N_SECTOR = 8, 48     # rings and sectors of a 3D cap
 
 

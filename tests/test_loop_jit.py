@@ -348,13 +348,13 @@ def test_streamed_history_and_ctrl_c_while_a_block_is_taken(monkeypatch, tmp_pat
 
 @pytest.mark.parametrize("kind,scale", [("DFP", 1.0), ("SFP", 2.5)])
 def test_seated_kernel_compiled_matches_the_stepper(kind, scale):
-    """mechanics/seated_kernel.py compiled on float64 arrays against
+    """machines/seated_kernel.py compiled on float64 arrays against
     SeatedStepper (the same source run as Python on its list)."""
-    from fpd.mechanics.seated import SeatedStepper
+    from fpd.machines.seated import SeatedStepper
     geom = DeviceGeometry(kind, R1=2.2, R2=2.2 if kind == "DFP" else None, pad_height=0.10, pad_diameter=0.25,
                           pad_mass=30.0, mass=1.0e5)
     st = SeatedStepper(geom, elcentro(1e-3, scale, duration=10.0))
-    SK = kernels.compiled("fpd.mechanics.seated_kernel")
+    SK = kernels.compiled("fpd.machines.seated_kernel")
     C, S, A = np.array(st.C), np.array(st.S, dtype=float), np.asarray(st._a_step, dtype=float)
     xg = np.asarray(st._xg, dtype=float)
     row = np.zeros(SK.N_VALUES)

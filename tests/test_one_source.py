@@ -128,9 +128,9 @@ def test_no_numba_twin_of_a_kernel():
 
 def test_the_kernel_modules_are_kernels():
     import importlib
-    for name in ("fpd.tribology.friction_kernel", "fpd.mechanics.two_phase_kernel", "fpd.mechanics.seated_kernel",
+    for name in ("fpd.tribology.friction_kernel", "fpd.mechanics.two_phase_kernel", "fpd.machines.seated_kernel",
                  "fpd.thermal.lumped_kernel", "fpd.thermal.column_kernel", "fpd.coupling.engine_kernel",
                  "fpd.mechanics.dev_two_phase", "fpd.mechanics.dev_bidirectional", "fpd.mechanics.dev_tfp",
-                 "fpd.mechanics.flat_kernel", "fpd.mechanics.dev_flat", "fpd.mechanics.dev_seated_machine",
-                 "fpd.mechanics.dev_orbit_machine"):
+                 "fpd.mechanics.flat_kernel", "fpd.mechanics.dev_flat", "fpd.machines.dev_seated_machine",
+                 "fpd.machines.dev_orbit_machine"):
         assert kernels.is_kernel_module(importlib.import_module(name)), name

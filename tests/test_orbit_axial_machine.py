@@ -1,4 +1,4 @@
-"""The orbit test machine (mechanics/bidirectional.py BidirectionalTestMachine)
+"""The orbit test machine (machines/orbit.py BidirectionalTestMachine)
 under an axial-load programme (loading.vertical = "sine" | "series" held in
 force control): a turned sine is the planar machine's test, cycle for cycle,
 and its EDC the closed form of the imposed programmes; on a circle the normal
@@ -19,7 +19,7 @@ from tests.test_axial_machine import A, F, MU, _closed_form, _run
 @pytest.mark.parametrize("phase", [90.0, 0.0])
 def test_a_turned_sine_under_a_sine_load_is_the_planar_test(tmp_path, phase):
     """direction_deg = 30 runs the orbit machine: each cycle's EDC equals the
-    planar machine's (direction 0, mechanics/seated_kernel.py: another
+    planar machine's (direction 0, machines/seated_kernel.py: another
     kernel) within 1e-9 and the closed form within 0.5 % (measured 0.05 %
     at 90 deg), N_mean_N the programme's mean; the ledger closes."""
     vert = {"vertical": "sine", "vertical_amplitude_ratio": 0.4, "vertical_frequency_Hz": 2 * F,

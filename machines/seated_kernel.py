@@ -1,16 +1,16 @@
 """The seated reference step (model.md section 2), written once (kernel
 module, fpd/kernels.py): a Moreau-type scheme on the one DOF theta; the
-derivation is in mechanics/seated.py's docstring. SeatedStepper holds the
+derivation is in machines/seated.py's docstring. SeatedStepper holds the
 state vector S and the constants C these functions read; SeatedTestMachine
 the same, stepped by ``machine_step`` (the imposed displacement), which the
-compiled engine calls too (mechanics/dev_seated_machine.py).
+compiled engine calls too (machines/dev_seated_machine.py).
 """
 from __future__ import annotations
 
 import math
 
 from fpd.tribology.friction_kernel import dwell_advance, holding_mu_dwell
-from .phases import SLIP, STICK
+from fpd.mechanics.phases import SLIP, STICK
 
 __kernel__ = True
 
