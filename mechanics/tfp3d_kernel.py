@@ -930,6 +930,23 @@ def _jac(H, y, c1, c2, Dy, J, sc):
         J[2] += Dy[2 * i + 1] * sc[338 + i]
 
 
+def _force_trial(Hy, ry, Dy, c1, c2, ex, ey, F0, F1, y, sc):
+    """The machine's residual |Dy^T y(F) - e|^2 at the force (F0, F1), y(F)
+    the cone program's minimiser with r' + Dy F (into sc[368:372], started
+    from y), and whether the bearing is stuck there (y(F) = 0)."""
+    for i in range(4):
+        sc[360 + i] = ry[i] + Dy[2 * i] * F0 + Dy[2 * i + 1] * F1
+        sc[368 + i] = y[i]
+    socp(Hy, sc[360:364], c1, c2, sc[368:372], sc)
+    S0 = -ex
+    S1 = -ey
+    for i in range(4):
+        S0 += Dy[2 * i] * sc[368 + i]
+        S1 += Dy[2 * i + 1] * sc[368 + i]
+    stuck = sc[368] == 0.0 and sc[369] == 0.0 and sc[370] == 0.0 and sc[371] == 0.0
+    return S0 * S0 + S1 * S1, stuck
+
+
 def machine_force(Hy, ry, Dy, c1, c2, ex, ey, y, F, sc):
     """The test machine's force F (the multiplier of Dy^T y = e): Newton on
     R(F) = Dy^T y(F) - e, y(F) the cone program's minimiser with r' + Dy F
@@ -957,19 +974,39 @@ def machine_force(Hy, ry, Dy, c1, c2, ex, ey, y, F, sc):
         d1 = (j11 * R1 - j12 * R0) / det
         f0, f1 = F[0], F[1]
         lam = 1.0
+        if y[0] == 0.0 and y[1] == 0.0 and y[2] == 0.0 and y[3] == 0.0:
+            # stuck at F (a reversal of the programme): R = -e on the whole stuck
+            # region, which the Newton step (the frictionless Jacobian's) does not
+            # leave; the step is stretched until it leaves it, then bisected to a
+            # force with a smaller residual (a stuck trial: further; past: nearer)
+            lo, hi = 0.0, 1.0
+            found = False
+            for k in range(64):
+                S2, st = _force_trial(Hy, ry, Dy, c1, c2, ex, ey, f0 - hi * d0, f1 - hi * d1, y, sc)
+                if S2 < rn * rn:
+                    found = True
+                    break
+                if not st:
+                    break
+                lo = hi
+                hi *= 2.0
+            if not found:
+                for k in range(200):
+                    mid = 0.5 * (lo + hi)
+                    S2, st = _force_trial(Hy, ry, Dy, c1, c2, ex, ey, f0 - mid * d0, f1 - mid * d1, y, sc)
+                    if S2 < rn * rn:
+                        hi = mid
+                        break
+                    if st:
+                        lo = mid
+                    else:
+                        hi = mid
+            lam = hi
         for ls in range(40):
             F[0] = f0 - lam * d0
             F[1] = f1 - lam * d1
-            for i in range(4):
-                sc[360 + i] = ry[i] + Dy[2 * i] * F[0] + Dy[2 * i + 1] * F[1]
-                sc[368 + i] = y[i]
-            socp(Hy, sc[360:364], c1, c2, sc[368:372], sc)
-            S0 = -ex
-            S1 = -ey
-            for i in range(4):
-                S0 += Dy[2 * i] * sc[368 + i]
-                S1 += Dy[2 * i + 1] * sc[368 + i]
-            if S0 * S0 + S1 * S1 < rn * rn:
+            S2, st = _force_trial(Hy, ry, Dy, c1, c2, ex, ey, F[0], F[1], y, sc)
+            if S2 < rn * rn:
                 break
             lam *= 0.5
         if abs(lam * d0) + abs(lam * d1) <= 1e-16 * (abs(f0) + abs(f1)):
