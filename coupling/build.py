@@ -463,9 +463,7 @@ def build_tfp(scene: Scene) -> Simulation:
         except AxialError as exc:
             raise SceneError(f"{exc} (loading.vertical_file)") from None
     mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"], gz=gz, axial=axial)
-    statics = [static_mu(scene.friction(s)) for s in TFP_SURFACES]
-    if any(m > 0.0 or r > 0.0 for m, r in statics):
-        mech.set_static([m for m, _ in statics], [r for _, r in statics])
+    _tfp_statics(scene, mech)
     dev = scene["device"]
     feet = (dev["slider_diameter"] / 2, dev["pad_diameter"] / 2, dev["pad_diameter"] / 2, dev["slider_diameter"] / 2)
     pp = tuple(PlateParams(**scene.thermal(part), a_contact_m=a) for part, a in zip(TFP_PARTS, feet))
@@ -493,6 +491,13 @@ def _tfp_parts(scene: Scene, dt: float):
     return pp, plates, laws, sub
 
 
+def _tfp_statics(scene: Scene, mech) -> None:
+    """The breakaway of S1..S4 (friction.mu_static, static_ratio, a liner's) on a TFP stepper."""
+    statics = [static_mu(scene.friction(s)) for s in TFP_SURFACES]
+    if any(m > 0.0 or r > 0.0 for m, r in statics):
+        mech.set_static([m for m, _ in statics], [r for _, r in statics])
+
+
 def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     """The TFP in both horizontal directions (mechanics/tfp3d.py): a record pair or a turned record."""
     from fpd.mechanics.tfp3d import TFP3DStepper
@@ -508,6 +513,7 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
         mech = TFP3DTwoPhaseStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps, "tfp3d_two_phase_kernel"))
     else:
         mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
+    _tfp_statics(scene, mech)
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}
     for comp, g in (("record", gx), ("record_y", gy)):

@@ -20,7 +20,7 @@ from . import tfp3d_kernel as K
 from . import tfp_kernel as tk
 from fpd.loading.ground_motion import float_array
 from .phases import MechanicsFailure
-from .tfp import TFPGeometry
+from .tfp import TFPGeometry, TFPStepper
 
 COLUMNS = (
     "t_s", "xg_m", "yg_m", "ux_m", "uy_m", "u_m", "vx_mps", "vy_mps", "v_mps", "Fx_N", "Fy_N", "F_N", "z_m",
@@ -204,6 +204,11 @@ class TFP3DStepper:
 
     def engine_push(self, S, n: int) -> None:
         self.n, self.t = n, n * self.dt
+
+    def set_static(self, mu_s, ratio) -> None:
+        """The breakaway of S1..S4, as the planar TFP's (TFPStepper.set_static:
+        the same slots of the same constants, read by tfp_kernel.holding_caps)."""
+        TFPStepper.set_static(self, mu_s, ratio)
 
     # -- the step ---------------------------------------------------------------------------
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:

@@ -352,6 +352,8 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     fx = S[k3.S_F] if machine == 1 else 0.0
     fy = S[k3.S_F + 1] if machine == 1 else 0.0
     k3.normal_forces(par, S[0:4], S[4:8], agx, agy, az, fx, fy, N, sc[200:220])
+    # a coordinate at rest (did not slide in the step before) holds with the static coefficient
+    mu1, mu2, mu3, mu4 = tk.holding_caps(par, S[k3.S_SLIDE], S[k3.S_SLIDE + 1], mu1, mu2, mu3, mu4)
     R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
     a1 = mu1 * N[0] * R1
     a4 = mu4 * N[3] * R4

@@ -1077,6 +1077,22 @@ def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, dn, out):
         S[S_NPH] = -1.0
 
 
+def holding_caps(par, slid_outer, slid_inner, mu1, mu2, mu3, mu4):
+    """The coefficients of S1..S4's caps for a step: a coordinate that did not
+    slide in the step before (slid_outer: the stack's, S1 and S4; slid_inner:
+    the pad's, S2 and S3; 0.0 when it did not) holds its two surfaces with
+    the holding coefficient (friction_kernel.holding_mu: the static one, par's
+    I_MUS and I_MUR, 0 where none is given), a sliding one takes the sliding
+    mu. The planar TFP's and the TFP's in both directions (docs/model.md 11)."""
+    if slid_outer == 0.0:
+        mu1 = holding_mu(mu1, par[I_MUS], par[I_MUR])
+        mu4 = holding_mu(mu4, par[I_MUS + 3], par[I_MUR + 3])
+    if slid_inner == 0.0:
+        mu2 = holding_mu(mu2, par[I_MUS + 1], par[I_MUR + 1])
+        mu3 = holding_mu(mu3, par[I_MUS + 2], par[I_MUR + 2])
+    return mu1, mu2, mu3, mu4
+
+
 def advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc):
     """One step of the stepper on its state vector S (layout S_*) under the
     step's mean ground accelerations ag (horizontal) and az (vertical, up; 0
@@ -1106,12 +1122,7 @@ def advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w,
     # away), holds its surfaces with the holding coefficient
     # (friction_kernel.holding_mu; the sliding mu without a static one); one
     # that slides takes the sliding mu (docs/model.md section 11)
-    if S[S_SLIDE] == 0.0:
-        mu1 = holding_mu(mu1, par[I_MUS], par[I_MUR])
-        mu4 = holding_mu(mu4, par[I_MUS + 3], par[I_MUR + 3])
-    if S[S_SLIDE + 1] == 0.0:
-        mu2 = holding_mu(mu2, par[I_MUS + 1], par[I_MUR + 1])
-        mu3 = holding_mu(mu3, par[I_MUS + 2], par[I_MUR + 2])
+    mu1, mu2, mu3, mu4 = holding_caps(par, S[S_SLIDE], S[S_SLIDE + 1], mu1, mu2, mu3, mu4)
     a1 = mu1 * N[0] * R1
     a4 = mu4 * N[3] * R4
     a2 = mu2 * N[1] * R2
