@@ -54,8 +54,9 @@ MUS = (0.10, 0.02, 0.02, 0.10)
 RECORDS = {
     "impvall": ("Imperial Valley 1979, El Centro Array #11 (140 on x, 230 on y), x 1",
                 ["loading.record=impvall-1979-e11", "loading.scale=1.0"]),
-    "ferndale": ("Ferndale 2022, Fortuna (180 on x, 90 on y), x 2",
-                 ["loading.record=ferndale-2022", "loading.channels=[1, 2]", "loading.scale=2.0"]),
+    "ferndale": ("Ferndale 2022, Fortuna (180 on x, 90 on y), x 2, the first 60 s",
+                 ["loading.record=ferndale-2022", "loading.channels=[1, 2]", "loading.scale=2.0",
+                  "solver.duration=60"]),
 }
 DEVICE = ["mechanics.model=seated", "device.d2=0.08", "device.d3=0.08"]
 DT = 1.0e-3
@@ -218,8 +219,11 @@ def theirs(py, g, gx, gy, mus):
         fi, fo = Path(tmp) / "in.json", Path(tmp) / "out.json"
         for _ in range(3):
             fi.write_text(json.dumps(p))
-            r = subprocess.run([py, str(Path(__file__).resolve()), "--worker", str(fi), str(fo)],
-                               capture_output=True, text=True, timeout=600)
+            try:
+                r = subprocess.run([py, str(Path(__file__).resolve()), "--worker", str(fi), str(fo)],
+                                   capture_output=True, text=True, timeout=300)
+            except subprocess.TimeoutExpired:       # Newton stuck retrying a chattering stretch
+                r = subprocess.CompletedProcess([], 1, "", "timed out")
             if r.returncode == 0:
                 break
             p["uy"] *= 2.0
@@ -247,7 +251,12 @@ def window_peak_force(g, gx, gy, n=WINDOW) -> float:
 
 
 def metrics(r, W) -> dict:
-    """Peak resultant displacement and force, dissipated energy (the work of
+    """Peak resultant displacement and force (the largest force held over two
+    consecutive rows: our force is the step's impulse / dt, and a step in
+    which a sliding block stops while the ground demands more than friction
+    holds reads one row of M a_g, docs/model.md 6.2, 0.182 W once in the
+    Ferndale runs against 0.137 W around it; the largest row is kept as
+    F_max_row_N), dissipated energy (the work of
     the bearing's force on the relative displacement, int F . du), residual
     displacement, and the orbit's shape: the principal axes of the
     displacement's second moment (minor / major, the major's azimuth)."""
@@ -258,11 +267,13 @@ def metrics(r, W) -> dict:
         E = float(np.sum(Fx[1:] * dux + Fy[1:] * duy))
     else:                         # OpenSees' nodal forces at the grid points: trapezoid
         E = float(np.sum(0.5 * (Fx[1:] + Fx[:-1]) * dux + 0.5 * (Fy[1:] + Fy[:-1]) * duy))
+    F = np.hypot(Fx, Fy)
+    F2 = float(np.max(np.minimum(F[1:], F[:-1])))     # held over two rows: not a one-step spike
     C = np.cov(np.vstack([ux, uy]))
     lam, vec = np.linalg.eigh(C)
     az = math.degrees(math.atan2(vec[1, 1], vec[0, 1])) % 180.0
-    out = {"u_peak_m": float(np.max(np.hypot(ux, uy))), "F_peak_N": float(np.max(np.hypot(Fx, Fy))),
-           "F_peak_W": float(np.max(np.hypot(Fx, Fy)) / W), "E_J": E,
+    out = {"u_peak_m": float(np.max(np.hypot(ux, uy))), "F_peak_N": F2, "F_peak_W": F2 / W,
+           "F_max_row_N": float(np.max(F)), "E_J": E,
            "u_res_m": float(math.hypot(ux[-1], uy[-1])),
            "orbit_axes": float(math.sqrt(max(lam[0], 0.0) / lam[1])) if lam[1] > 0 else 0.0,
            "orbit_azimuth_deg": float(az)}
