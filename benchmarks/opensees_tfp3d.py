@@ -15,7 +15,10 @@ force is W every step), L1 = R_eff2 = R_eff3, L2 = R_eff1, L3 = R_eff4
 R_i, Coulomb friction, uy = 0.25 mm, Newmark (average acceleration) at the
 same dt and the same ground acceleration samples.
 
-Runs, each under the pair (xy) and under each component alone (x, y):
+Records: the packaged Imperial Valley 1979 pair (x 1) and Ferndale 2022 at
+Fortuna (180 / 90 deg, x 2, its first 60 s: later, in the coda, the
+element's Newton stalls). Runs, each under the pair (xy) and under each
+component alone (x, y):
 
 - rigid: our model (mechanics/tfp3d.py), the device's mu;
 - rigid@Reff: our model with each mu_i scaled by R_eff,i / R_i (the friction
