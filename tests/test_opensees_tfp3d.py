@@ -102,6 +102,8 @@ def test_docs_quote_the_stored_comparison(stored):
         for comp in B.COMPS:
             for name in B.NAMES:
                 assert f"{rec}/{comp}/{name}" in stored["runs"]
+    assert {f"{w}/{n}" for w in ("circle", "line") for n in ("rigid", "series", "series=rigid")} \
+        == set(stored["orbits"])
 
 
 def test_stored_rigid_runs_are_the_model_today(stored):
