@@ -29,6 +29,9 @@ component alone (x, y):
   mu_inner = Qi / (W L_i), mu_outer = (Qo - Qi) / (W A): its hexagon is the
   rigid one's exactly (docs/model.md 6.9).
 
+Then quasi-static test-machine cycles, a circle and a line of 0.12 m (rigid,
+series, series=rigid), to isolate how each model couples the two directions.
+
 OpenSees runs only when openseespy imports, in this interpreter or in the one
 ``--opensees-python`` (or FPD_OPENSEES_PYTHON) names; it is not a dependency:
 
