@@ -5,7 +5,9 @@ and the decomposition's premise, that the series model with the rigid model's
 effective friction (inner Qi / (W L_i), outer (Qo - Qi) / (W A)) has the rigid
 model's loop, is checked on an independent quasi-static computation of the
 series model (three rigid-plastic springs with linear hardening in series, the
-element's structure) against the rigid model's closed-form hexagon."""
+element's structure) against the rigid model's closed-form hexagon, and the
+one-oscillator case (inner surfaces only) of our model against an
+independent Coulomb oscillator."""
 from __future__ import annotations
 
 import json
