@@ -510,7 +510,8 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     gz = vertical_loading_of(scene, dt, gx)
     if scene["mechanics"]["model"] == "two-phase":
         from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
-        mech = TFP3DTwoPhaseStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps, "tfp3d_two_phase_kernel"))
+        mech = TFP3DTwoPhaseStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps, "tfp3d_two_phase_kernel"),
+                                    az=None if gz is None else gz.a_step)
     else:
         mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
     _tfp_statics(scene, mech)

@@ -6,6 +6,9 @@ phase 1 in the metric frozen at t_n, the re-seating of phases 2 and 3 a
 projection whose loss is E_reseat_J, the phase-1 pivots in the plane of each
 pair's slide. A ground motion (a record pair, a turned record) or the test
 machine's orbit; a record with no y component is the planar two-phase TFP's run.
+Under a vertical ground motion (az) the normal forces, caps, heat, the rocking
+check and the re-seating see g + a_z, and when g + a_z < 0 the stack and the
+superstructure lift off, fly and land as the seated 3D TFP's (docs/model.md 10).
 """
 from __future__ import annotations
 
@@ -13,7 +16,8 @@ import numpy as np
 
 from . import tfp3d_kernel as K3
 from . import tfp3d_two_phase_kernel as K
-from .tfp3d import COLUMNS as SEATED_COLUMNS, TFP3DFailure, TFP3DStepper
+from . import tfp_kernel as tk
+from .tfp3d import COLUMNS as SEATED_COLUMNS, VERTICAL_COLUMNS, TFP3DFailure, TFP3DStepper
 
 # the two-phase model's own columns, after the seated 3D TFP's: the re-seating
 # loss, the phase-1 pivots and the re-seating rotations as tilt vectors along
@@ -35,12 +39,16 @@ class TFP3DTwoPhaseStepper(TFP3DStepper):
     def __init__(self, geom, gx, gy=None, kernel=None, az=None):
         super().__init__(geom, gx, gy, kernel=kernel if kernel is not None else K, az=az)
         self.par = geom.pack(two_phase=True)
+        if az is not None:
+            # the vertical columns after the two-phase model's (tfp3d_two_phase_kernel.vertical_row)
+            self.par[tk.I_VERT] = 1.0
+            self.columns = COLUMNS + VERTICAL_COLUMNS
         S = np.zeros(K.N_S)
         S[:K3.N_S] = self.S
         self.S = S
         self.N = self.S[K3.S_N:K3.S_N + 4]
         self.out = np.zeros(K.N_OUT)
-        self._row = np.zeros(K.N_ROW)
+        self._row = np.zeros(len(self.columns))
 
     @property
     def E_reseat(self) -> float:
@@ -48,11 +56,12 @@ class TFP3DTwoPhaseStepper(TFP3DStepper):
         return float(self.S[K.S_ERS])
 
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_reseat)
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_reseat + self.E_land)
 
     def values(self) -> tuple:
         n = self.n
         K.row_values(self.par, self.S, self.t, self._xg[n], self._yg[n], self._row, self._sc)
+        K.vertical_row(self.par, self.S, self._az[n - 1] if n > 0 else 0.0, self._row, self._sc)
         return tuple(self._row.tolist())
 
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:

@@ -433,3 +433,62 @@ def row_values(par, S, t, xg, yg, row, sc):
     k3.row_values(par, S, t, xg, yg, row, sc)
     for i in range(N_ROW_TWO):
         row[k3.N_ROW + i] = S[S_ERS + i]
+
+
+def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
+    """``advance`` under a vertical ground motion that may lift the TFP off
+    (docs/model.md 10): the seated 3D TFP's lift-off (tfp3d_kernel.advance_vertical)
+    around the two-phase step. While g + az >= 0 and the unit is seated,
+    ``advance`` itself; when the step's g + az < 0 the stack and the
+    superstructure fly (tfp3d_kernel._flight: take-off, ballistic flight,
+    plastic landing) until they land, and a step that lands finishes seated
+    with ``advance`` over the rest. In the air: no contact, no friction, no
+    heat, no phases."""
+    gv = par[tk.I_G] + az
+    if S[k3.S_FLY] == 0.0 and not gv < 0.0:
+        return advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    rem = dt
+    flown = False
+    for _ in range(tk.FLIGHTS_MAX):
+        if S[k3.S_FLY] == 0.0 and not gv < 0.0:
+            break
+        tau = k3._flight(par, S, agx, agy, gv, rem, sc)
+        if tau <= -2.0:
+            return int(-2.0 - tau)
+        if tau < 0.0:              # the seat's curvature keeps it down over the step: seated
+            break
+        flown = True
+        rem = rem - tau
+        if S[k3.S_FLY] != 0.0 or not rem > tk.FLIGHT_REST * dt:
+            break
+    if not flown:
+        return advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    if S[k3.S_FLY] == 0.0 and rem > tk.FLIGHT_REST * dt:
+        fail = advance(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+        # the force over the whole step: the bearing carries nothing in the air
+        S[k3.S_F] = S[k3.S_F] * (rem / dt)
+        S[k3.S_F + 1] = S[k3.S_F + 1] * (rem / dt)
+        for i in range(4):
+            S[k3.S_SV + i] = S[k3.S_SV + i] * (rem / dt)
+        return fail
+    for i in range(4):
+        S[k3.S_N + i] = S[k3.S_SV + i] = S[k3.S_DW + i] = S[k3.S_SLIDE + i] = 0.0
+    S[k3.S_F] = S[k3.S_F + 1] = S[k3.S_REG] = S[k3.S_ITER] = S[k3.S_KKT] = 0.0
+    S[k3.S_PHASE] = tk.PHASE_STICK
+    for i in range(8):
+        S[S_B1 + i] = 0.0
+    S[S_NPH] = 0.0
+    return k3.FAIL_NONE
+
+
+def vertical_row(par, S, az, row, sc):
+    """The vertical ground motion's columns (tfp3d_kernel.vertical_row, the
+    seated 3D TFP's) after the two-phase model's: row[N_ROW:N_ROW+5]. Only
+    with a vertical loading (par[I_VERT] = 1). sc: scratch >= 40."""
+    if par[tk.I_VERT] != 1.0:
+        return
+    k3.vertical_row(par, S, az, row, sc)
+    for i in range(5):
+        row[N_ROW + i] = row[k3.N_ROW + i]
+    for i in range(N_ROW_TWO):
+        row[k3.N_ROW + i] = S[S_ERS + i]

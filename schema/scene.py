@@ -1417,8 +1417,8 @@ def tfp_cross_checks(ctx, data) -> None:
 
 def tfp3d_checks(ctx, data) -> None:
     """The TFP in both horizontal directions (mechanics/tfp3d.py): a record pair
-    or a turned record or an orbit (seated or two-phase), heat lumped, fe1d or fe3d along 2D footprint
-    paths; what it does not do yet is refused in one line naming it."""
+    or a turned record or an orbit (seated or two-phase), a vertical ground motion with either model,
+    heat lumped, fe1d or fe3d along 2D footprint paths; what it does not do yet is refused in one line naming it."""
     ld, mech = data["loading"], data["mechanics"]
     if ld["kind"] == "displacement":
         # the orbit machine: the superstructure held, the lower plate driven by -u(t)
@@ -1443,14 +1443,6 @@ def tfp3d_checks(ctx, data) -> None:
         if "duration" in sol and sol["duration"] > loading_length(ld) * (1 + 1e-12):
             ctx.fail("solver.duration", sol["duration"], f"must not exceed the orbit's length "
                      f"{loading_length(ld):g} s (cycles / frequency_Hz) on the test machine in both directions")
-    if mech["model"] != "seated":
-        # the seated TFP in both directions takes the vertical ground motion; its two-phase model not yet
-        why = 'not yet for the two-phase TFP in both directions (mechanics.model = "seated" takes it)'
-        for key in ("file_z", "vertical_scale"):
-            if ld.get(key) is not None:
-                ctx.fail(f"loading.{key}", ld[key], why)
-        if ld.get("channels") is not None and ld["channels"][2]:
-            ctx.fail("loading.channels", [c for c in ld["channels"] if c], f"must not name a vertical channel: {why}")
     if mech.get("normal_force") not in (None, "start"):
         ctx.fail("mechanics.normal_force", mech["normal_force"], "is a key of the DFP steppers")
     if data["coupling"]["substeps"] > 1:
