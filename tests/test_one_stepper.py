@@ -149,6 +149,12 @@ def test_planar_columns_are_signed():
     ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=3",
                       "solver.dt=2e-3", "loading.scale=1", f'loading.file_z="{PULSE}"', "loading.baseline=false",
                       "thermal.model=lumped"]),
+    # its two-phase model flies and lands under the pulse, and takes 0.6 of the pair's x component as vertical
+    ("tfp-elcentro", ['loading.record="impvall-1979-e11"', "solver.duration=3", "solver.dt=2e-3",
+                      "loading.scale=1", f'loading.file_z="{PULSE}"', "loading.baseline=false",
+                      "thermal.model=lumped"]),
+    ("tfp-elcentro", ['loading.record="impvall-1979-e11"', "solver.duration=6", "solver.dt=2e-3",
+                      "friction.mu_ref=0.04", "loading.vertical_scale=0.6"]),
     # the TFP in both directions under a vertical ground motion (0.6 of the pair's x component), fe1d
     ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=6",
                       "solver.dt=2e-3", "loading.vertical_scale=0.6"]),

@@ -233,15 +233,3 @@ def test_the_vtk_follows_the_flight(tmp_path):
     assert flying >= 3
     base = tops[0][0] - tops[0][1]
     assert all(abs(z0 - zm - base) <= 1e-9 for z0, zm in tops)
-
-
-@pytest.mark.parametrize("sets, key", [
-    ([f'loading.file_z="{V2}"'], "loading.file_z"),
-    (["loading.vertical_scale=0.5"], "loading.vertical_scale"),
-    (['loading.record="ferndale-2022"'], "loading.channels"),
-])
-def test_the_two_phase_tfp_in_both_directions_refuses_a_vertical_in_one_line(sets, key):
-    base = ['loading.record="impvall-1979-e11"', 'mechanics.model="two-phase"']
-    with pytest.raises(scn.SceneError, match=rf"{key}.*not yet for the two-phase TFP in both directions") as e:
-        scn.load("tfp-elcentro", base + sets)
-    assert "\n" not in str(e.value)
