@@ -217,7 +217,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "solver.duration) sets the length, after a shorter vertical record the ground "
                                   "stops accelerating vertically. Every normal force, friction cap, the heat, the "
                                   "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
-                                  "(docs/model.md 10); the TFP planar and in both directions. Where g + a_z < 0 the "
+                                  "(docs/model.md 10); the TFP planar and in both directions, seated or two-phase. Where g + a_z < 0 the "
                                   "moving parts lift off and land. Refused when the record's channels already give z."),
     "loading.record.vertical_scale": ("", "DFP, SFP, TFP, flat bearing: the vertical ground acceleration as this "
                                           "factor times the horizontal (x) one as run (after scale, "
@@ -593,7 +593,7 @@ COLUMNS: dict[str, tuple[str, str]] = {
                             "behind a slide towards +x, 1 = on the way back."),
     "phases": ("", "TFP two-phase: the paper's phases in the step: 0 stick, 2 one pair of surfaces slid "
                    "(Fig. 6: pivot, then re-seating), 3 both pairs (Fig. 7: pivots, pad re-seats, then "
-                   "the slider plates)."),
+                   "the slider plates); 0 in flight under a vertical record."),
     "pad_tilt_rad": ("rad", "Pad axis minus the line C1C2 at the end of phase 1."),
     "diagonal": ("", "Diagonal the pad rests on: 0 = A-C, 1 = B-D (a TFP: the pad's pivot on S2)."),
     "ds1_m": ("m", "Slip increment of the lower interface in the step (signed)."),
