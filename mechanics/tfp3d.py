@@ -134,8 +134,13 @@ class TFP3DStepper:
     def E_pot(self) -> float:
         return K.potential(self.par, self.S[0:4])
 
+    @property
+    def E_rim(self) -> float:
+        """The kinetic energy the rim impacts took (J)."""
+        return float(self.S[K.S_ERIM])
+
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W))
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim)
 
     def values(self) -> tuple:
         n = self.n
@@ -186,8 +191,8 @@ class TFP3DStepper:
             raise TFP3DFailure("the test machine's force did not make the bearing follow the orbit "
                                "(Newton on the machine's force did not converge; lower solver.dt)")
         if fail == K.FAIL_RIM:
-            raise TFP3DFailure("a surface reached its rim: rim impacts of the TFP in both directions are not "
-                               "modelled yet (the planar TFP has them)")
+            raise TFP3DFailure("a surface reached its rim under the test machine: the TFP's machine in both "
+                               "directions runs without rims (a smaller orbit)")
         if fail == K.FAIL_FIXED_POINT:
             raise TFP3DFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
                                "iterations (lower solver.dt)")
