@@ -1249,11 +1249,48 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
     m_k = L_k^-1 n_k, h_k = qmax_k - n_k . q0_k (0 for a block that starts on
     its rim, as the planar box). At the fixed point n_k is the normal at q1_k
     itself, so q1_k lies on the circle. The held blocks' normal components are
-    then set on their lines exactly. Returns the Newton iterations."""
+    then set on their lines exactly. Returns the Newton iterations.
+
+    A block the previous iterate held (multiplier nu_k) adds the rim's
+    curvature to the program first, the Hessian of nu_k (|q_k| - qmax_k) at
+    that iterate's point qb_k on the circle, nu_k / qmax_k t t^T (t the
+    tangent; the sequential quadratic programming step): 1/2 nu_k / qmax_k
+    (t . (q_k - qb_k))^2, which vanishes with its gradient at the fixed point
+    (q1_k = qb_k) but keeps the iteration from running along the tangent
+    when a light mode is pressed hard into a rim (without it the full lock
+    in two directions diverges)."""
     its = 0
+    curv = 0
     for k in range(2):
+        held = sc[R_ACT + k] != 0.0 and sc[R_NU + k] > 0.0
+        nu = sc[R_NU + k]
         sc[R_ACT + k] = 0.0
         sc[R_NU + k] = 0.0
+        if not held:
+            continue
+        p0_ = q0[2 * k] + x[2 * k]
+        p1_ = q0[2 * k + 1] + x[2 * k + 1]
+        npv = math.sqrt(p0_ * p0_ + p1_ * p1_)
+        if npv == 0.0:
+            continue
+        t0 = -p1_ / npv
+        t1 = p0_ / npv
+        off = -(t0 * q0[2 * k] + t1 * q0[2 * k + 1])      # t . (qb - q0), t . qb = 0
+        kap = nu / rim_qmax(par, k, nobounds)
+        k0 = 4 * k
+        l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
+        w0 = (l22 * t0 - l12 * t1) / det
+        w1 = (l11 * t1 - l12 * t0) / det
+        i0 = 2 * k
+        H[4 * i0 + i0] += kap * w0 * w0
+        H[4 * i0 + i0 + 1] += kap * w0 * w1
+        H[4 * (i0 + 1) + i0] += kap * w1 * w0
+        H[4 * (i0 + 1) + i0 + 1] += kap * w1 * w1
+        r[i0] += kap * w0 * off
+        r[i0 + 1] += kap * w1 * off
+        curv = 1
+    if curv != 0:
+        its += socp(H, r, c1, c2, y, sc)
     for rep in range(3):
         added = 0
         for k in range(2):
