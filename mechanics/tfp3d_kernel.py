@@ -54,7 +54,7 @@ FAIL_NONE, FAIL_FIXED_POINT, FAIL_RIM, FAIL_CAPACITY = 0, 2, 4, 1
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
-N_SC = 604              # scratch length (the rims' from RB = 420 on: N_SC_RIM)
+N_SC = 616              # scratch length (the rims' from RB = 420 on: N_SC_RIM)
 
 # Gauss-Legendre, 4 points on [0, 1]
 GL_X0, GL_X1 = 0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563
@@ -725,6 +725,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             a1 = (l11 * y[2 * blk + 1] - l12 * y[2 * blk]) / det
             tmp[2 * blk] = a0
             tmp[2 * blk + 1] = a1
+        if rb == 0 and it > 6 and rim_involved(sc):
+            rim_relax(x, tmp, sc)
         ch = 0.0
         for i in range(4):
             ch += abs(tmp[i] - x[i])
@@ -1102,7 +1104,8 @@ R_SAVE, R_ACC = 532, 540                      # the part's start state (8), the 
 R_SV = R_ACC + N_OUT                          # the rim point (8)
 R_UD = R_SV + 8                               # u' scratch (6), u'(start), u'(part start), u'(free) (2 each)
 R_MM, R_VF = R_UD + 12, R_UD + 28            # a mass matrix (16), the free rates (4)
-N_SC_RIM = R_VF + 4
+R_DXP, R_OM = R_VF + 4, R_VF + 8             # the fixed point's last change (4) and relaxation
+N_SC_RIM = R_OM + 1
 
 
 def rim_qmax(par, k, nobounds):
@@ -1122,6 +1125,8 @@ def rim_start(par, st, nobounds, sc):
         sc[R_NU + k] = 0.0
     for i in range(4):
         sc[R_V0 + i] = st[4 + i]
+        sc[R_DXP + i] = 0.0
+    sc[R_OM] = 1.0
 
 
 def _rim_eval(H, r, c1, c2, y, nua, nub, sc):
@@ -1245,7 +1250,7 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
     a block whose end tilt q0_k + dq_k (dq_k = L_k^-1 y_k) lies past its rim
     circle |q_k| = qmax_k is held by the rim's tangent line there, n_k . q_k <=
     qmax_k, n_k the outward normal at the previous iterate's end point if that
-    was on the rim, else at the unconstrained one: in y, m_k . y_k <= h_k with
+    was held (or on the rim), else at the unconstrained one: in y, m_k . y_k <= h_k with
     m_k = L_k^-1 n_k, h_k = qmax_k - n_k . q0_k (0 for a block that starts on
     its rim, as the planar box). At the fixed point n_k is the normal at q1_k
     itself, so q1_k lies on the circle. The held blocks' normal components are
@@ -1261,8 +1266,10 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
     in two directions diverges)."""
     its = 0
     curv = 0
+    hp0 = sc[R_ACT] != 0.0 and sc[R_NU] > 0.0
+    hp1 = sc[R_ACT + 1] != 0.0 and sc[R_NU + 1] > 0.0
     for k in range(2):
-        held = sc[R_ACT + k] != 0.0 and sc[R_NU + k] > 0.0
+        held = hp0 if k == 0 else hp1
         nu = sc[R_NU + k]
         sc[R_ACT + k] = 0.0
         sc[R_NU + k] = 0.0
@@ -1312,7 +1319,8 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
             npv = math.sqrt(p0_ * p0_ + p1_ * p1_)
             n0, n1, h, m0, m1 = 0.0, 0.0, 0.0, 0.0, 0.0
             for tr in range(2):
-                if tr == 0 and npv >= qm * (1.0 - 1e-12):
+                hp = hp0 if k == 0 else hp1
+                if tr == 0 and npv > 0.0 and (hp or npv >= qm * (1.0 - 1e-12)):
                     n0, n1 = p0_ / npv, p1_ / npv
                 else:
                     n0, n1 = e0 / ne, e1 / ne
@@ -1368,6 +1376,34 @@ def rim_snap(par, q0, x, y, ry, Lm, nobounds, sc):
         if held:
             ry[2 * k] -= sc[R_NU + k] * sc[R_M + 2 * k]
             ry[2 * k + 1] -= sc[R_NU + k] * sc[R_M + 2 * k + 1]
+
+
+def rim_relax(x, xn, sc):
+    """The step's fixed point with a rim in it, past its first iterations: a
+    block pressed into its rim along a turning normal can make the plain
+    iteration alternate and converge slowly (or not); the new iterate xn is
+    relaxed, x + w (xn - x), w = 1 / (1 - lambda) for an alternating factor
+    lambda < 0 estimated from the last two changes (Irons and Tuck's secant
+    in one dimension; w = 1, the plain iteration, otherwise). The fixed point,
+    where xn = x, is the same."""
+    dd = 0.0
+    dp = 0.0
+    for i in range(4):
+        d = xn[i] - x[i]
+        dd += d * sc[R_DXP + i]
+        dp += sc[R_DXP + i] * sc[R_DXP + i]
+    om = 1.0
+    if dp > 0.0:
+        # the raw changes' ratio is the relaxed factor 1 + w0 (lambda - 1)
+        lam = 1.0 + (dd / dp - 1.0) / sc[R_OM]
+        if lam < 0.0:
+            om = 1.0 / (1.0 - lam)
+            if om < 0.05:
+                om = 0.05
+    for i in range(4):
+        sc[R_DXP + i] = xn[i] - x[i]
+        xn[i] = x[i] + om * (xn[i] - x[i])
+    sc[R_OM] = om
 
 
 def rim_involved(sc):
