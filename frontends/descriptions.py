@@ -522,7 +522,8 @@ COLUMNS: dict[str, tuple[str, str]] = {
                          "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
                          "flat bearing: the sum of the step's impact impulses, the lower rim's on the pad and "
                          "the upper rim's between pad and superstructure (a face resting on its rim is held: "
-                         "its reaction is part of F_N)."),
+                         "its reaction is part of F_N). The TFP in both directions: the impulse's "
+                         "magnitude."),
     "n_rim1": ("", "Rim impacts on the lower surface (TFP: S1) so far: arrivals at the rim (a DFP counts them on "
                    "the surface that bounds the slide, or on both)."),
     "n_rim2": ("", "Rim impacts on the upper surface of a DFP (TFP: S2) so far."),
