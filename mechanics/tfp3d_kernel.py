@@ -1646,14 +1646,16 @@ def rim_velocities(par, q0, q1, x, st, M, dt, c_o, c_i, y, Lm, e_rest, sc):
             _rot_fwd(sc[R_WR:R_WR + 4], sc[R_PR:R_PR + 4], sc)
             for i in range(4):
                 sc[R_WR + i] = sc[R_VR + i] + e_rest * (sc[R_VR + i] - sc[R_PR + i])
+            # the energy handed back, e^2 of the stop's 1/2 d^T M d (d is M-orthogonal
+            # to v), booked as the kinetic energy's change itself, 1/2 (w - v)^T M (w + v)
             Mr = sc[R_MR:R_MR + 16]
             ee = 0.0
             for i in range(4):
                 t = 0.0
                 for j in range(4):
-                    t += Mr[4 * i + j] * (sc[R_VR + j] - sc[R_PR + j])
-                ee += (sc[R_VR + i] - sc[R_PR + i]) * t
-            sc[R_OUT] -= e_rest * e_rest * 0.5 * ee
+                    t += Mr[4 * i + j] * (sc[R_WR + j] + sc[R_VR + j])
+                ee += (sc[R_WR + i] - sc[R_VR + i]) * t
+            sc[R_OUT] -= 0.5 * ee
             _rot_back(sc[R_WR:R_WR + 4], sc[R_PR:R_PR + 4], sc)
             for c2 in range(2):
                 t = 0.0
@@ -1834,13 +1836,15 @@ def rim_touch_impact(par, st, o0, o1, e_rest, sc):
         Mr = sc[R_MR:R_MR + 16]
         ee = 0.0
         for i in range(4):
+            sc[R_VF + i] = e_rest * (sc[R_VR + i] - sc[R_VF + i])      # the jump e d
+        for i in range(4):
             t = 0.0
             for j in range(4):
-                t += Mr[4 * i + j] * (sc[R_VR + j] - sc[R_VF + j])
-            ee += (sc[R_VR + i] - sc[R_VF + i]) * t
-        sc[R_OUT] -= e_rest * e_rest * 0.5 * ee
+                t += Mr[4 * i + j] * (2.0 * sc[R_VR + j] + sc[R_VF + j])
+            ee += sc[R_VF + i] * t
+        sc[R_OUT] -= 0.5 * ee
         for i in range(4):
-            sc[R_VR + i] += e_rest * (sc[R_VR + i] - sc[R_VF + i])
+            sc[R_VR + i] += sc[R_VF + i]
     _rot_back(sc[R_VR:R_VR + 4], st[4:8], sc)
 
 

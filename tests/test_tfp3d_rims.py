@@ -123,3 +123,38 @@ def test_compiled_kernel_equals_pure_bit_for_bit_at_the_rims():
     assert all(a[f"n_rim{i}"][-1] >= 1 for i in range(1, 5))
     for c in a:
         assert np.array_equal(a[c], b[c]), c
+
+
+@pytest.mark.parametrize("e", [0.0, 0.5])
+def test_an_oblique_impact_takes_the_kinetic_energy_normal_to_the_rim(e):
+    """Frictionless, the ground at rest, the pad's tilt a hair inside its rim
+    at 40 deg and its rate oblique to the rim (normal and tangential parts):
+    the impact takes (1 - e^2) of the kinetic energy normal to the rim, the
+    closed form 1/2 (n . v)^2 / (n^T M^-1 n) (n the rim's normal on alpha's
+    rates, M the mass matrix there), to 1e-3 (the motion in the 1 us step:
+    the frictionless stack under the tilted pad accelerates at ~100 rad/s2),
+    leaves the pad on its rim sliding along it (inelastic: no normal
+    rate) or leaving it at -e times its normal rate."""
+    g = tfp(rim_restitution=e)
+    pm, am = g.qmax
+    gm = pulse_ground_motion("cosine", 0.0, 1.0, 0.0, 1e-6, 1e-6)
+    s = TFP3DStepper(g, gm, kernel=None)
+    th = math.radians(40.0)
+    n = np.array([math.cos(th), math.sin(th)])
+    t = np.array([-n[1], n[0]])
+    s.S[2:4] = (am - 1e-10) * n
+    s.S[6:8] = 0.3 * n + 0.2 * t
+    M = np.zeros(16)
+    K.mass_matrix(s.par, s.S[0:4], M, np.zeros(12))
+    M = M.reshape(4, 4)
+    c = np.array([0.0, 0.0, n[0], n[1]])
+    vn = c @ s.S[4:8]
+    normal_ke = 0.5 * vn * vn / (c @ np.linalg.solve(M, c))
+    res0 = s.ledger_residual()          # minus the energy the state was given
+    s.step(0.0, 0.0, 0.0, 0.0)
+    assert s.E_rim == pytest.approx((1.0 - e * e) * normal_ke, rel=1e-3)
+    assert math.hypot(s.S[2], s.S[3]) <= am * (1 + 1e-12)
+    va = s.S[6:8]
+    assert va @ n == pytest.approx(-e * vn, abs=2e-3 * abs(vn))
+    assert abs(va @ t) > 0.1
+    assert abs(s.ledger_residual() - res0) <= 1e-9 * normal_ke
