@@ -11,7 +11,15 @@ For each scene (default: ``default``, ``impvall-bidirectional``, ``lab-sine``,
 - in one process, the time of the plotting alone (``make_plots``, the
   per-cycle plot and the hottest-field pictures) after the run, per figure.
 
-The numba cache must be warm (run ``python3 -m fpd run SCENE`` once before).
+``--cli``: instead, the process time of the plotting part of ``fpd run
+SCENE`` in the command's own process (its lean matplotlib import included:
+importing matplotlib, every figure and hottest-field picture, writing the
+PNGs), best of R runs; with ``--against ROOT`` the same for the source tree
+at ROOT, the runs of both trees interleaved (A, B, A, B, ...) so that a
+machine shared with other work loads both alike.
+
+The numba cache must be warm (run ``python3 -m fpd run SCENE`` once before,
+in each tree measured).
 """
 from __future__ import annotations
 
@@ -74,12 +82,61 @@ def in_process(scene: str, out: str) -> list[tuple[str, float]]:
     return times
 
 
+# run in a child process: fpd run's own command line (its lean matplotlib import), the process
+# time spent inside the plotting calls of write_all summed and printed as the last line
+_CLI = r"""
+import sys, time
+from fpd.outputs import cycles, figures, hottest
+spent = [0.0]
+def timed(f):
+    def g(*a, **k):
+        t0 = time.process_time()
+        try:
+            return f(*a, **k)
+        finally:
+            spent[0] += time.process_time() - t0
+    return g
+figures.make_plots = timed(figures.make_plots)
+cycles.plot_cycles = timed(cycles.plot_cycles)
+hottest.HottestFields.pictures = timed(hottest.HottestFields.pictures)
+sys.argv = ["fpd", "run", %r, "--out", %r, "--force", "--quiet"]
+from fpd.frontends.cli import main
+code = main()
+print("plotting-process-s", spent[0])
+sys.exit(code)
+"""
+
+
+def cli_plotting(root: str, scene: str, out: str) -> float:
+    """Process time of the plotting part of ``fpd run SCENE`` (tree at root)."""
+    env = dict(os.environ, PYTHONPATH=root, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MPLBACKEND="Agg")
+    r = subprocess.run([sys.executable, "-c", _CLI % (scene, out)], env=env, check=True, cwd=root,
+                       capture_output=True, text=True)
+    return float(r.stdout.strip().splitlines()[-1].split()[-1])
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("scenes", nargs="*", default=list(SCENES))
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--no-split", action="store_true", help="skip the in-process per-figure times")
+    ap.add_argument("--cli", action="store_true",
+                    help="only the plotting part of fpd run in its own process (best of R)")
+    ap.add_argument("--against", metavar="ROOT", help="with --cli: also the source tree at ROOT, interleaved")
     a = ap.parse_args(argv)
+    if a.cli:
+        trees = [("this tree", ROOT)] + ([("against", os.path.abspath(a.against))] if a.against else [])
+        with tempfile.TemporaryDirectory(prefix="fpd-plots-") as tmp:
+            print(f"plotting part of fpd run, process s, best of {a.repeat} (all runs)")
+            for sc in a.scenes:
+                runs = {name: [] for name, _ in trees}
+                for _ in range(a.repeat):
+                    for name, root in trees:
+                        runs[name].append(cli_plotting(root, sc, os.path.join(tmp, "cli")))
+                for name, _ in trees:
+                    print(f"{sc:24s} {name:10s} {min(runs[name]):6.3f}   ("
+                          + " ".join(f"{t:.3f}" for t in runs[name]) + ")", flush=True)
+        return 0
     with tempfile.TemporaryDirectory(prefix="fpd-plots-") as tmp:
         print(f"{'scene':24s} {'with plots':>11s} {'without':>9s} {'plots cost':>11s}  (process s, best of {a.repeat})")
         for sc in a.scenes:

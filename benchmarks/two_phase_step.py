@@ -76,7 +76,7 @@ def main() -> None:
     if kernel_us is not None:
         print(f"numba kernel step + values:  {kernel_us:6.2f} us/step (mechanics/two_phase_kernel.py, compiled)")
     try:
-        from fpd.mechanics.seated import SeatedStepper
+        from fpd.machines.seated import SeatedStepper
     except ImportError:
         return
     seated = lambda: SeatedStepper(DEVICE, ground)  # noqa: E731

@@ -70,7 +70,7 @@ def main() -> None:
     print("\n## Northridge 1994 (CDMG 24278, 090) x1.0, against the seated model")
     from fpd.mechanics.geometry import G_ACC
     from fpd.loading.ground_motion import ground_motion_from_samples, read_record
-    from fpd.mechanics.seated import SeatedStepper
+    from fpd.machines.seated import SeatedStepper
     rec = read_record(Path(__file__).resolve().parents[1] / "scenes" / "records"
                       / "Northridge_CDMG24278_090.dat")
     for dt in (1e-3, 2.5e-4):

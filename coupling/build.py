@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from fpd.mechanics.friction import make_law, static_mu
+from fpd.tribology.friction import dwell_law, make_law, static_mu
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC
 from fpd.thermal.params import PlateParams
 
@@ -32,12 +32,12 @@ class Simulation:
     substeps: int = 1
     info: dict = field(default_factory=dict)
 
-    # per interface the Archard wear coefficient's law (mechanics.friction.wear_laws), or None: no wear
+    # per interface the Archard wear coefficient's law (tribology.friction.wear_laws), or None: no wear
     wear: tuple | None = None
 
     def __post_init__(self):
         if self.mechanics is not None and self.wear is None:
-            from fpd.mechanics.friction import wear_laws
+            from fpd.tribology.friction import wear_laws
             sides = TFP_SURFACES if len(self.laws) == 4 else ("lower", "upper")
             self.wear = wear_laws([self.scene.friction(s) for s in sides])
 
@@ -81,10 +81,13 @@ def loading_of(scene: Scene, dt: float):
         return gm
     if ld["kind"] == "harmonic":
         return gmod.harmonic_ground_motion(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
-    if ld["kind"] == "displacement" and ld["waveform"] == "triangle":
-        return gmod.triangle_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
     if ld["kind"] == "displacement":
-        return gmod.sine_programme(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
+        hold = ld.get("hold_s", 0.0)
+        if duration is not None and hold:
+            duration = max(dt, duration - round(hold / dt) * dt)
+        make = gmod.triangle_programme if ld["waveform"] == "triangle" else gmod.sine_programme
+        prog = make(ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt, duration)
+        return gmod.held_programme(prog, hold) if hold else prog
     if ld["kind"] == "pulse":
         from fpd.schema.scene import loading_length
         return gmod.pulse_ground_motion(ld["shape"], ld["velocity_mps"], ld["period_s"], ld["t0_s"],
@@ -287,7 +290,7 @@ def build(scene: Scene) -> Simulation:
     loading = loading_of(scene, dt)
     model = scene["mechanics"]["model"]
     if ld["kind"] == "displacement":
-        from fpd.mechanics.seated import SeatedTestMachine
+        from fpd.machines.seated import SeatedTestMachine
         from fpd.loading.axial import AxialError, programme_of
         try:
             axial = programme_of(ld, geom.mass * geom.g)
@@ -324,6 +327,9 @@ def _set_static(scene: Scene, mech) -> None:
     (m1, r1), (m2, r2) = (static_mu(scene.friction(side)) for side in ("lower", "upper"))
     if m1 > 0.0 or m2 > 0.0 or r1 > 0.0 or r2 > 0.0:
         mech.set_static(m1, m2, r1, r2)
+    dwell = tuple(dwell_law(scene.friction(side)) for side in ("lower", "upper"))
+    if any(d[1] > 0.0 for d in dwell):
+        mech.set_dwell(*dwell)          # the planar test machine's (schema/scene.py refuses it elsewhere)
 
 
 # -- bidirectional runs (model.md 8) ----------------------------------------------------
@@ -341,9 +347,13 @@ def bidirectional_loading_of(scene: Scene, dt: float):
     ld = scene["loading"]
     duration = scene["solver"].get("duration")
     if ld["kind"] == "displacement":
-        from fpd.loading.orbits import orbit_programme
-        return orbit_programme(ld["waveform"], ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt,
+        from fpd.loading.orbits import held_orbit, orbit_programme
+        hold = ld.get("hold_s", 0.0)
+        if duration is not None and hold:
+            duration = max(dt, duration - round(hold / dt) * dt)
+        prog = orbit_programme(ld["waveform"], ld["amplitude_m"], ld["frequency_Hz"], ld["cycles"], dt,
                                duration, ld["direction_deg"])
+        return held_orbit(prog, hold) if hold else prog
     if ld["kind"] != "record":
         gx = loading_of(scene, dt)
         return gx, None
@@ -388,7 +398,8 @@ def _turned(gx, gy, ang):
 
 
 def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> Simulation:
-    from fpd.mechanics.bidirectional import BidirectionalStepper, BidirectionalTestMachine
+    from fpd.machines.orbit import BidirectionalTestMachine
+    from fpd.mechanics.bidirectional import BidirectionalStepper
 
     ld = scene["loading"]
     loading = bidirectional_loading_of(scene, dt)
@@ -401,6 +412,8 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
             except AxialError as exc:
                 raise SceneError(f"{exc} (loading.vertical_file)") from None
         mech = BidirectionalTestMachine(geom, loading, axial=axial)
+        if ld.get("link_stiffness_N_per_m"):
+            mech.set_link(ld["link_stiffness_N_per_m"], ld["link_mass_kg"])
         n_steps = loading.n_steps
     else:
         gx, gy = loading
@@ -432,7 +445,7 @@ def _build_bidirectional(scene: Scene, dt: float, geom, pp, substeps, info) -> S
 # -- the triple friction pendulum (model.md 6) and the flat bearing (model.md 7) ---------
 
 def build_tfp(scene: Scene) -> Simulation:
-    from fpd.mechanics.tfp import TFPStepper, liftoff_step
+    from fpd.mechanics.tfp import TFPStepper
     from fpd.schema.scene import tfp_geometry
 
     dt = scene["solver"]["dt"]
@@ -442,14 +455,6 @@ def build_tfp(scene: Scene) -> Simulation:
         return _build_tfp3d(scene, dt, geom)
     loading = loading_of(scene, dt)
     gz = vertical_loading_of(scene, dt, loading)
-    if gz is not None:
-        k = liftoff_step(geom, gz.a_step)
-        if k is not None:
-            ld = scene["loading"]
-            key = "loading.file_z" if ld.get("file_z") is not None else "loading.channels"
-            raise SceneError(f"{key}: the vertical ground acceleration reaches {gz.a_step[k] / geom.g:.4g} g at "
-                             f"t = {k * dt:.6g} s (g + a_z < 0): the TFP would lift off, which it does not model "
-                             "(a DFP or an SFP flies and lands); scale the vertical record down")
     axial = None
     if scene["loading"]["kind"] == "displacement":
         from fpd.loading.axial import AxialError, programme_of
@@ -458,9 +463,7 @@ def build_tfp(scene: Scene) -> Simulation:
         except AxialError as exc:
             raise SceneError(f"{exc} (loading.vertical_file)") from None
     mech = TFPStepper(geom, loading, model=scene["mechanics"]["model"], gz=gz, axial=axial)
-    statics = [static_mu(scene.friction(s)) for s in TFP_SURFACES]
-    if any(m > 0.0 or r > 0.0 for m, r in statics):
-        mech.set_static([m for m, _ in statics], [r for _, r in statics])
+    _tfp_statics(scene, mech)
     dev = scene["device"]
     feet = (dev["slider_diameter"] / 2, dev["pad_diameter"] / 2, dev["pad_diameter"] / 2, dev["slider_diameter"] / 2)
     pp = tuple(PlateParams(**scene.thermal(part), a_contact_m=a) for part, a in zip(TFP_PARTS, feet))
@@ -471,7 +474,7 @@ def build_tfp(scene: Scene) -> Simulation:
     if hasattr(loading, "record"):
         info["record"] = record_info(scene, loading)
     if gz is not None:
-        info["record_z"] = _record_info(gz, scene["loading"], loading)
+        info["record_z"] = vertical_info(gz, scene["loading"], loading)
     sim = Simulation(scene, dt, loading.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
     from .fast_loop import warm
     warm(sim)           # load the compiled engine now, not after the run's folder is made
@@ -488,6 +491,13 @@ def _tfp_parts(scene: Scene, dt: float):
     return pp, plates, laws, sub
 
 
+def _tfp_statics(scene: Scene, mech) -> None:
+    """The breakaway of S1..S4 (friction.mu_static, static_ratio, a liner's) on a TFP stepper."""
+    statics = [static_mu(scene.friction(s)) for s in TFP_SURFACES]
+    if any(m > 0.0 or r > 0.0 for m, r in statics):
+        mech.set_static([m for m, _ in statics], [r for _, r in statics])
+
+
 def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     """The TFP in both horizontal directions (mechanics/tfp3d.py): a record pair or a turned record."""
     from fpd.mechanics.tfp3d import TFP3DStepper
@@ -496,7 +506,14 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
     loading = bidirectional_loading_of(scene, dt)
     # an orbit (or a turned sine) on the test machine, or a ground-motion pair
     gx, gy = (loading, None) if ld["kind"] == "displacement" else loading
-    mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps))
+    # the vertical component (a record, a V2 file's vertical channel or a scaled copy of x as run): not turned
+    gz = vertical_loading_of(scene, dt, gx)
+    if scene["mechanics"]["model"] == "two-phase":
+        from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
+        mech = TFP3DTwoPhaseStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps, "tfp3d_two_phase_kernel"))
+    else:
+        mech = TFP3DStepper(geom, gx, gy, kernel=_tfp3d_kernel(gx.n_steps), az=None if gz is None else gz.a_step)
+    _tfp_statics(scene, mech)
     pp, plates, laws, sub = _tfp_parts(scene, dt)
     info = {"device": "TFP", "capacity_m": geom.capacity}
     for comp, g in (("record", gx), ("record_y", gy)):
@@ -504,15 +521,18 @@ def _build_tfp3d(scene: Scene, dt: float, geom) -> Simulation:
             info[comp] = _record_info(g, ld, gx)
     if "record" in info:
         info["record"]["angle_deg"] = ld["angle_deg"]
+    if gz is not None:
+        info["record_z"] = vertical_info(gz, ld, gx)
     return Simulation(scene, dt, gx.n_steps, geom, mech, laws, plates, pp, substeps=sub, info=info)
 
 
-def _tfp3d_kernel(n_steps: int):
-    """The compiled step of the TFP in both directions past a few hundred steps
-    (its Python step costs ~6 ms), when numba is there; else the pure one."""
+def _tfp3d_kernel(n_steps: int, name: str = "tfp3d_kernel"):
+    """The compiled step of the TFP in both directions (the kernel module
+    mechanics/<name>) past a few hundred steps (its Python step costs ~6 ms),
+    when numba is there; else the pure one."""
     from fpd import kernels
     if n_steps >= 500 and kernels.available():
-        return kernels.compiled("fpd.mechanics.tfp3d_kernel")
+        return kernels.compiled("fpd.mechanics." + name)
     return None
 
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 
 from fpd.mechanics import dev_two_phase as dev     # rebound per device (fpd.kernels.compiled(bind=))
-from fpd.mechanics.friction_kernel import law_mu, wear_step
+from fpd.tribology.friction_kernel import law_mu, wear_step
 from fpd.thermal import column_kernel as ck
 from fpd.thermal import lumped_kernel as lk
 

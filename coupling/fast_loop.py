@@ -1,7 +1,7 @@
 """simulate()'s compiled path: when to use it, and the driver.
 
 The staggered step with one thermal step per step, lumped / fe1d / no
-plates and friction laws of mechanics.friction runs in the coupled engine
+plates and friction laws of tribology.friction runs in the coupled engine
 (coupling/engine_kernel.run_chunk) compiled by fpd.kernels.compiled with the
 device bound (``bind={"dev": mech.engine_device}``), over ranges of steps;
 this module calls it in chunks that end at simulate()'s events (progress

@@ -13,7 +13,8 @@ import threading
 
 import numpy as np
 
-CHUNK_ROWS = 1 << 14        # rows per block handed over (37 columns: 4.8 MB)
+CHUNK_ROWS = 1 << 11        # rows per block handed over: the engine writes its rows into a block that
+                            # stays in the L2 cache (60 columns: 1 MB; 16384 rows cost the TFP 10 % more)
 
 
 @contextlib.contextmanager

@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 
-from fpd.mechanics.friction_kernel import wear_step
+from fpd.tribology.friction_kernel import wear_step
 from fpd.mechanics.phases import PHASES, MechanicsFailure
 
 from .build import Simulation

@@ -18,7 +18,7 @@ prints it). A first bearing from its datasheet: docs/tutorial.md.
 
 The names above are imported on first use, so ``import fpd`` itself stays
 cheap (no numpy, scipy or numba). The subpackages live at the top of the
-source repository (``mechanics/``, ``thermal/``, ``meshes/``, ``coupling/``,
+source repository (``loading/``, ``tribology/``, ``mechanics/``, ``machines/``, ``thermal/``, ``meshes/``, ``coupling/``,
 ``schema/``, ``outputs/``, ``studies/``, ``frontends/``, ``scenes/``) and are installed as ``fpd.mechanics``, ``fpd.thermal``, ...
 (pyproject's ``package-dir``). Run from a source checkout without an install,
 the repository root is added to this package's search path so that the same

@@ -138,6 +138,18 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "surface holds up to static_ratio times mu(T, p, v = 0), so the breakaway follows "
                                   "the temperature and pressure as the law does. With mu_static the larger holds. "
                                   "DFP, SFP, TFP and the flat bearing."),
+    "friction.mu_static_inf": ("", "The static coefficient after a long dwell: a surface stuck for a time t "
+                                   "holds up to mu_s(t) = mu_static_inf - (mu_static_inf - mu_s0) "
+                                   "exp(-(t / dwell_time_s)^dwell_exponent) (Kato, Sato and Matsubayashi 1972), "
+                                   "mu_s0 the static coefficient at zero dwell (mu_static, static_ratio, else the "
+                                   "sliding mu). Must be >= mu_s0 (at rest, 20 degC); needs dwell_time_s. The DFP "
+                                   "and the SFP: ground motions (planar and 3D, both models) and both test "
+                                   "machines (their steppers keep the time stuck per surface, from zero at the "
+                                   "run's start; loading.hold_s rests the bearing under its load before a test "
+                                   "machine's programme). Refused for the TFP and the flat bearing."),
+    "friction.dwell_time_s": ("s", "Time constant tau (> 0) of the static coefficient's growth with dwell "
+                                   "(mu_static_inf): 1 - 1/e of the growth after tau stuck (exponent 1)."),
+    "friction.dwell_exponent": ("", "Exponent m (> 0) of the dwell law, exp(-(t / tau)^m); 1 when absent."),
     "friction.wear_k_mm3_per_Nm": ("mm3/(N m)", "Archard wear coefficient k_w of the surface: the wear depth "
                                                 "grows by k_w p ds (p = N / contact area, ds the sliding path). "
                                                 "Absent: no wear columns."),
@@ -192,7 +204,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                "them. Not with a PEER .AT2 file (its header gives DT)."),
     "loading.record.baseline": ("", "Quadratic-velocity baseline correction of the integrated record "
                                     "(docs/model.md, Loading)."),
-    "loading.record.file_y": ("", "Bidirectional run (DFP, SFP; a TFP seated): a record file of the y component (path relative to "
+    "loading.record.file_y": ("", "Bidirectional run (DFP, SFP, TFP): a record file of the y component (path relative to "
                                   "the scene file, the formats of file), scaled by scale and baseline-corrected "
                                   "like x; not with a packaged pair (record = \"impvall-1979-e11\" has both "
                                   "components). The x record sets the length; after a shorter y record the "
@@ -205,17 +217,16 @@ KEYS: dict[str, tuple[str, str]] = {
                                   "solver.duration) sets the length, after a shorter vertical record the ground "
                                   "stops accelerating vertically. Every normal force, friction cap, the heat, the "
                                   "pad's rocking check (the flat bearing's tipping check) and the ledger see g + a_z "
-                                  "(docs/model.md 10). The TFP does not lift off: a record with g + a_z < 0 is "
-                                  "refused before the run. Refused when the record's channels already give z."),
-    "loading.record.vertical_scale": ("", "DFP, SFP, flat bearing: the vertical ground acceleration as this "
+                                  "(docs/model.md 10); the TFP planar and in both directions. Where g + a_z < 0 the "
+                                  "moving parts lift off and land. Refused when the record's channels already give z."),
+    "loading.record.vertical_scale": ("", "DFP, SFP, TFP, flat bearing: the vertical ground acceleration as this "
                                           "factor times the horizontal (x) one as run (after scale, "
                                           "target_pga_g, baseline and the pair's angle), up; e.g. 0.67 for the "
                                           "common two-thirds rule. Only where named (never a default; a FEMA "
                                           "P695 set member has no vertical otherwise); not with file_z or a "
                                           "record's vertical channel (one vertical component); non-zero. The "
                                           "run is then one under a vertical record (columns, lift-off, "
-                                          "docs/model.md 10; summary record_z names the copy). Not yet for the "
-                                          "TFP (give file_z)."),
+                                          "docs/model.md 10; summary record_z names the copy)."),
     "loading.record.channels": ("", "A three-channel CSMIP V2 record (record = \"ferndale-2022\", or a .v2 file): "
                                     "the channels to run, by number; horizontal channels go on x then y in the "
                                     "order given, the vertical one on z. Default: all three in file order ([1, 2, "
@@ -223,7 +234,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                     "the vertical in the plane, [1, 2] the horizontal pair alone. A V2 file must "
                                     "carry exactly two horizontal channels (\"<azimuth> Deg\") and one vertical "
                                     "(\"Up\"); otherwise it is refused naming what it has."),
-    "loading.record.angle_deg": ("deg", "DFP, SFP, TFP (seated): turns the ground-motion pair (x towards y) by this angle before the "
+    "loading.record.angle_deg": ("deg", "DFP, SFP, TFP: turns the ground-motion pair (x towards y) by this angle before the "
                                         "run; non-zero with a single component makes the run bidirectional "
                                         "(the record along the turned direction)."),
     "loading.amplitude_m": ("m", "Amplitude of the sine."),
@@ -238,8 +249,10 @@ KEYS: dict[str, tuple[str, str]] = {
                                           'u = A (sin w t, sin(2 w t) / 2); A = amplitude_m, w = 2 pi '
                                           'frequency_Hz. circle and figure-eight are bidirectional orbits '
                                           '(DFP, SFP, TFP; docs/bidirectional.md, section 3). "triangle": constant '
-                                          'speed 4 A f from 0 towards +A, to -A and back (planar DFP, SFP).'),
-    "loading.displacement.direction_deg": ("deg", "DFP, SFP, TFP: direction of the sine in the plane, from x towards y; "
+                                          'speed 4 A f from 0 towards +A, to -A and back, along direction_deg (DFP, '
+                                          'SFP: a turned one runs the orbit machine).'),
+    "loading.displacement.direction_deg": ("deg", "DFP, SFP, TFP: direction of the sine (DFP, SFP: or the triangle) "
+                                                  "in the plane, from x towards y; "
                                                   "non-zero makes the run bidirectional. Not used by circle "
                                                   "and figure-eight."),
     "loading.displacement.vertical": ("", '"constant": the machine\'s vertical actuator holds the load at W = M g '
@@ -274,12 +287,19 @@ KEYS: dict[str, tuple[str, str]] = {
                                                           '(> 0; required).'),
     "loading.displacement.vertical_phase_deg": ("deg", 'vertical = "sine": the phase of the axial load\'s sine '
                                                         'at t = 0 (default 0: N(0) = W, rising).'),
-    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP, planar machine): a spring "
-                                                          "of this stiffness between the machine's imposed position "
-                                                          "and the plate, which then moves by its own dynamics "
-                                                          "(stick-slip; docs/model.md 11.3). F_N is the link's force. "
-                                                          "Needs link_mass_kg."),
+    "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP; a straight programme, "
+                                                          "waveform sine or triangle: the planar machine with the "
+                                                          "load held, a turned one the orbit machine with the riding "
+                                                          "mass): a spring of this stiffness between the machine's "
+                                                          "imposed position and the plate, which then moves by its "
+                                                          "own dynamics (stick-slip; docs/model.md 11.3). F_N (Fx_N, "
+                                                          "Fy_N) is the link's force. Needs link_mass_kg."),
     "loading.displacement.link_mass_kg": ("kg", "The mass of the plate the compliant link drives."),
+    "loading.displacement.hold_s": ("s", "The machine holds the start position this long (rounded to whole steps) "
+                                         "before the programme starts: the bearing rests under its load, so the "
+                                         "first breakaway comes after that dwell (friction.mu_static_inf); the "
+                                         "programme then starts with its launch speed. The DFP / SFP test "
+                                         "machines, planar and orbit."),
     "loading.displacement.vertical_file": ("", 'vertical = "series": a text file of (time s, load N) rows, two '
                                                'numbers a line (whitespace or a comma; # comments), times '
                                                'increasing, loads > 0, covering the run from t = 0; linear '
@@ -301,8 +321,8 @@ KEYS: dict[str, tuple[str, str]] = {
     # [mechanics]
     "mechanics.model": ("", '"two-phase": the paper\'s rigid-body stepper (stick/slip/tilt, pad rocking); '
                             '"seated": the classical seated model (the pad never tilts). A displacement loading '
-                            'always uses the seated test machine (a TFP: either model in the machine too). The '
-                            'flat bearing has its seated model only ("two-phase" is refused).'),
+                            'always uses the seated test machine (a TFP: either model in the machine too, and in '
+                            'both directions: a record pair, a turned record or an orbit). The flat bearing has its seated model only ("two-phase" is refused).'),
     "mechanics.normal_force": ("", 'The normal forces of a step: "midpoint" (the default): at the step '
                                    'midpoint, inside the fixed point (second order); "start": frozen at the '
                                    'start of the step, the velocity projected on re-seating (the paper\'s '
@@ -503,20 +523,23 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
     "az_mps2": ("m/s2", "Vertical ground acceleration, up (the step's mean, the field is g + az_mps2): a run with a "
                         "vertical record only (loading.file_z, or a three-channel record's vertical channel)."),
-    "lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: height of the moving assembly (superstructure and pad) "
-                    "above its seat, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
+    "lift_m": ("m", "DFP / SFP / TFP / flat bearing under a vertical record: height of the moving assembly "
+                    "(superstructure and pad; the TFP's with its slider plates) above its seat, 0 while seated: when g + az_mps2 < 0 it leaves the lower plate "
                     "and flies ballistically relative to the ground until it lands (docs/model.md 10); z_m "
                     "includes it. The flat bearing's slips go on friction-free; the DFP / SFP's superstructure "
                     "flies from its take-off position and velocity (u_m / ux_m, uy_m, v_m follow the flight; "
                     "the tilt and footprint columns keep the take-off's), its height measured above the seat "
-                    "under its flown position."),
-    "n_lift": ("", "DFP / SFP / flat bearing under a vertical record: lift-offs so far."),
-    "t_flight_s": ("s", "DFP / SFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "
+                    "under its flown position. The TFP's stack and superstructure fly as one unit (its "
+                    "tilt columns keep the take-off's; the seat under it holds the pad's tilt)."),
+    "n_lift": ("", "DFP / SFP / TFP / flat bearing under a vertical record: lift-offs so far."),
+    "t_flight_s": ("s", "DFP / SFP / TFP / flat bearing under a vertical record: time spent in flight so far (no contact: normal "
                         "forces, friction, heat and the force on the ground are 0)."),
-    "E_land_J": ("J", "DFP / SFP / flat bearing under a vertical record: cumulative energy taken by the landings after a "
+    "E_land_J": ("J", "DFP / SFP / TFP / flat bearing under a vertical record: cumulative energy taken by the landings after a "
                       "lift-off (plastic: the velocity normal to the seat is stopped, (M + m) v_n^2 / 2 at "
                       "touch-down; the DFP / SFP: the tangential velocity kept, the pad's share of order m / M "
-                      "included, and at take-off the pad's motion relative to the superstructure stopped)."),
+                      "included, and at take-off the pad's motion relative to the superstructure stopped; the "
+                      "TFP: at take-off the bodies' motion relative to each other stopped, at landing the "
+                      "velocity projected onto the seated motions with the pad's tilt held)."),
     "J_rim_Ns": ("N s", "Impulse of the rim impacts of the step on the superstructure (0 in a step without "
                          "one); a rim impact is an impulse, kept out of F_N, which stays the sliding response's "
                          "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
@@ -552,6 +575,21 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "gamma1_rad": ("rad", "TFP two-phase: phase-1 rotation of the slider plates and the frozen pad about "
                           "the lower slider plate's trailing corner on S1 (Fig. 6e-n, 7b)."),
     "gamma2_rad": ("rad", "TFP two-phase: phase-3 re-seating rotation of the slider plates, dphi - gamma1."),
+    "beta1x_rad": ("rad", "TFP two-phase in both directions: x component of the pad's phase-1 pivot as a tilt "
+                          "vector along its slide (the planar beta1 in the plane of the pad's axis and its "
+                          "slide, about the corner on S2 trailing it)."),
+    "beta1y_rad": ("rad", "TFP two-phase in both directions: y component of the pad's phase-1 pivot."),
+    "beta2x_rad": ("rad", "TFP two-phase in both directions: x component of the pad's re-seating rotation "
+                          "(its arc |L(alpha) dalpha| less beta1, along its slide)."),
+    "beta2y_rad": ("rad", "TFP two-phase in both directions: y component of the pad's re-seating rotation."),
+    "gamma1x_rad": ("rad", "TFP two-phase in both directions: x component of the slider plates' phase-1 pivot "
+                           "(the planar gamma1 in the plane of their slide, the pad's tilt taken in that "
+                           "plane), a tilt vector along the slide."),
+    "gamma1y_rad": ("rad", "TFP two-phase in both directions: y component of the slider plates' phase-1 pivot."),
+    "gamma2x_rad": ("rad", "TFP two-phase in both directions: x component of the slider plates' re-seating "
+                           "rotation (their arc |L(phi) dphi| less gamma1, along their slide)."),
+    "gamma2y_rad": ("rad", "TFP two-phase in both directions: y component of the slider plates' re-seating "
+                           "rotation."),
     "diagonal_plates": ("", "TFP two-phase: diagonal of the slider plates' phase-1 pivot: 0 = the corner "
                             "behind a slide towards +x, 1 = on the way back."),
     "phases": ("", "TFP two-phase: the paper's phases in the step: 0 stick, 2 one pair of surfaces slid "
@@ -631,12 +669,12 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "peak_slide_m.S4": ("m", "TFP: peak |s4_m|, the farthest the slider went on S4."),
     "reseat_loss_J": ("J", "Re-seating loss (final E_reseat_J; two-phase)."),
     "rim_loss_J": ("J", "Energy taken by the rims (final E_rim_J)."),
-    "lift_off.count": ("", "DFP / SFP / flat bearing under a vertical record: number of lift-offs (final n_lift)."),
-    "lift_off.flight_time_s": ("s", "DFP / SFP / flat bearing under a vertical record: total time in flight (final "
+    "lift_off.count": ("", "DFP / SFP / TFP / flat bearing under a vertical record: number of lift-offs (final n_lift)."),
+    "lift_off.flight_time_s": ("s", "DFP / SFP / TFP / flat bearing under a vertical record: total time in flight (final "
                                     "t_flight_s)."),
-    "lift_off.peak_lift_m": ("m", "DFP / SFP / flat bearing under a vertical record: the highest the moving assembly rose "
+    "lift_off.peak_lift_m": ("m", "DFP / SFP / TFP / flat bearing under a vertical record: the highest the moving assembly rose "
                                   "above its seat (peak lift_m)."),
-    "lift_off.landing_loss_J": ("J", "DFP / SFP / flat bearing under a vertical record: energy taken by the landings (final "
+    "lift_off.landing_loss_J": ("J", "DFP / SFP / TFP / flat bearing under a vertical record: energy taken by the landings (final "
                                      "E_land_J)."),
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
     "rim_impacts.lower": ("", "DFP / SFP / flat bearing: number of rim impacts on the lower surface (final n_rim1)."),

@@ -86,13 +86,16 @@ def stale_descriptions() -> list[str]:
 # names): a new stepper or loop with its own columns adds a line here
 COLUMN_SOURCES = (
     "fpd.coupling.run:CANONICAL",
-    "fpd.mechanics.seated:SEATED_COLUMNS",
+    "fpd.machines.seated:SEATED_COLUMNS",
     "fpd.mechanics.two_phase:COLUMNS",
     "fpd.mechanics.bidirectional:COLUMNS",
     "fpd.mechanics.bidirectional:VERTICAL_COLUMNS",
     "fpd.mechanics.tfp:COLUMNS",
     "fpd.mechanics.tfp:TWO_PHASE_COLUMNS",
+    "fpd.mechanics.tfp:VERTICAL_COLUMNS",
     "fpd.mechanics.tfp3d:COLUMNS",
+    "fpd.mechanics.tfp3d:VERTICAL_COLUMNS",
+    "fpd.mechanics.tfp3d_two_phase:TWO_PHASE_COLUMNS",
     "fpd.mechanics.flat:COLUMNS",
     "fpd.coupling.fast_loop:WEAR_COLUMNS",
 )
@@ -271,6 +274,47 @@ _OUTPUTS = """\
 """
 
 
+LINER_BEGIN = "<!-- liner presets: generated from tribology/friction.py LINERS (fpd.frontends.reference) -->"
+LINER_END = "<!-- end of the generated liner presets -->"
+
+
+def liner_markdown() -> list[str]:
+    """The liner presets (tribology.friction.LINERS) as markdown: their values,
+    per value its source and what the source states (or the basis used where
+    none states the number), and the references in full. docs/reference.md
+    and docs/liners.md carry it (tests/test_tribology.py checks the latter)."""
+    from fpd.tribology.friction import LINER_SOURCES, LINERS
+
+    keys = []
+    for preset in LINERS.values():
+        keys += [k for k in preset["values"] if k not in keys]
+    out = ["| preset | " + " | ".join(keys) + " |", "|---|" + "---|" * len(keys)]
+    for name, preset in LINERS.items():
+        cells = []
+        for k in keys:
+            if k not in preset["values"]:
+                cells.append("(none)")
+                continue
+            src = preset["sources"][k]
+            mark = "" if src["stated"] else "*"
+            cells.append(f"{_value(preset['values'][k]).strip('`')}{mark} [{src['ref'] or 'no source'}]")
+        out.append(f"| `{name}` | " + " | ".join(cells) + " |")
+    out.append("")
+    out.append("`*`: a number no source states as such: a pick inside what the source reports, or the basis "
+               "given below where no published value was found. Per value:\n")
+    out.append("| preset | key | value | source | stated there | what the source says; the basis used |")
+    out.append("|---|---|---|---|---|---|")
+    for name, preset in LINERS.items():
+        for k, v in preset["values"].items():
+            src = preset["sources"][k]
+            out.append(f"| `{name}` | `{k}` | {_value(v)} | {src['ref'] or 'none'} | "
+                       f"{'yes' if src['stated'] else 'no'} | {_cell(src['note'])} |")
+    out.append("")
+    out.append("References:\n")
+    out += [f"- [{k}] {_cell(text)}" for k, text in LINER_SOURCES.items()]
+    return out
+
+
 def generate() -> str:
     out = [_INTRO.format(regen=REGENERATE), _CLI_RULES]
     for name, text in command_help():
@@ -307,6 +351,9 @@ def generate() -> str:
     out.append("#### Every law: breakaway, wear, liner presets\n")
     out.append("Per surface beside the law's keys (docs/liners.md has the presets and their sources):\n")
     out += key_table([k for k in keys if k[1] == "friction.liner" or k[1][len("friction."):] in scn.SURFACE_KEYS])
+    out.append("")
+    out.append("#### Liner presets and their sources\n")
+    out += liner_markdown()
     out.append("")
     out.append("### `[loading]`\n")
     out.append("`kind` picks the keys. Packaged records (`record = ...`): "

@@ -13,7 +13,7 @@ force control while the horizontal displacement is imposed.
   linearly onto the solver grid; it must cover the run and keep N > 0.
 
 The programme is one function of time, ``AxialProgramme.at(t)``: the
-stepper takes it on its grid (mechanics/seated.py SeatedTestMachine, the
+stepper takes it on its grid (machines/seated.py SeatedTestMachine, the
 kernel's GV = N / M per grid point) and the cycle meter over the recorded
 rows' times (outputs/cycles.py, the mean axial load per cycle).
 """

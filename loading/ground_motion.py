@@ -188,16 +188,10 @@ def parse_two_column(text: str, path="<record>", units: str = "g") -> Record:
     t, a = [], []
     header = []
     started = False
-    for j, line in enumerate(text.splitlines(), start=1):
-        s = line.strip()
-        if not s or s.startswith("#"):
-            continue
-        toks = s.replace(",", " ").replace(";", " ").split()
-        try:
-            row = [float(x) for x in toks]
-        except ValueError:
+    for j, s, toks, row in _lines(text):
+        if row is None:
             if started:
-                raise RecordError(path, f"'{s[:40]}' is not two numbers (time, acceleration)", j) from None
+                raise RecordError(path, f"'{s[:40]}' is not two numbers (time, acceleration)", j)
             header.append(s)
             continue
         if len(row) != 2:
@@ -231,17 +225,26 @@ def guess_format(text: str) -> str:
 def _first_data_line(text: str):
     """(line number, number of values) of the first all-numeric line after
     any leading header lines (comments '#' and blank lines skipped), or None."""
+    for j, _s, toks, row in _lines(text):
+        if row is not None:
+            return j, len(toks)
+    return None
+
+
+def _lines(text: str):
+    """(line number, stripped line, its tokens, their values or None when one
+    is not a number) of each line that is neither blank nor a '#' comment;
+    commas and semicolons separate values as spaces do."""
     for j, line in enumerate(text.splitlines(), start=1):
         s = line.strip()
         if not s or s.startswith("#"):
             continue
         toks = s.replace(",", " ").replace(";", " ").split()
         try:
-            [float(x) for x in toks]
+            row = [float(x) for x in toks]
         except ValueError:
-            continue
-        return j, len(toks)
-    return None
+            row = None
+        yield j, s, toks, row
 
 
 def parse_samples(text: str, path="<record>", dt: float = 0.0, units: str = "g") -> Record:
@@ -252,18 +255,12 @@ def parse_samples(text: str, path="<record>", dt: float = 0.0, units: str = "g")
     k dt, k = 0, 1, ..."""
     a, header = [], []
     started = False
-    for j, line in enumerate(text.splitlines(), start=1):
-        s = line.strip()
-        if not s or s.startswith("#"):
-            continue
-        toks = s.replace(",", " ").replace(";", " ").split()
-        try:
-            row = [float(x) for x in toks]
-        except ValueError:
+    for j, s, toks, row in _lines(text):
+        if row is None:
             if started:
                 bad = next(x for x in toks if not _is_float(x))
                 raise RecordError(path, f"'{bad[:30]}' is not a number (acceleration samples, loading.dt "
-                                  f"= {dt:g} s)", j) from None
+                                  f"= {dt:g} s)", j)
             header.append(s)
             continue
         for tok, x in zip(toks, row):
@@ -694,6 +691,26 @@ def triangle_programme(amplitude_m, frequency_Hz, cycles, dt, duration=None) -> 
     return DisplacementProgramme(
         name=f"triangle {amplitude_m:g} m {frequency_Hz:g} Hz x {cycles:g}", dt=dt, t=t,
         u=u, ud=np.where(on, ud, 0.0), udd=zero, ud_smooth=ud_s, udd_smooth=zero)
+
+
+def held_programme(prog: DisplacementProgramme, hold_s: float) -> DisplacementProgramme:
+    """The programme after a hold: the machine keeps the start position, at
+    rest, for hold_s (rounded to whole steps; the bearing dwells under its
+    load), then runs ``prog`` (built for the time left)."""
+    nh = int(round(hold_s / prog.dt))
+    if nh == 0:
+        return prog
+    z = np.zeros(nh)
+
+    def pre(x, first):
+        return np.concatenate([np.full(nh, first), np.asarray(x, dtype=float)])
+
+    uds = prog.ud if prog.ud_smooth is None else prog.ud_smooth
+    udds = prog.udd if prog.udd_smooth is None else prog.udd_smooth
+    return DisplacementProgramme(
+        name=f"hold {nh * prog.dt:g} s, {prog.name}", dt=prog.dt, t=np.arange(len(prog.t) + nh) * prog.dt,
+        u=pre(prog.u, float(prog.u[0])), ud=np.concatenate([z, prog.ud]), udd=np.concatenate([z, prog.udd]),
+        ud_smooth=np.concatenate([z, uds]), udd_smooth=np.concatenate([z, udds]))
 
 
 def pulse_ground_motion(shape, velocity_mps, period_s, t0_s, duration, dt) -> GroundMotion:

@@ -6,6 +6,8 @@ prescribed relative displacement u(t) = (ux, uy) with its exact rates.
   constant speed, starting at (A, 0) (the machine places the bearing there
   and launches it: that energy is input at t = 0);
 - ``figure-eight``: u = A (sin(w t), sin(2 w t) / 2), through the centre.
+- ``triangle``: a triangle wave of amplitude A along (cos d, sin d)
+  (constant speed 4 A f, from 0 towards +A): a straight orbit.
 
 After ``cycles`` cycles the machine holds the last position (u' = u'' = 0).
 """
@@ -16,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-WAVEFORMS = ("sine", "circle", "figure-eight")
+WAVEFORMS = ("sine", "circle", "figure-eight", "triangle")
 
 
 @dataclass
@@ -51,6 +53,15 @@ def orbit_programme(waveform: str, amplitude_m: float, frequency_Hz: float, cycl
         u = np.outer(A * s, e)
         ud = np.outer(on * A * w * c, e)
         udd = np.outer(-on * A * w * w * s, e)
+    elif waveform == "triangle":
+        d = math.radians(direction_deg)
+        e = np.array([math.cos(d), math.sin(d)])
+        p = np.mod(tt * frequency_Hz, 1.0)
+        tri = np.where(p < 0.25, 4.0 * p, np.where(p < 0.75, 2.0 - 4.0 * p, 4.0 * p - 4.0))
+        slope = np.where((p < 0.25) | (p >= 0.75), 1.0, -1.0) * 4.0 * frequency_Hz
+        u = np.outer(A * tri, e)
+        ud = np.outer(on * A * slope, e)
+        udd = np.zeros_like(u)
     elif waveform == "circle":
         u = A * np.column_stack([c, s])
         ud = on[:, None] * A * w * np.column_stack([-s, c])
@@ -63,3 +74,17 @@ def orbit_programme(waveform: str, amplitude_m: float, frequency_Hz: float, cycl
     name = f"{waveform} {A:g} m {frequency_Hz:g} Hz x {cycles:g}"
     return OrbitProgramme(name, dt, t, np.ascontiguousarray(u), np.ascontiguousarray(ud),
                           np.ascontiguousarray(udd))
+
+
+def held_orbit(prog: OrbitProgramme, hold_s: float) -> OrbitProgramme:
+    """The orbit after a hold: the machine keeps the start position, at rest,
+    for hold_s (rounded to whole steps; the bearing dwells under its load),
+    then runs ``prog`` (built for the time left) and launches the bearing."""
+    nh = int(round(hold_s / prog.dt))
+    if nh == 0:
+        return prog
+    z = np.zeros((nh, 2))
+    u = np.concatenate([np.repeat(prog.u[:1], nh, axis=0), prog.u])
+    return OrbitProgramme(f"hold {nh * prog.dt:g} s, {prog.name}", prog.dt, np.arange(len(prog.t) + nh) * prog.dt,
+                          np.ascontiguousarray(u), np.ascontiguousarray(np.concatenate([z, prog.ud])),
+                          np.ascontiguousarray(np.concatenate([z, prog.udd])))

@@ -26,7 +26,7 @@ from .geometry import DeviceGeometry
 from fpd.loading.ground_motion import as_float64, float_array
 from .phases import DIAGONAL_AC, MechanicsFailure
 from .protocol import TwoInterfaces
-from .seated import SEATED_COLUMNS
+from .phases import SEATED_COLUMNS
 from .two_phase import COLUMNS as PLANAR_COLUMNS, pivot_chain
 
 K = _pure
@@ -158,6 +158,15 @@ class _Base(TwoInterfaces):
         C_MUS1, C_MUS2, C_MUR1, C_MUR2)."""
         self.C[K.C_MUS1], self.C[K.C_MUS2] = float(mu_s1), float(mu_s2)
         self.C[K.C_MUR1], self.C[K.C_MUR2] = float(ratio1), float(ratio2)
+
+    def set_dwell(self, lower: tuple, upper: tuple) -> None:
+        """The static coefficients' growth with the time stuck, per surface (mu_s
+        after a long dwell, time constant tau in s, exponent; tau = 0: none):
+        bidirectional_kernel C_MUI1.., friction_kernel.dwell_mu. The time stuck
+        starts at zero with the run."""
+        C = self.C
+        C[K.C_MUI1], C[K.C_TAU1], C[K.C_EXP1] = (float(x) for x in lower)
+        C[K.C_MUI2], C[K.C_TAU2], C[K.C_EXP2] = (float(x) for x in upper)
 
     def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0,
                 stiffness: float | None = None) -> None:
@@ -380,75 +389,3 @@ class BidirectionalStepper(_Base):
         if self.n < n1:
             raise _failure(K.FLAG_OVERTURN, self.n * self.dt)
         return out
-
-
-class BidirectionalTestMachine(_Base):
-    """Seated DFP/SFP in a bearing-test machine driven along a planar orbit
-    (loading.orbits.OrbitProgramme). F_N components are the restraint's
-    horizontal force; the normal forces include its axial share."""
-
-    def __init__(self, geom: DeviceGeometry, programme, jit: bool | None = None, axial=None):
-        """axial: None (the superstructure rides on the bearing with its weight
-        and inertia), or an axial-load programme (loading.axial.AxialProgramme:
-        "constant" W, "sine", "series") the vertical actuator holds in force
-        control: the superstructure has no inertia, N(t) takes the place of
-        M g in the normal forces and the restoring moment, and the
-        actuator's work beyond the weight's is input."""
-        u0, v0 = programme.u[0], programme.ud[0]
-        self._setup(geom, programme.dt, programme.n_steps, True, jit,
-                    u0=(float(u0[0]), float(u0[1])), v0=(float(v0[0]), float(v0[1])), seated=True)
-        self.prog = programme
-        self._U = np.ascontiguousarray(programme.u, dtype=float)
-        self._UD = np.ascontiguousarray(programme.ud, dtype=float)
-        self._UDD = np.ascontiguousarray(programme.udd, dtype=float)
-        self._GV = np.full(1, geom.g)
-        self.axial = axial
-        if axial is not None:
-            self._GV = np.ascontiguousarray(axial.at(np.asarray(programme.t, dtype=float)) / geom.mass, dtype=float)
-            C, S = self.C, self.S
-            C[K.C_AXIAL] = 1.0
-            C[K.C_I] = geom.I - geom.mass * geom.L ** 2
-            C[K.C_SIN] = geom.S - geom.mass * geom.L
-            Ek, Ep = _pure.energies(C, S)
-            S[K.S_EIN] = Ek + Ep        # the launch's kinetic energy without the held superstructure's
-            nz = S[K.S_NZ]
-            S[K.S_N2] = geom.mass * self._GV[0] * -nz
-            S[K.S_N1] = S[K.S_N2] + geom.pad_mass * geom.g * -nz
-        self.normal_force = "seated"
-
-    def set_static(self, mu_s1: float, mu_s2: float, ratio1: float = 0.0, ratio2: float = 0.0) -> None:
-        """As the stepper's; the bearing starts at rest (stuck) before the
-        programme launches it, so its first step breaks it away."""
-        super().set_static(mu_s1, mu_s2, ratio1, ratio2)
-        self.S[K.S_MODE] = K.STICK
-
-    def ground_position(self):
-        # the lower plate moves by -u
-        return (-float(self._U[self.n, 0]), -float(self._U[self.n, 1]))
-
-    # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
-    engine_device = "fpd.mechanics.dev_orbit_machine"
-
-    def engine_state(self):
-        """(C, S, L, X) as the engine reads them: the stepper's own arrays (it
-        steps with the compiled kernel from now on), the programme (u, u',
-        u'' per grid point), no scratch. ImportError without numba."""
-        self.use_compiled()
-        if not self.compiled:
-            raise ImportError("numba is not available")
-        return self.C, self.S, (self._U, self._UD, self._UDD, self._GV), (np.zeros(1),)
-
-    def engine_pull(self, S) -> None:
-        """Nothing to copy: the engine steps the stepper's own state."""
-
-    def engine_push(self, S, n: int) -> None:
-        self.n = n
-
-    def step(self, mu1: float, mu2: float) -> tuple[float, float]:
-        if self.n >= self.n_steps:
-            raise IndexError(f"all {self.n_steps} steps of the loading are taken")
-        S = self.S
-        W1, W2 = S[K.S_W1], S[K.S_W2]
-        self._K.machine_step(self.C, S, self._U, self._UD, self._UDD, self._GV, self.n, mu1, mu2)
-        self.n += 1
-        return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)

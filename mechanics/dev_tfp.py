@@ -37,8 +37,13 @@ def step(C, S, L, X, n, dt, mu, dW):
     az = 0.0
     if C[tk.I_VERT] != 0.0:
         az = L[5][n - 1]
-    fail = tk.advance(C, S, dt, L[0][n - 1], az, mu[0], mu[1], mu[2], mu[3], machine, L[1][n], L[2][n],
-                      X[0], X[1], X[2], X[3], X[4])
+    if C[tk.I_VERT] == 1.0:
+        # a vertical ground motion: the step may lift the stack off and land it
+        fail = tk.advance_vertical(C, S, dt, L[0][n - 1], az, mu[0], mu[1], mu[2], mu[3], machine, L[1][n],
+                                   L[2][n], X[0], X[1], X[2], X[3], X[4])
+    else:
+        fail = tk.advance(C, S, dt, L[0][n - 1], az, mu[0], mu[1], mu[2], mu[3], machine, L[1][n], L[2][n],
+                          X[0], X[1], X[2], X[3], X[4])
     for i in range(4):
         dW[i] = S[tk.S_DW + i]
     return fail

@@ -35,8 +35,13 @@ def centre(C, S, i):
 
 
 def step(C, S, L, X, n, dt, mu, dW):
-    fail = k3.advance(C, S, dt, L[0][n - 1], L[1][n - 1], L[2][n - 1], mu[0], mu[1], mu[2], mu[3],
-                      int(L[10][0]), L[6][n], L[7][n], L[8][n], L[9][n], X[0], X[1])
+    if C[tk.I_VERT] == 1.0:
+        # a vertical ground motion: the step may lift the stack off and land it
+        fail = k3.advance_vertical(C, S, dt, L[0][n - 1], L[1][n - 1], L[2][n - 1], mu[0], mu[1], mu[2], mu[3],
+                                   int(L[10][0]), L[6][n], L[7][n], L[8][n], L[9][n], X[0], X[1])
+    else:
+        fail = k3.advance(C, S, dt, L[0][n - 1], L[1][n - 1], L[2][n - 1], mu[0], mu[1], mu[2], mu[3],
+                          int(L[10][0]), L[6][n], L[7][n], L[8][n], L[9][n], X[0], X[1])
     for i in range(4):
         dW[i] = S[k3.S_DW + i]
     return fail
@@ -48,3 +53,4 @@ def ok(C, S):
 
 def values(C, S, L, n, dt, row):
     k3.row_values(C, S, n * dt, L[3][n], L[4][n], row, L[5])
+    k3.vertical_row(C, S, L[2][n - 1] if n > 0 else 0.0, row, L[5])

@@ -17,7 +17,7 @@ tipping check as a flag), on the state vector S.
 """
 from . import bidirectional_kernel as bk
 from . import tfp_kernel as tk
-from .friction_kernel import holding_mu
+from fpd.tribology.friction_kernel import holding_mu
 from .phases import SLIP, STICK
 
 __kernel__ = True

@@ -11,6 +11,12 @@ STICK, SLIP, TILT = 0, 1, 2
 TFP_PHASES = PHASES + ("inner", "outer", "inner+outer")
 INNER, OUTER, BOTH = 3, 4, 5
 
+# the seated DFP / SFP model's columns in the plane (the planar test machine's; the stepper in both
+# directions writes them for a planar run)
+SEATED_COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
+                  "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J", "phase",
+                  "E_input_J", "E_kin_J", "E_pot_J")
+
 # Loaded pad diagonal of the two-phase step: pivot A with top corner C for
 # motion to +x, pivot B with top corner D on reversal (paper, Fig. 4e-h).
 DIAGONALS = ("A-C", "B-D")

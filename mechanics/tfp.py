@@ -41,7 +41,7 @@ COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
 TWO_PHASE_COLUMNS = ("E_reseat_J", "beta1_rad", "beta2_rad", "gamma1_rad", "gamma2_rad",
                      "diagonal", "diagonal_plates", "phases")
 # a loading with a vertical component (docs/model.md 10): the step's vertical ground acceleration, last
-VERTICAL_COLUMNS = ("az_mps2",)
+VERTICAL_COLUMNS = ("az_mps2", "lift_m", "n_lift", "t_flight_s", "E_land_J")
 
 
 @dataclass(frozen=True)
@@ -209,14 +209,6 @@ class TFPFailure(MechanicsFailure):
     pass
 
 
-def liftoff_step(geom: TFPGeometry, az):
-    """The first step whose vertical field g + a_z is negative (the stack
-    would leave its lower plate), or None."""
-    import numpy as np
-    k = np.flatnonzero(geom.g + np.asarray(az, dtype=float) < 0.0)
-    return int(k[0]) if len(k) else None
-
-
 class TFPStepper:
     """The rigid TFP under a ground motion (GroundMotion) or in the test
     machine (DisplacementProgramme: the superstructure's relative displacement
@@ -247,14 +239,10 @@ class TFPStepper:
             if gz.n_steps != loading.n_steps or gz.dt != loading.dt:
                 raise ValueError("the vertical ground motion must share the horizontal one's time grid")
             self._az = float_array(gz.a_step)
-            lift = liftoff_step(geom, self._az)
-            if lift is not None:
-                raise ValueError(f"g + a_z < 0 at t = {lift * loading.dt:.6g} s (a_z = "
-                                 f"{self._az[lift] / geom.g:.4g} g): the TFP would lift off, which is not "
-                                 "modelled for it (a DFP or an SFP flies and lands)")
             self.columns = self.columns + VERTICAL_COLUMNS
         self.geom = geom
         self.k = kernel if kernel is not None else K
+        self._ev = np.zeros(2)
         self.dt = loading.dt
         self.n_steps = loading.n_steps
         self.machine = hasattr(loading, "u")
@@ -353,10 +341,21 @@ class TFPStepper:
         return self._xg[self.n]
 
     def E_kin(self) -> float:
+        if self.par[K.I_VERT] == 1.0:           # in flight too (docs/model.md 10)
+            K.energies_vertical(self.par, self.S, self._ev)
+            return float(self._ev[0])
         return K.kinetic(self.par, self.alpha, float(self.S[2]), float(self.S[3]))
 
     def E_pot(self) -> float:
+        if self.par[K.I_VERT] == 1.0:
+            K.energies_vertical(self.par, self.S, self._ev)
+            return float(self._ev[1])
         return K.potential(self.par, self.phi, self.alpha)
+
+    @property
+    def E_land(self) -> float:
+        """Energy taken by the lift-offs and landings (docs/model.md 10)."""
+        return float(self.S[K.S_ELAND])
 
     @property
     def E_reseat(self) -> float:
@@ -364,7 +363,7 @@ class TFPStepper:
         return float(self.S[K.S_ERS])
 
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim + self.E_reseat)
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim + self.E_reseat + self.E_land)
 
     def values(self) -> tuple:
         g = self.geom
@@ -422,6 +421,10 @@ class TFPStepper:
         if self.machine:
             fail = self.k.advance(self.par, self.S, self.dt, self._a[n], az, mu1, mu2, mu3, mu4, 1,
                                   self._u[n + 1], self._ud[n + 1], self.out, self._M, self._w, self._tmp, self._sc)
+        elif self.par[K.I_VERT] == 1.0:
+            # a vertical ground motion: the step may lift the stack off and land it
+            fail = self.k.advance_vertical(self.par, self.S, self.dt, self._a[n], az, mu1, mu2, mu3, mu4, 0, 0.0,
+                                           0.0, self.out, self._M, self._w, self._tmp, self._sc)
         else:
             fail = self.k.advance(self.par, self.S, self.dt, self._a[n], az, mu1, mu2, mu3, mu4, 0, 0.0, 0.0,
                                   self.out, self._M, self._w, self._tmp, self._sc)
@@ -440,6 +443,9 @@ class TFPStepper:
         if fail == K.FAIL_FIXED_POINT:
             raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
                              "iterations (lower solver.dt)")
+        if fail == K.FAIL_LAND:
+            raise TFPFailure("the TFP would land from its flight beyond the outer surfaces' reach: a landing on "
+                             "the rims is not modelled (docs/model.md 10)")
         self.n = n + 1
         self.t = self.n * self.dt
         return tuple(float(x) for x in self.S[K.S_DW:K.S_DW + 4])

@@ -8,16 +8,19 @@ the slider plates (S2 and S3, R2 : R3). Friction on each surface is a vector
 opposing its slip, bounded by a disk; a step's increment is the minimiser of
 a small second-order cone program (tfp3d_kernel.socp). A run whose record has
 no y component is the planar TFP's to round-off; a record turned by an angle
-is the planar run turned.
+is the planar run turned. Under a vertical ground motion (az) every normal
+force, cap, the drive and the ledger see g + a_z, and when g + a_z < 0 the
+stack and the superstructure lift off, fly and land (docs/model.md 10).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from . import tfp3d_kernel as K
+from . import tfp_kernel as tk
 from fpd.loading.ground_motion import float_array
 from .phases import MechanicsFailure
-from .tfp import TFPGeometry
+from .tfp import TFPGeometry, TFPStepper
 
 COLUMNS = (
     "t_s", "xg_m", "yg_m", "ux_m", "uy_m", "u_m", "vx_mps", "vy_mps", "v_mps", "Fx_N", "Fy_N", "F_N", "z_m",
@@ -30,6 +33,8 @@ COLUMNS = (
     "fp_iterations", "kkt_rel",
 )
 assert len(COLUMNS) == K.N_ROW
+# a loading with a vertical component (docs/model.md 10): the step's vertical ground acceleration, last
+VERTICAL_COLUMNS = ("az_mps2", "lift_m", "n_lift", "t_flight_s", "E_land_J")
 
 
 class TFP3DFailure(MechanicsFailure):
@@ -38,7 +43,8 @@ class TFP3DFailure(MechanicsFailure):
 
 class TFP3DStepper:
     """The rigid TFP under a two-component ground motion (gx, gy: GroundMotion
-    on the same grid; gy None: the y component absent). ``step(mu1..mu4)``
+    on the same grid; gy None: the y component absent; az: the vertical ground
+    acceleration per step, up, or None). ``step(mu1..mu4)``
     advances one step and returns the friction work of S1..S4 in it; the
     state is one float64 vector (tfp3d_kernel.S_*)."""
 
@@ -73,13 +79,24 @@ class TFP3DStepper:
                 self._ay = np.zeros_like(self._ax)
                 self._yg = np.zeros_like(self._xg)
             self._ux = self._uy = self._udx = self._udy = np.zeros_like(self._xg)
-        self._az = np.zeros_like(self._ax) if az is None else float_array(az)
         self.par = geom.pack()
+        self._ev = np.zeros(2)
+        if az is None:
+            self._az = np.zeros_like(self._ax)
+        else:
+            # every normal force, cap, the heat, the drive and the ledger see g + a_z (docs/model.md 10)
+            if self.machine:
+                raise ValueError("the test machine takes no vertical ground motion")
+            self._az = float_array(az)
+            if len(self._az) != len(self._ax):
+                raise ValueError("the vertical ground motion must share the horizontal one's time grid")
+            self.par[tk.I_VERT] = 1.0
+            self.columns = COLUMNS + VERTICAL_COLUMNS
         self.S = np.zeros(K.N_S)
         self.N = self.S[K.S_N:K.S_N + 4]
         self.out = np.zeros(K.N_OUT)
         self._sc = np.zeros(K.N_SC)
-        self._row = np.zeros(K.N_ROW)
+        self._row = np.zeros(len(self.columns))
         self.n = 0
         self.t = 0.0
         if self.machine:
@@ -129,9 +146,15 @@ class TFP3DStepper:
                 (-g.R3 * q[2], -g.R3 * q[3]), (-g.R4 * q[0], -g.R4 * q[1]))
 
     def E_kin(self) -> float:
+        if self.par[tk.I_VERT] == 1.0:           # in flight too (docs/model.md 10)
+            K.energies_vertical(self.par, self.S, self._ev, self._sc)
+            return float(self._ev[0])
         return K.kinetic(self.par, self.S[0:4], self.S[4:8], self._sc)
 
     def E_pot(self) -> float:
+        if self.par[tk.I_VERT] == 1.0:
+            K.energies_vertical(self.par, self.S, self._ev, self._sc)
+            return float(self._ev[1])
         return K.potential(self.par, self.S[0:4])
 
     @property
@@ -139,12 +162,18 @@ class TFP3DStepper:
         """The kinetic energy the rim impacts took (J)."""
         return float(self.S[K.S_ERIM])
 
+    @property
+    def E_land(self) -> float:
+        """Energy taken by the lift-offs and landings (docs/model.md 10)."""
+        return float(self.S[K.S_ELAND])
+
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim)
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim + self.E_land)
 
     def values(self) -> tuple:
         n = self.n
         K.row_values(self.par, self.S, self.t, self._xg[n], self._yg[n], self._row, self._sc)
+        K.vertical_row(self.par, self.S, self._az[n - 1] if n > 0 else 0.0, self._row, self._sc)
         return tuple(self._row.tolist())
 
     def save(self):
@@ -181,18 +210,28 @@ class TFP3DStepper:
     def engine_push(self, S, n: int) -> None:
         self.n, self.t = n, n * self.dt
 
+    def set_static(self, mu_s, ratio) -> None:
+        """The breakaway of S1..S4, as the planar TFP's (TFPStepper.set_static:
+        the same slots of the same constants, read by tfp_kernel.holding_caps)."""
+        TFPStepper.set_static(self, mu_s, ratio)
+
     # -- the step ---------------------------------------------------------------------------
     def step(self, mu1: float, mu2: float, mu3: float, mu4: float) -> tuple:
         n = self.n
-        fail = self.k.advance(self.par, self.S, self.dt, self._ax[n], self._ay[n], self._az[n],
-                              mu1, mu2, mu3, mu4, 1 if self.machine else 0, self._ux[n + 1], self._uy[n + 1],
-                              self._udx[n + 1], self._udy[n + 1], self.out, self._sc)
+        # a vertical ground motion: the step may lift the stack off and land it
+        adv = self.k.advance_vertical if self.par[tk.I_VERT] == 1.0 else self.k.advance
+        fail = adv(self.par, self.S, self.dt, self._ax[n], self._ay[n], self._az[n],
+                   mu1, mu2, mu3, mu4, 1 if self.machine else 0, self._ux[n + 1], self._uy[n + 1],
+                   self._udx[n + 1], self._udy[n + 1], self.out, self._sc)
         if fail == K.FAIL_CAPACITY:
             raise TFP3DFailure("the test machine's force did not make the bearing follow the orbit "
                                "(Newton on the machine's force did not converge; lower solver.dt)")
         if fail == K.FAIL_RIM:
             raise TFP3DFailure("a surface reached its rim under the test machine: the TFP's machine in both "
                                "directions runs without rims (a smaller orbit)")
+        if fail == K.FAIL_LAND:
+            raise TFP3DFailure("the TFP would land from its flight beyond the outer surfaces' reach: a landing "
+                               "on the rims is not modelled (docs/model.md 10)")
         if fail == K.FAIL_FIXED_POINT:
             raise TFP3DFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
                                "iterations (lower solver.dt)")

@@ -40,8 +40,12 @@ __kernel__ = True
 # 0..7: phi_x, phi_y, alpha_x, alpha_y, and their rates
 S_F, S_W, S_EIN, S_ERIM, S_PHASE, S_REG, S_SLIDE, S_SV, S_DW, S_N = 8, 10, 14, 15, 16, 17, 18, 22, 26, 30
 S_ITER, S_KKT, S_EPS = 34, 35, 36          # fixed-point iterations, the step's KKT residual, its scale
-S_J, S_NHIT = 40, 42    # the step's rim impulse on the superstructure (x, y, N s); rim impacts of S1..S4 so far
-N_S = 46
+# lift-off (docs/model.md 10): in flight (1.0); the flying unit's displacement since take-off
+# (x, y, up) and its velocity relative to the ground; the landings' loss (J), the lift-offs'
+# count, the time spent in flight (s)
+S_FLY, S_XF, S_YF, S_ZF, S_VXF, S_VYF, S_VZF, S_ELAND, S_NLIFT, S_TFLY = 40, 41, 42, 43, 44, 45, 46, 47, 48, 49
+S_J, S_NHIT = 50, 52    # the step's rim impulse on the superstructure (x, y, N s); rim impacts of S1..S4 so far
+N_S = 56
 
 # -- step output -------------------------------------------------------------------------
 O_EIN, O_WO, O_WI, O_ITER, O_FAIL, O_ARR_O, O_ARR_I, O_KKT = 0, 1, 2, 3, 4, 5, 6, 7
@@ -51,6 +55,7 @@ O_RIM, O_DXR, O_HIT_O, O_HIT_I, O_ARRIVE = 16, 17, 19, 20, 21   # rim loss, u' j
 N_OUT = 24
 
 FAIL_NONE, FAIL_FIXED_POINT, FAIL_RIM, FAIL_CAPACITY = 0, 2, 4, 1
+FAIL_LAND = 5           # a flight would land beyond the outer surfaces' reach (not modelled)
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
@@ -258,9 +263,11 @@ def grad_f(par, q, p, agx, agy, az, blk, g, sc):
     """The gradient of f = V + ag . b + az b_z + T(., p) (p fixed) in the block
     blk (0: phi with alpha fixed, psi moving with it; 1: alpha) into g[0:2].
     sc: scratch >= 60 (M at sc[0:16], w at sc[16:20], L at sc[20:36])."""
-    mass_matrix(par, q, sc, sc[40:52])
-    chol_solve(sc, p, sc[16:20], sc[20:36])
-    w0, w1, w2, w3 = sc[16], sc[17], sc[18], sc[19]
+    w0, w1, w2, w3 = 0.0, 0.0, 0.0, 0.0
+    if p[0] != 0.0 or p[1] != 0.0 or p[2] != 0.0 or p[3] != 0.0:   # (p = 0: the two-phase model's)
+        mass_matrix(par, q, sc, sc[40:52])
+        chol_solve(sc, p, sc[16:20], sc[20:36])
+        w0, w1, w2, w3 = sc[16], sc[17], sc[18], sc[19]
     aa = par[tk.I_AA] + par[tk.I_JPHI]
     bb = par[tk.I_B] + par[tk.I_JPSI]
     K = par[tk.I_K]
@@ -947,6 +954,23 @@ def _jac(H, y, c1, c2, Dy, J, sc):
         J[2] += Dy[2 * i + 1] * sc[338 + i]
 
 
+def _force_trial(Hy, ry, Dy, c1, c2, ex, ey, F0, F1, y, sc):
+    """The machine's residual |Dy^T y(F) - e|^2 at the force (F0, F1), y(F)
+    the cone program's minimiser with r' + Dy F (into sc[368:372], started
+    from y), and whether the bearing is stuck there (y(F) = 0)."""
+    for i in range(4):
+        sc[360 + i] = ry[i] + Dy[2 * i] * F0 + Dy[2 * i + 1] * F1
+        sc[368 + i] = y[i]
+    socp(Hy, sc[360:364], c1, c2, sc[368:372], sc)
+    S0 = -ex
+    S1 = -ey
+    for i in range(4):
+        S0 += Dy[2 * i] * sc[368 + i]
+        S1 += Dy[2 * i + 1] * sc[368 + i]
+    stuck = sc[368] == 0.0 and sc[369] == 0.0 and sc[370] == 0.0 and sc[371] == 0.0
+    return S0 * S0 + S1 * S1, stuck
+
+
 def machine_force(Hy, ry, Dy, c1, c2, ex, ey, y, F, sc):
     """The test machine's force F (the multiplier of Dy^T y = e): Newton on
     R(F) = Dy^T y(F) - e, y(F) the cone program's minimiser with r' + Dy F
@@ -974,19 +998,39 @@ def machine_force(Hy, ry, Dy, c1, c2, ex, ey, y, F, sc):
         d1 = (j11 * R1 - j12 * R0) / det
         f0, f1 = F[0], F[1]
         lam = 1.0
+        if y[0] == 0.0 and y[1] == 0.0 and y[2] == 0.0 and y[3] == 0.0:
+            # stuck at F (a reversal of the programme): R = -e on the whole stuck
+            # region, which the Newton step (the frictionless Jacobian's) does not
+            # leave; the step is stretched until it leaves it, then bisected to a
+            # force with a smaller residual (a stuck trial: further; past: nearer)
+            lo, hi = 0.0, 1.0
+            found = False
+            for k in range(64):
+                S2, st = _force_trial(Hy, ry, Dy, c1, c2, ex, ey, f0 - hi * d0, f1 - hi * d1, y, sc)
+                if S2 < rn * rn:
+                    found = True
+                    break
+                if not st:
+                    break
+                lo = hi
+                hi *= 2.0
+            if not found:
+                for k in range(200):
+                    mid = 0.5 * (lo + hi)
+                    S2, st = _force_trial(Hy, ry, Dy, c1, c2, ex, ey, f0 - mid * d0, f1 - mid * d1, y, sc)
+                    if S2 < rn * rn:
+                        hi = mid
+                        break
+                    if st:
+                        lo = mid
+                    else:
+                        hi = mid
+            lam = hi
         for ls in range(40):
             F[0] = f0 - lam * d0
             F[1] = f1 - lam * d1
-            for i in range(4):
-                sc[360 + i] = ry[i] + Dy[2 * i] * F[0] + Dy[2 * i + 1] * F[1]
-                sc[368 + i] = y[i]
-            socp(Hy, sc[360:364], c1, c2, sc[368:372], sc)
-            S0 = -ex
-            S1 = -ey
-            for i in range(4):
-                S0 += Dy[2 * i] * sc[368 + i]
-                S1 += Dy[2 * i + 1] * sc[368 + i]
-            if S0 * S0 + S1 * S1 < rn * rn:
+            S2, st = _force_trial(Hy, ry, Dy, c1, c2, ex, ey, F[0], F[1], y, sc)
+            if S2 < rn * rn:
                 break
             lam *= 0.5
         if abs(lam * d0) + abs(lam * d1) <= 1e-16 * (abs(f0) + abs(f1)):
@@ -1093,7 +1137,7 @@ def _to_metric(H, r, Lm, Hy, ry, tmp):
             Hy[4 * i + j] = s
 
 
-# -- the rims (docs/model.md section 6.9) -----------------------------------------------------
+# -- the rims (docs/model.md section 6.11) -----------------------------------------------------
 # scratch of the rims in sc[RB:RB + 100]
 RB = 420
 R_M, R_H, R_N, R_NU, R_ACT, R_RS, R_ON0, R_V0 = 420, 424, 426, 430, 432, 434, 438, 440
@@ -1859,6 +1903,8 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     fx = S[S_F] if machine == 1 else 0.0
     fy = S[S_F + 1] if machine == 1 else 0.0
     normal_forces(par, S[0:4], S[4:8], agx, agy, az, fx, fy, N, sc[200:220])
+    # a coordinate at rest (did not slide in the step before) holds with the static coefficient
+    mu1, mu2, mu3, mu4 = tk.holding_caps(par, S[S_SLIDE], S[S_SLIDE + 1], mu1, mu2, mu3, mu4)
     R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
     a1 = mu1 * N[0] * R1
     a4 = mu4 * N[3] * R4
@@ -1952,6 +1998,36 @@ def rim_account(par, S, out):
             S[S_NHIT + 2] += out[O_HIT_I]
 
 
+def vertical_row(par, S, az, row, sc):
+    """The vertical ground motion's columns (mechanics.tfp3d.VERTICAL_COLUMNS,
+    after the stepper's) into row[N_ROW:N_ROW+5]: az, the last step's a_z (0 in
+    the first row), the height above the seat, the lift-offs, the time in
+    flight, the landings' loss; in flight the superstructure's position,
+    velocity, uplift and the energies follow the unit (the tilt, slide and
+    footprint columns keep the take-off's). Only with a vertical loading
+    (par[I_VERT] = 1). sc: scratch >= 40."""
+    if par[tk.I_VERT] != 1.0:
+        return
+    j = N_ROW
+    row[j] = az
+    row[j + 1] = 0.0
+    if S[S_FLY] != 0.0:
+        row[3] += S[S_XF]
+        row[4] += S[S_YF]
+        row[5] = math.sqrt(row[3] * row[3] + row[4] * row[4])
+        row[6] = S[S_VXF]
+        row[7] = S[S_VYF]
+        row[8] = math.sqrt(row[6] * row[6] + row[7] * row[7])
+        row[12] += S[S_ZF]
+        mt = tk.moving_mass(par)
+        row[42] = 0.5 * mt * (S[S_VXF] * S[S_VXF] + S[S_VYF] * S[S_VYF] + S[S_VZF] * S[S_VZF])
+        row[43] += mt * par[tk.I_G] * S[S_ZF]
+        row[j + 1] = flight_lift(par, S, S[S_XF], S[S_YF], S[S_ZF], sc)
+    row[j + 2] = S[S_NLIFT]
+    row[j + 3] = S[S_TFLY]
+    row[j + 4] = S[S_ELAND]
+
+
 def row_values(par, S, t, xg, yg, row, sc):
     """The stepper's columns (mechanics.tfp3d.COLUMNS) into row[0:N_ROW]."""
     q = S[0:4]
@@ -2023,3 +2099,218 @@ def row_values(par, S, t, xg, yg, row, sc):
         row[60 + 2 * i] = sg * row[21 + 3 * i]
     row[67] = S[S_ITER]
     row[68] = S[S_KKT]
+
+
+# -- lift-off and landing (docs/model.md 10) ---------------------------------------------------
+def seat_phi(par, q, ux, uy, o, sc):
+    """The stack's tilt (o[0:2]) of the seated configuration with the pad's
+    relative tilt alpha = q[2:4] whose superstructure is at (ux, uy): Newton
+    on the horizontal displacement from phi = q[0:2]. Returns 0, or 1 if it
+    did not converge (beyond the reach). sc: scratch >= 20."""
+    sc[0] = q[0]
+    sc[1] = q[1]
+    sc[2] = q[2]
+    sc[3] = q[3]
+    for it in range(60):
+        u_rel(par, sc[0:4], sc[4:7])
+        fx = sc[4] - ux
+        fy = sc[5] - uy
+        grad_u(par, sc[0:4], sc[8:16])
+        a11, a12, a21, a22 = sc[8], sc[10], sc[9], sc[11]      # du_k / dphi_i: o[2 i + k]
+        det = a11 * a22 - a12 * a21
+        if not det > 0.0:
+            return 1
+        d0 = (a22 * fx - a12 * fy) / det
+        d1 = (a11 * fy - a21 * fx) / det
+        sc[0] -= d0
+        sc[1] -= d1
+        if abs(d0) + abs(d1) <= 1e-16 * (1.0 + abs(sc[0]) + abs(sc[1])):
+            o[0] = sc[0]
+            o[1] = sc[1]
+            return 0
+    o[0] = sc[0]
+    o[1] = sc[1]
+    return 0 if abs(fx) + abs(fy) <= 1e-12 * (1.0 + abs(ux) + abs(uy)) else 1
+
+
+def flight_lift(par, S, x, y, z, sc):
+    """The height of the flying superstructure above the seat under it after a
+    flight of (x, y, z) from the take-off configuration held in S (q): the
+    seated configuration with the same alpha under the flown position.
+    sc: scratch >= 40."""
+    u_rel(par, S[0:4], sc[20:23])
+    ux, uy, z0 = sc[20] + x, sc[21] + y, sc[22]
+    if seat_phi(par, S[0:4], ux, uy, sc[24:26], sc) != 0:
+        return z0 + z            # beyond the reach: above the rims' ring, no seat under it
+    sc[26] = sc[24]
+    sc[27] = sc[25]
+    sc[28] = S[2]
+    sc[29] = S[3]
+    u_rel(par, sc[26:30], sc[30:33])
+    return z0 + z - sc[32]
+
+
+def unit_momentum(par, q, v, o, sc):
+    """The moving parts' momentum relative to the ground (o[0:3]): body k at
+    -a_k e(phi) - b_k e(psi), so p = -(P1 De(phi)[phi'] + P2 De(psi)[psi'])."""
+    P1, P2 = par[tk.I_P1], par[tk.I_P2]
+    de(q[0], q[1], v[0], v[1], sc, 0)
+    de(q[0] + q[2], q[1] + q[3], v[0] + v[2], v[1] + v[3], sc, 3)
+    for i in range(3):
+        o[i] = -(P1 * sc[i] + P2 * sc[3 + i])
+
+
+def _takeoff(par, S, sc):
+    """The unit leaves with the moving parts' momentum over their mass; the
+    bodies' motion relative to each other is stopped (its energy to E_land)."""
+    mt = tk.moving_mass(par)
+    unit_momentum(par, S[0:4], S[4:8], sc[40:43], sc)
+    vx, vy, vz = sc[40] / mt, sc[41] / mt, sc[42] / mt
+    S[S_ELAND] += kinetic(par, S[0:4], S[4:8], sc) - 0.5 * mt * (vx * vx + vy * vy + vz * vz)
+    S[4] = S[5] = S[6] = S[7] = S[S_XF] = S[S_YF] = S[S_ZF] = 0.0
+    S[S_FLY] = 1.0
+    S[S_VXF], S[S_VYF], S[S_VZF] = vx, vy, vz
+    S[S_NLIFT] += 1.0
+
+
+def _land(par, S, sc):
+    """The landing: the seated configuration under the unit (alpha kept, phi
+    from the flown position) and a plastic impact, the flight velocity V
+    projected onto the seated motions in the kinetic-energy metric (M q' = p,
+    p_i = sum m_k dr_k/dq_i . V); the energy before minus after to E_land.
+    Returns 0, or FAIL_LAND beyond the outer surfaces' reach."""
+    mt = tk.moving_mass(par)
+    vx, vy, vz = S[S_VXF], S[S_VYF], S[S_VZF]
+    u_rel(par, S[0:4], sc[60:63])
+    if seat_phi(par, S[0:4], sc[60] + S[S_XF], sc[61] + S[S_YF], sc[64:66], sc) != 0:
+        return FAIL_LAND
+    if sc[64] * sc[64] + sc[65] * sc[65] > par[tk.I_QMAX_PHI] * par[tk.I_QMAX_PHI]:
+        return FAIL_LAND
+    e0 = 0.5 * mt * (vx * vx + vy * vy + vz * vz) + potential(par, S[0:4]) + mt * par[tk.I_G] * S[S_ZF]
+    S[0] = sc[64]
+    S[1] = sc[65]
+    P1, P2 = par[tk.I_P1], par[tk.I_P2]
+    q = S[0:4]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    for j in range(2):
+        ex = 1.0 if j == 0 else 0.0
+        ey = 1.0 - ex
+        de(q[0], q[1], ex, ey, sc, 0)
+        de(sx, sy, ex, ey, sc, 3)
+        ps = -(sc[3] * vx + sc[4] * vy + sc[5] * vz) * P2
+        sc[70 + j] = -(sc[0] * vx + sc[1] * vy + sc[2] * vz) * P1 + ps
+        sc[72 + j] = ps
+    mass_matrix(par, q, sc[80:96], sc)
+    chol_solve(sc[80:96], sc[70:74], sc[74:78], sc[96:112])
+    for i in range(4):
+        S[4 + i] = sc[74 + i]
+    S[S_ELAND] += e0 - (kinetic(par, S[0:4], S[4:8], sc) + potential(par, S[0:4]))
+    for i in range(S_FLY, S_VZF + 1):
+        S[i] = 0.0
+    return FAIL_NONE
+
+
+def _flight(par, S, agx, agy, gv, h, sc):
+    """Ballistic flight of the unit for at most h (x'' = -agx, y'' = -agy,
+    z'' = -gv relative to the ground, exact for the step-constant field), the
+    ground's d'Alembert work through its displacement input. Takes off first
+    when seated (only when the path stays above the seat to h: else returns
+    -1, nothing changed). Lands at the first time the height meets the seat
+    (bisection to round-off). Returns the time flown (h, or the landing
+    time; -2 - fail when the landing is not modelled)."""
+    az = gv - par[tk.I_G]
+    if S[S_FLY] == 0.0:
+        mt = tk.moving_mass(par)
+        unit_momentum(par, S[0:4], S[4:8], sc[40:43], sc)
+        vx, vy, vz = sc[40] / mt, sc[41] / mt, sc[42] / mt
+        if not flight_lift(par, S, vx * h - 0.5 * agx * h * h, vy * h - 0.5 * agy * h * h,
+                           vz * h - 0.5 * gv * h * h, sc) > 0.0:
+            return -1.0
+        _takeoff(par, S, sc)
+    x0, y0, z0 = S[S_XF], S[S_YF], S[S_ZF]
+    vx, vy, vz = S[S_VXF], S[S_VYF], S[S_VZF]
+    tau = h
+    landed = False
+    if not flight_lift(par, S, x0 + vx * h - 0.5 * agx * h * h, y0 + vy * h - 0.5 * agy * h * h,
+                       z0 + vz * h - 0.5 * gv * h * h, sc) > 0.0:
+        lo, hi = 0.0, h
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if not (lo < mid < hi):
+                break
+            if flight_lift(par, S, x0 + vx * mid - 0.5 * agx * mid * mid, y0 + vy * mid - 0.5 * agy * mid * mid,
+                           z0 + vz * mid - 0.5 * gv * mid * mid, sc) > 0.0:
+                lo = mid
+            else:
+                hi = mid
+        tau = hi
+        landed = True
+    dx = vx * tau - 0.5 * agx * tau * tau
+    dy = vy * tau - 0.5 * agy * tau * tau
+    dz = vz * tau - 0.5 * gv * tau * tau
+    S[S_XF] = x0 + dx
+    S[S_YF] = y0 + dy
+    S[S_ZF] = z0 + dz
+    S[S_VXF] = vx - agx * tau
+    S[S_VYF] = vy - agy * tau
+    S[S_VZF] = vz - gv * tau
+    S[S_EIN] += -tk.moving_mass(par) * (agx * dx + agy * dy + az * dz)
+    S[S_TFLY] += tau
+    if landed:
+        fail = _land(par, S, sc)
+        if fail != FAIL_NONE:
+            return -2.0 - fail
+    return tau
+
+
+def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
+    """``advance`` under a vertical ground motion that may lift the TFP off
+    (docs/model.md 10): while g + az >= 0 and the unit is seated, ``advance``
+    itself. When the step's g + az < 0 the stack and the superstructure leave
+    the lower plate and fly (``_flight``) until they land; a step that lands
+    finishes seated (``advance`` over the rest, its force spread over dt).
+    In the air: no contact, no friction, no heat, no force on the ground."""
+    gv = par[tk.I_G] + az
+    if S[S_FLY] == 0.0 and not gv < 0.0:
+        return advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    rem = dt
+    flown = False
+    for _ in range(tk.FLIGHTS_MAX):
+        if S[S_FLY] == 0.0 and not gv < 0.0:
+            break
+        tau = _flight(par, S, agx, agy, gv, rem, sc)
+        if tau <= -2.0:
+            return int(-2.0 - tau)
+        if tau < 0.0:              # the seat's curvature keeps it down over the step: seated
+            break
+        flown = True
+        rem = rem - tau
+        if S[S_FLY] != 0.0 or not rem > tk.FLIGHT_REST * dt:
+            break
+    if not flown:
+        return advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    if S[S_FLY] == 0.0 and rem > tk.FLIGHT_REST * dt:
+        fail = advance(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+        # the force over the whole step: the bearing carries nothing in the air
+        S[S_F] = S[S_F] * (rem / dt)
+        S[S_F + 1] = S[S_F + 1] * (rem / dt)
+        for i in range(4):
+            S[S_SV + i] = S[S_SV + i] * (rem / dt)
+        return fail
+    for i in range(4):
+        S[S_N + i] = S[S_SV + i] = S[S_DW + i] = S[S_SLIDE + i] = 0.0
+    S[S_F] = S[S_F + 1] = S[S_REG] = S[S_ITER] = S[S_KKT] = 0.0
+    S[S_PHASE] = tk.PHASE_STICK
+    return FAIL_NONE
+
+
+def energies_vertical(par, S, o, sc):
+    """(E_kin, E_pot) into o[0:2], in flight too: the unit's (M + m) |V|^2 / 2
+    and the take-off configuration's potential + (M + m) g z_f."""
+    if S[S_FLY] != 0.0:
+        mt = tk.moving_mass(par)
+        o[0] = 0.5 * mt * (S[S_VXF] * S[S_VXF] + S[S_VYF] * S[S_VYF] + S[S_VZF] * S[S_VZF])
+        o[1] = potential(par, S[0:4]) + mt * par[tk.I_G] * S[S_ZF]
+    else:
+        o[0] = kinetic(par, S[0:4], S[4:8], sc)
+        o[1] = potential(par, S[0:4])

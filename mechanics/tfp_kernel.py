@@ -37,7 +37,7 @@ handful of candidates (2 coordinates); a fixed point handles q1 in H and G.
 """
 import math
 
-from .friction_kernel import holding_mu
+from fpd.tribology.friction_kernel import holding_mu
 from .two_phase_kernel import _sinc as sinc, pivot_angle   # the planar stepper's, one source
 
 __kernel__ = True
@@ -68,6 +68,11 @@ O_DX_RIM, O_HIT_O, O_HIT_I = 16, 17, 18   # the superstructure's velocity jump a
 N_OUT = 19
 
 FAIL_NONE, FAIL_CAPACITY, FAIL_FIXED_POINT, FAIL_ROCKING = 0, 1, 2, 3
+FAIL_LAND = 5           # a flight would land beyond the outer surfaces' reach (not modelled)
+# a landing this close to the step's end (relative to dt) ends the step: no seated remainder
+FLIGHT_REST = 1e-12
+# flights (take-off, landing, take-off ...) at most within one step; then the rest is seated
+FLIGHTS_MAX = 4
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
@@ -932,11 +937,15 @@ S_F, S_W, S_EIN, S_ERIM, S_PHASE, S_REG, S_SLIDE, S_SV, S_DW, S_N = 4, 5, 9, 10,
 S_ERS, S_B1, S_B2, S_G1, S_G2, S_DP, S_DS, S_NPH = 29, 30, 31, 32, 33, 34, 35, 36   # two-phase
 S_J, S_NHIT = 37, 38   # the step's rim impulse on the superstructure (N s); rim impacts of S1..S4 so far
 S_AZ = 42              # the step's vertical ground acceleration (m/s2, up)
-N_S = 43
+# lift-off (docs/model.md 10): in flight (1.0); the flying unit's displacement since take-off
+# (horizontal, up) and its velocity relative to the ground; the landings' loss (J), the
+# lift-offs' count, the time spent in flight (s)
+S_FLY, S_XF, S_ZF, S_VXF, S_VZF, S_ELAND, S_NLIFT, S_TFLY = 43, 44, 45, 46, 47, 48, 49, 50
+N_S = 51
 PHASE_STICK, PHASE_INNER, PHASE_OUTER, PHASE_BOTH = 0, 3, 4, 5
 N_ROW = 40          # len(mechanics.tfp.COLUMNS)
 N_ROW_TWO = 8       # len(mechanics.tfp.TWO_PHASE_COLUMNS)
-N_ROW_VERT = 1      # len(mechanics.tfp.VERTICAL_COLUMNS)
+N_ROW_VERT = 5      # len(mechanics.tfp.VERTICAL_COLUMNS)
 
 
 def n_row(par):
@@ -1068,6 +1077,22 @@ def two_phase_kinematics(par, S, ph0, al0, v00, v01, ag, gv, dn, out):
         S[S_NPH] = -1.0
 
 
+def holding_caps(par, slid_outer, slid_inner, mu1, mu2, mu3, mu4):
+    """The coefficients of S1..S4's caps for a step: a coordinate that did not
+    slide in the step before (slid_outer: the stack's, S1 and S4; slid_inner:
+    the pad's, S2 and S3; 0.0 when it did not) holds its two surfaces with
+    the holding coefficient (friction_kernel.holding_mu: the static one, par's
+    I_MUS and I_MUR, 0 where none is given), a sliding one takes the sliding
+    mu. The planar TFP's and the TFP's in both directions (docs/model.md 11)."""
+    if slid_outer == 0.0:
+        mu1 = holding_mu(mu1, par[I_MUS], par[I_MUR])
+        mu4 = holding_mu(mu4, par[I_MUS + 3], par[I_MUR + 3])
+    if slid_inner == 0.0:
+        mu2 = holding_mu(mu2, par[I_MUS + 1], par[I_MUR + 1])
+        mu3 = holding_mu(mu3, par[I_MUS + 2], par[I_MUR + 2])
+    return mu1, mu2, mu3, mu4
+
+
 def advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc):
     """One step of the stepper on its state vector S (layout S_*) under the
     step's mean ground accelerations ag (horizontal) and az (vertical, up; 0
@@ -1097,12 +1122,7 @@ def advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w,
     # away), holds its surfaces with the holding coefficient
     # (friction_kernel.holding_mu; the sliding mu without a static one); one
     # that slides takes the sliding mu (docs/model.md section 11)
-    if S[S_SLIDE] == 0.0:
-        mu1 = holding_mu(mu1, par[I_MUS], par[I_MUR])
-        mu4 = holding_mu(mu4, par[I_MUS + 3], par[I_MUR + 3])
-    if S[S_SLIDE + 1] == 0.0:
-        mu2 = holding_mu(mu2, par[I_MUS + 1], par[I_MUR + 1])
-        mu3 = holding_mu(mu3, par[I_MUS + 2], par[I_MUR + 2])
+    mu1, mu2, mu3, mu4 = holding_caps(par, S[S_SLIDE], S[S_SLIDE + 1], mu1, mu2, mu3, mu4)
     a1 = mu1 * N[0] * R1
     a4 = mu4 * N[3] * R4
     a2 = mu2 * N[1] * R2
@@ -1232,4 +1252,204 @@ def row_values(par, S, t, xg, d1, d2, d3, d4, row):
         row[46] = S[S_DS]
         row[47] = S[S_NPH]
     if par[I_VERT] == 1.0:
-        row[n_row(par) - 1] = S[S_AZ]
+        vertical_values(par, S, row, n_row(par) - N_ROW_VERT)
+
+
+# -- lift-off and landing (docs/model.md 10) ---------------------------------------------------
+def moving_mass(par):
+    """The flying unit's mass: the superstructure, both slider plates and the pad."""
+    return par[I_MSUP] + par[I_MS_LO] + par[I_MS_UP] + par[I_MPAD]
+
+
+def seat_phi(par, alpha, u, phi):
+    """The stack's tilt of the seated configuration with the pad's relative
+    tilt alpha whose superstructure is at u (A sin phi + L_i sin(phi + alpha)
+    = u; Newton from phi, the map increasing over the stack's reach)."""
+    A, Li = par[I_A], par[I_LI]
+    for _ in range(60):
+        f = A * math.sin(phi) + Li * math.sin(phi + alpha) - u
+        d = A * math.cos(phi) + Li * math.cos(phi + alpha)
+        dp = f / d
+        phi -= dp
+        if abs(dp) <= 1e-16 * (1.0 + abs(phi)):
+            break
+    return phi
+
+
+def flight_lift(par, S, x, z):
+    """The height of the flying superstructure above the seat under it, after a
+    flight of (x, z) from the take-off configuration held in S (phi, alpha)."""
+    phi, al = S[0], S[1]
+    u = u_rel(par, phi, al) + x
+    ps = seat_phi(par, al, u, phi)
+    return uplift(par, phi, al) + z - uplift(par, ps, al)
+
+
+def unit_velocity(par, S):
+    """The moving parts' momentum over their mass (x, up): body k at
+    r_k = -a_k e(phi) - b_k e(psi), p = (P1 phi' cos phi + P2 psi' cos psi,
+    P1 phi' sin phi + P2 psi' sin psi)."""
+    phi, v1, ps, w = S[0], S[2], S[0] + S[1], S[2] + S[3]
+    P1, P2, mt = par[I_P1], par[I_P2], moving_mass(par)
+    return ((P1 * v1 * math.cos(phi) + P2 * w * math.cos(ps)) / mt,
+            (P1 * v1 * math.sin(phi) + P2 * w * math.sin(ps)) / mt)
+
+
+def _takeoff(par, S):
+    """The unit leaves with the moving parts' momentum over their mass: the
+    bodies' motion relative to each other (the rates of phi and alpha, the
+    turning) is stopped by an internal plastic impulse, its energy to E_land."""
+    vx, vz = unit_velocity(par, S)
+    S[S_ELAND] += kinetic(par, S[1], S[2], S[3]) - 0.5 * moving_mass(par) * (vx * vx + vz * vz)
+    S[2] = S[3] = S[S_XF] = S[S_ZF] = 0.0
+    S[S_FLY] = 1.0
+    S[S_VXF], S[S_VZF] = vx, vz
+    S[S_NLIFT] += 1.0
+
+
+def _land(par, S, M):
+    """The landing: the seated configuration under the unit (the pad's tilt
+    alpha kept, phi from the flown position) and a plastic impact, the flight
+    velocity projected onto the seated motions in the kinetic-energy metric
+    (M q' = the generalised momentum of the unit's translation). The energy
+    before (kinetic and potential) minus the seated state's after goes to
+    E_land. Returns 0, or FAIL_LAND past the outer surfaces' reach."""
+    phi, al = S[0], S[1]
+    mt = moving_mass(par)
+    vx, vz = S[S_VXF], S[S_VZF]
+    ps = seat_phi(par, al, u_rel(par, phi, al) + S[S_XF], phi)
+    if abs(ps) > par[I_QMAX_PHI]:
+        return FAIL_LAND
+    e0 = 0.5 * mt * (vx * vx + vz * vz) + potential(par, phi, al) + mt * par[I_G] * S[S_ZF]
+    P1, P2 = par[I_P1], par[I_P2]
+    sp = ps + al
+    pa = P2 * (vx * math.cos(sp) + vz * math.sin(sp))
+    pp = P1 * (vx * math.cos(ps) + vz * math.sin(ps)) + pa
+    mass_matrix(par, al, M)
+    S[0] = ps
+    solve2(M[0], M[1], M[2], pp, pa, S[2:4])
+    S[S_ELAND] += e0 - (kinetic(par, al, S[2], S[3]) + potential(par, ps, al))
+    S[S_FLY] = S[S_XF] = S[S_ZF] = S[S_VXF] = S[S_VZF] = 0.0
+    # the stack and the pad land moving: both pairs of surfaces slide at the next step's start
+    S[S_SLIDE] = S[S_SLIDE + 3] = 1.0 if S[2] != 0.0 else 0.0
+    S[S_SLIDE + 1] = S[S_SLIDE + 2] = 1.0 if S[3] != 0.0 else 0.0
+    return FAIL_NONE
+
+
+def _flight(par, S, ag, gv, h, M):
+    """Ballistic flight of the unit for at most h under the step's field
+    (x'' = -ag, z'' = -gv relative to the ground), exact for the
+    step-constant field; the work of the ground's d'Alembert force through
+    the unit's displacement is input. Takes off first when seated (only when
+    the path stays above the seat to h: else returns -1, nothing changed).
+    Lands at the first time the height meets the seat (bisection to
+    round-off). Returns the time flown (h, or the landing time; -2.0 - fail
+    when the landing is not modelled)."""
+    az = gv - par[I_G]
+    if S[S_FLY] == 0.0:
+        vx, vz = unit_velocity(par, S)
+        if not flight_lift(par, S, vx * h - 0.5 * ag * h * h, vz * h - 0.5 * gv * h * h) > 0.0:
+            return -1.0
+        _takeoff(par, S)
+    x0, z0, vx, vz = S[S_XF], S[S_ZF], S[S_VXF], S[S_VZF]
+    tau = h
+    landed = False
+    if not flight_lift(par, S, x0 + vx * h - 0.5 * ag * h * h, z0 + vz * h - 0.5 * gv * h * h) > 0.0:
+        lo, hi = 0.0, h
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if not (lo < mid < hi):
+                break
+            if flight_lift(par, S, x0 + vx * mid - 0.5 * ag * mid * mid, z0 + vz * mid - 0.5 * gv * mid * mid) > 0.0:
+                lo = mid
+            else:
+                hi = mid
+        tau = hi
+        landed = True
+    dx = vx * tau - 0.5 * ag * tau * tau
+    dz = vz * tau - 0.5 * gv * tau * tau
+    S[S_XF] = x0 + dx
+    S[S_ZF] = z0 + dz
+    S[S_VXF] = vx - ag * tau
+    S[S_VZF] = vz - gv * tau
+    S[S_EIN] += -moving_mass(par) * (ag * dx + az * dz)
+    S[S_TFLY] += tau
+    if landed:
+        fail = _land(par, S, M)
+        if fail != FAIL_NONE:
+            return -2.0 - fail
+    return tau
+
+
+def advance_vertical(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc):
+    """``advance`` under a vertical ground motion that may lift the TFP off
+    (docs/model.md 10): while g + az >= 0 and the unit is seated, ``advance``
+    itself. When the step's g + az < 0 the stack and the superstructure leave
+    the lower plate and fly (``_flight``) until they land; a step that lands
+    finishes seated (``advance`` over the rest, its force spread over dt).
+    In the air: no contact, no friction, no heat, no force on the ground."""
+    gv = par[I_G] + az
+    if S[S_FLY] == 0.0 and not gv < 0.0:
+        return advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc)
+    S[S_AZ] = az
+    rem = dt
+    flown = False
+    for _ in range(FLIGHTS_MAX):
+        if S[S_FLY] == 0.0 and not gv < 0.0:
+            break
+        tau = _flight(par, S, ag, gv, rem, M)
+        if tau <= -2.0:
+            return int(-2.0 - tau)
+        if tau < 0.0:              # the seat's curvature keeps it down over the step: seated
+            break
+        flown = True
+        rem = rem - tau
+        if S[S_FLY] != 0.0 or not rem > FLIGHT_REST * dt:
+            break
+    if not flown:
+        return advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc)
+    if S[S_FLY] == 0.0 and rem > FLIGHT_REST * dt:
+        fail = advance(par, S, rem, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w, tmp, sc)
+        # the force over the whole step: the bearing carries nothing in the air
+        S[S_F] = S[S_F] * (rem / dt)
+        for i in range(4):
+            S[S_SV + i] = S[S_SV + i] * (rem / dt)
+        return fail
+    for i in range(4):
+        S[S_N + i] = S[S_SV + i] = S[S_DW + i] = S[S_SLIDE + i] = 0.0
+    S[S_F] = S[S_J] = S[S_REG] = 0.0
+    S[S_B1] = S[S_B2] = S[S_G1] = S[S_G2] = S[S_NPH] = 0.0     # two-phase: no phases in the air
+    S[S_PHASE] = PHASE_STICK
+    return FAIL_NONE
+
+
+def energies_vertical(par, S, o):
+    """(E_kin, E_pot) into o[0:2], in flight too: the unit's (M + m) |V|^2 / 2
+    and the take-off configuration's potential + (M + m) g z_f."""
+    if S[S_FLY] != 0.0:
+        mt = moving_mass(par)
+        o[0] = 0.5 * mt * (S[S_VXF] * S[S_VXF] + S[S_VZF] * S[S_VZF])
+        o[1] = potential(par, S[0], S[1]) + mt * par[I_G] * S[S_ZF]
+    else:
+        o[0] = kinetic(par, S[1], S[2], S[3])
+        o[1] = potential(par, S[0], S[1])
+
+
+def vertical_values(par, S, row, j):
+    """The vertical ground motion's columns (mechanics.tfp.VERTICAL_COLUMNS)
+    into row[j:j+5]; in flight the superstructure's position, velocity,
+    uplift and the energies follow the unit (the tilt, slide and footprint
+    columns keep the take-off's)."""
+    row[j] = S[S_AZ]
+    row[j + 1] = 0.0
+    if S[S_FLY] != 0.0:
+        row[2] += S[S_XF]
+        row[3] = S[S_VXF]
+        row[5] += S[S_ZF]
+        mt = moving_mass(par)
+        row[21] = 0.5 * mt * (S[S_VXF] * S[S_VXF] + S[S_VZF] * S[S_VZF])
+        row[22] += mt * par[I_G] * S[S_ZF]
+        row[j + 1] = flight_lift(par, S, S[S_XF], S[S_ZF])
+    row[j + 2] = S[S_NLIFT]
+    row[j + 3] = S[S_TFLY]
+    row[j + 4] = S[S_ELAND]

@@ -3,7 +3,8 @@
 A prototype or production test of a sliding isolator is judged cycle by
 cycle on the loop of horizontal force F against displacement d (EN 15129,
 AASHTO Guide Specifications for Seismic Isolation Design). For each cycle k
-of the imposed sine (t in [k T, (k+1) T], T = 1 / frequency):
+of the imposed sine (t in [t0 + k T, t0 + (k+1) T], T = 1 / frequency, t0
+the programme's start: loading.hold_s, 0 without a hold):
 
 - ``EDC_J``: energy dissipated per cycle, the loop area, the closed integral
   of F du (trapezoidal over the recorded rows);
@@ -69,7 +70,8 @@ class CycleMeter:
     belongs to the cycle of its mid-time (so a row on a cycle boundary closes
     one cycle and opens the next); a row to the cycle of its time."""
 
-    def __init__(self, columns, period_s: float, cycles: int, vertical_load_N: float, axial=None):
+    def __init__(self, columns, period_s: float, cycles: int, vertical_load_N: float, axial=None,
+                 t0_s: float = 0.0):
         cols = list(columns)
         self.jt, self.ju, self.jF = cols.index("t_s"), cols.index("u_m"), cols.index("F_N")
         # an orbit in the plane (the bidirectional machine): F . du, |u| and the path slid
@@ -80,6 +82,7 @@ class CycleMeter:
         # the interfaces' temperature columns (T1_C ... T4_C, those the run has)
         self.temps = [(i, cols.index(f"T{i}_C")) for i in range(1, 5) if f"T{i}_C" in cols]
         self.T, self.n, self.W = float(period_s), int(cycles), float(vertical_load_N)
+        self.t0 = float(t0_s)                            # the programme's start (after a hold)
         self.edc = np.zeros(self.n)
         self.dpos = np.full(self.n, -np.inf)
         self.dneg = np.full(self.n, np.inf)
@@ -99,8 +102,8 @@ class CycleMeter:
 
     def _cycle(self, t: np.ndarray) -> np.ndarray:
         """Cycle index of times t (-1 outside the programme)."""
-        k = np.floor(t / self.T * (1.0 + 1e-12)).astype(int)
-        return np.where((t < 0) | (k >= self.n), -1, k)
+        k = np.floor((t - self.t0) / self.T * (1.0 + 1e-12)).astype(int)
+        return np.where((t < self.t0) | (k >= self.n), -1, k)
 
     def add(self, block: np.ndarray) -> None:
         if not len(block):
@@ -126,7 +129,7 @@ class CycleMeter:
                 np.add.at(self.dur, seg[ok], dt[ok])
         new = block
         kt = self._cycle(new[:, self.jt])
-        ends = np.floor(new[:, self.jt] / self.T * (1.0 + 1e-12)).astype(int)     # cycles whose end was reached
+        ends = np.floor((new[:, self.jt] - self.t0) / self.T * (1.0 + 1e-12)).astype(int)   # cycles whose end was reached
         for k in range(self.n):
             if np.any(ends > k):
                 self.closed[k] = True
@@ -163,7 +166,7 @@ class CycleMeter:
             # the path slid: 4 d_max for a sine (the loop formulas), sum |du| for an orbit
             slid = float(self.path[k]) if self.plane else 4.0 * dmax
             W = float(self.Nt[k] / self.dur[k]) if self.axial is not None and self.dur[k] > 0 else self.W
-            c = {"cycle": k + 1, "t_start_s": k * self.T, "t_end_s": (k + 1) * self.T,
+            c = {"cycle": k + 1, "t_start_s": self.t0 + k * self.T, "t_end_s": self.t0 + (k + 1) * self.T,
                  "d_pos_m": float(self.dpos[k]), "d_neg_m": float(self.dneg[k]),
                  "F_pos_N": float(self.Fpos[k]), "F_neg_N": float(self.Fneg[k]), "d_max_m": float(dmax),
                  "v_peak_mps": float(self.vpk[k]) if self.jv is not None else math.nan,
@@ -196,7 +199,13 @@ def meter_for(scene, columns) -> CycleMeter | None:
     if ld["kind"] != "displacement" or "F_N" not in columns or "u_m" not in columns:
         return None
     return CycleMeter(columns, 1.0 / ld["frequency_Hz"], int(math.ceil(ld["cycles"] - 1e-9)), vertical_load(scene),
-                      axial_of(scene))
+                      axial_of(scene), hold_of(scene))
+
+
+def hold_of(scene) -> float:
+    """The programme's start: loading.hold_s rounded to whole steps (0 without a hold)."""
+    dt = scene["solver"]["dt"]
+    return round(scene["loading"].get("hold_s", 0.0) / dt) * dt
 
 
 def axial_of(scene):

@@ -67,7 +67,7 @@ from fpd.schema.scene import TFP_PARTS
 from .placement import _e, place_field, place_part_field, surface_centres
 
 N_ARC = 32          # points per arc of the planar polygons
-TILT = 2            # phase code of a rocking pad (mechanics.seated.PHASES)
+TILT = 2            # phase code of a rocking pad (machines.seated.PHASES)
 N_RING, N_SECTOR = 8, 48     # rings and sectors of a 3D cap
 
 
@@ -401,8 +401,14 @@ class TFPDrawing:
         self.sim, self.geom = sim, sim.geometry
 
     def bodies(self, vals: dict) -> list:
-        polys = tfp_polygons(self.geom, self.sim.plate_params, float(vals["xg_m"]), float(vals["phi_rad"]),
-                             float(vals["alpha_rad"]))
+        phi, alpha = float(vals["phi_rad"]), float(vals["alpha_rad"])
+        polys = tfp_polygons(self.geom, self.sim.plate_params, float(vals["xg_m"]), phi, alpha)
+        if float(vals.get("lift_m", 0.0)) > 0.0:
+            # in flight (docs/model.md 10) all but the lower plate translate with the unit
+            g, psi = self.geom, phi + alpha
+            d = (float(vals["u_m"]) - g.A * math.sin(phi) - g.Li * math.sin(psi),
+                 float(vals["z_m"]) - g.A * (1 - math.cos(phi)) - g.Li * (1 - math.cos(psi)))
+            polys = polys[:1] + [p + np.array(d) for p in polys[1:]]
         nan = float("nan")
         T = (vals.get("T1_C", nan), vals.get("T2_C", nan), nan, vals.get("T3_C", nan), vals.get("T4_C", nan), nan)
         mu = (vals.get("mu1", nan), vals.get("mu2", nan), nan, vals.get("mu3", nan), vals.get("mu4", nan), nan)
@@ -479,6 +485,14 @@ class TFP3DDrawing:
     def bodies(self, vals: dict) -> list:
         q = [float(vals[c]) for c in ("phix_rad", "phiy_rad", "alphax_rad", "alphay_rad")]
         pts, blocks, bodies = tfp_3d(self.geom, self.sim.plate_params, float(vals["xg_m"]), float(vals["yg_m"]), q)
+        if float(vals.get("lift_m", 0.0)) > 0.0:
+            # in flight (docs/model.md 10) all but the lower plate translate with the unit
+            g = self.geom
+            ep, es = _axis(q[0], q[1]), _axis(q[0] + q[2], q[1] + q[3])
+            d = np.array([float(vals["ux_m"]), float(vals["uy_m"]), float(vals["z_m"]) - g.A - g.Li])
+            d += g.A * ep + g.Li * es
+            first = np.max(blocks[0][1]) + 1          # the lower plate's points come first
+            pts = np.vstack((pts[:first], pts[first:] + d))
         nan = float("nan")
         T = (vals.get("T1_C", nan), vals.get("T2_C", nan), nan, vals.get("T3_C", nan), vals.get("T4_C", nan), nan)
         mu = (vals.get("mu1", nan), vals.get("mu2", nan), nan, vals.get("mu3", nan), vals.get("mu4", nan), nan)

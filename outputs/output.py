@@ -312,6 +312,9 @@ def tfp_summary(scene: Scene, result, sim) -> dict:
     if "E_reseat_J" in result:
         out += st.final("E_reseat_J")
         s["reseat_loss_J"] = _f(st.final("E_reseat_J"))
+    if "E_land_J" in result:
+        out += st.final("E_land_J")
+        s["lift_off"] = lift_summary(st)
     s["input_work_J"] = _f(e_in)
     s["energy_residual_rel"] = _f(abs(e_in - out) / abs(e_in)) if e_in else 0.0
     s["peak_slide_m"] = {f"S{i}": _f(st.peak_abs(f"s{i}_m")) for i in range(1, 5)}

@@ -41,7 +41,8 @@ def cycle_of(t, scene):
     import numpy as np
     ld = scene["loading"]
     # a row at the end of a cycle closes it (the next cycle's line starts from it)
-    k = np.ceil(np.asarray(t) * ld["frequency_Hz"] * (1.0 - 1e-12)).astype(int)
+    from fpd.outputs.cycles import hold_of
+    k = np.ceil((np.asarray(t) - hold_of(scene)) * ld["frequency_Hz"] * (1.0 - 1e-12)).astype(int)
     return np.clip(k, 1, int(np.ceil(ld["cycles"] - 1e-9)))
 
 

@@ -77,12 +77,12 @@ def _temp(x):
 
 
 def _law_keys(law: str, checks: dict, required=()) -> dict:
-    """A law's keys with the defaults of its class in mechanics.friction
+    """A law's keys with the defaults of its class in tribology.friction
     (one source of truth; a field without a default, or named in
     ``required`` (a scene must state it), is REQUIRED)."""
     from dataclasses import MISSING, fields
 
-    from fpd.mechanics.friction import LAWS
+    from fpd.tribology.friction import LAWS
 
     out = {}
     for f in fields(LAWS[law]):
@@ -109,10 +109,14 @@ def _wear_table(x):
 
 
 # keys of every law (per surface, as the law's own): the static coefficient, the wear
-# coefficient (constant, or a table in temperature) and a liner preset (mechanics.friction.LINERS)
+# coefficient (constant, or a table in temperature) and a liner preset (tribology.friction.LINERS)
 SURFACE_KEYS = {
     "mu_static": ("float", None, _mu),
     "static_ratio": ("float", None, _atleast(1)),
+    # the static coefficient's growth with the time stuck (friction_kernel.dwell_mu)
+    "mu_static_inf": ("float", None, _mu),
+    "dwell_time_s": ("float", None, _pos),
+    "dwell_exponent": ("float", None, _pos),
     "wear_k_mm3_per_Nm": ("float", None, _nonneg),
     "wear_T_C": ("floats", None, None),
     "wear_k_T_mm3_per_Nm": ("floats", None, _wear_table),
@@ -120,8 +124,8 @@ SURFACE_KEYS = {
 
 
 def liner_names() -> list:
-    """The liner presets' names (mechanics.friction.LINERS)."""
-    from fpd.mechanics.friction import LINERS
+    """The liner presets' names (tribology.friction.LINERS)."""
+    from fpd.tribology.friction import LINERS
     return list(LINERS)
 
 
@@ -190,7 +194,9 @@ LOADING_KEYS = {
                      "vertical_file": ("str", None, None),
                      # a compliant link between the machine and the plate (a spring; the plate's mass)
                      "link_stiffness_N_per_m": ("float", None, _pos),
-                     "link_mass_kg": ("float", None, _pos)},
+                     "link_mass_kg": ("float", None, _pos),
+                     # the machine holds the start position this long before the programme (a dwell)
+                     "hold_s": ("float", None, _nonneg)},
     "pulse": {"shape": (("step", "cosine", "sine"), "cosine", None),
               "velocity_mps": ("float", REQUIRED, lambda x: None if x != 0 else "must be non-zero"),
               "period_s": ("float", 1.0, _pos), "t0_s": ("float", 0.5, _nonneg),
@@ -447,10 +453,10 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
 
 
 def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
-    """A liner preset (mechanics.friction.LINERS) under the keys the scene gives:
+    """A liner preset (tribology.friction.LINERS) under the keys the scene gives:
     the preset's law and values, each overridable key by key (a law given in the
     scene replaces the preset's law and its keys)."""
-    from fpd.mechanics.friction import LINERS
+    from fpd.tribology.friction import LINERS
 
     name = merged["liner"]
     owner = where if "liner" in over else "friction"
@@ -465,7 +471,7 @@ def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
 
 def _surface_checks(ctx: _Ctx, where: str, res: dict) -> None:
     """The static coefficient against the sliding law at rest; the wear table's shape."""
-    from fpd.mechanics.friction import make_law
+    from fpd.tribology.friction import make_law
 
     if "mu_static" in res:
         law = make_law(res)
@@ -474,6 +480,22 @@ def _surface_checks(ctx: _Ctx, where: str, res: dict) -> None:
         if res["mu_static"] < mu0:
             ctx.fail(f"{where}.mu_static", res["mu_static"],
                      f"must be >= the sliding mu ({mu0:.6g} at rest and 20 degC)")
+    dwell = [k for k in ("mu_static_inf", "dwell_time_s") if k in res]
+    if len(dwell) == 1:
+        other = "dwell_time_s" if dwell[0] == "mu_static_inf" else "mu_static_inf"
+        ctx.fail(f"{where}.{dwell[0]}", res[dwell[0]], f"needs {other} too (the static coefficient's growth "
+                 "with the time stuck: its value after a long dwell and its time constant)")
+    if "dwell_exponent" in res and not dwell:
+        ctx.fail(f"{where}.dwell_exponent", res["dwell_exponent"], "needs mu_static_inf and dwell_time_s")
+    if dwell:
+        law = make_law(res)
+        p_ref = res.get("p_ref_MPa", 0.0) * 1e6 if res["law"] == "kumar2015" else 0.0
+        mu0 = law(20.0, p_ref, 0.0)
+        floor = max(mu0, res.get("mu_static", 0.0), res.get("static_ratio", 0.0) * mu0)
+        if res["mu_static_inf"] < floor:
+            ctx.fail(f"{where}.mu_static_inf", res["mu_static_inf"],
+                     f"must be >= the static coefficient at zero dwell ({floor:.6g}: mu_static or static_ratio "
+                     "times the sliding mu, else the sliding mu, at rest and 20 degC)")
     T, k = res.get("wear_T_C"), res.get("wear_k_T_mm3_per_Nm")
     if (T is None) != (k is None):
         given = "wear_T_C" if T is not None else "wear_k_T_mm3_per_Nm"
@@ -722,6 +744,7 @@ def _validate(raw: dict, path: str) -> Scene:
             "slider_lower": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_lower"]},
             "slider_upper": {"plate_radius": dev["slider_diameter"] / 2, "plate_thickness": dev["slider_height_upper"]}})
         tfp_cross_checks(ctx, data)
+        _dwell_checks(ctx, data, raw.get("friction"))
         return Scene(path=path, data=data)
     for key in TFP_DEVICE_KEYS:
         if key in dev:
@@ -747,11 +770,28 @@ def _validate(raw: dict, path: str) -> Scene:
     else:
         data["friction"] = _friction(ctx, raw.get("friction"))
     data["thermal"] = _thermal(ctx, raw.get("thermal"))
+    _dwell_checks(ctx, data, raw.get("friction"))
     if dev["kind"] == "flat":
         flat_cross_checks(ctx, data)
         return Scene(path=path, data=data)
     _cross_checks(ctx, data)
     return Scene(path=path, data=data)
+
+
+def _dwell_checks(ctx: _Ctx, data: dict, given) -> None:
+    """The static coefficient's growth with the time stuck (mu_static_inf,
+    dwell_time_s) is modelled for the DFP and the SFP (their steppers keep the
+    time stuck); refused for the TFP and the flat bearing in one line."""
+    if data["device"]["kind"] in ("DFP", "SFP"):
+        return
+    given = given if isinstance(given, dict) else {}
+    for side, spec in data["friction"].items():
+        for key in ("mu_static_inf", "dwell_time_s"):
+            if key in spec:
+                own = isinstance(given.get(side), dict) and key in given[side]
+                ctx.fail(f"friction.{side}.{key}" if own else f"friction.{key}", spec[key],
+                         "the static coefficient's growth with dwell is modelled for the DFP and the SFP "
+                         f"only, not the {data['device']['kind']}")
 
 
 def _mass_or_weight(ctx: _Ctx, sup: dict) -> None:
@@ -782,20 +822,19 @@ def _cross_checks(ctx: _Ctx, data: dict):
     if ld["kind"] == "displacement":
         if ld["amplitude_m"] >= geom.L:
             ctx.fail("loading.amplitude_m", ld["amplitude_m"], f"must be < L = {geom.L:.4g} m")
-        if ld["waveform"] == "triangle" and ld["direction_deg"] != 0.0:
-            ctx.fail("loading.direction_deg", ld["direction_deg"], 'must be 0 with waveform = "triangle" (a planar '
-                     "programme)")
         link = [k for k in ("link_stiffness_N_per_m", "link_mass_kg") if k in ld]
         if len(link) == 1:
             other = "link_mass_kg" if link[0] == "link_stiffness_N_per_m" else "link_stiffness_N_per_m"
             ctx.fail(f"loading.{link[0]}", ld[link[0]], f"needs loading.{other} too (the compliant link: a spring "
                      "and the plate's mass)")
-        if link and (ld["waveform"] not in ("sine", "triangle") or ld["direction_deg"] != 0.0):
-            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link drives the planar machine only '
-                     '(waveform "sine" or "triangle", direction_deg = 0)')
-        if link and ld.get("vertical") not in (None, "constant"):
-            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link needs the vertical load held '
-                     '(loading.vertical = "constant")')
+        if link and ld["waveform"] not in ("sine", "triangle"):
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link drives a straight programme only '
+                     '(waveform "sine" or "triangle", in any direction_deg)')
+        held = "riding-mass" if is_bidirectional(data) else "constant"
+        if link and ld.get("vertical", held) != held:
+            ctx.fail(f"loading.{link[0]}", ld[link[0]], 'the compliant link needs the machine\'s default vertical '
+                     'load (the planar machine: "constant", held at M g; a turned programme: the riding mass), '
+                     'not an axial-load programme')
         if data["mechanics"]["model"] == "two-phase":
             # the test machine holds the superstructure: the seated model describes it
             data["mechanics"]["model"] = "seated"
@@ -1055,7 +1094,7 @@ def check_steps(path: str, dt: float, length: float) -> None:
 def loading_length(ld: dict):
     """Natural length of a loading (s), or None when only the record knows it."""
     if ld["kind"] in ("harmonic", "displacement"):
-        return ld["cycles"] / ld["frequency_Hz"]
+        return ld["cycles"] / ld["frequency_Hz"] + ld.get("hold_s", 0.0)
     if ld["kind"] == "heat":
         return ld["duration_s"]
     if ld["kind"] == "pulse":
@@ -1297,9 +1336,8 @@ def planar_only(ctx, data, device: str) -> None:
                 "(a DFP, an SFP, a TFP or the flat bearing takes it)")
         if ld.get("file_z") is not None and not vertical:
             ctx.fail("loading.file_z", ld["file_z"], vwhy)
-        if ld.get("vertical_scale") is not None and device != "flat bearing":
-            ctx.fail("loading.vertical_scale", ld["vertical_scale"], f"not yet for this device: the {device} takes "
-                     "its vertical record as loading.file_z (a DFP, an SFP or the flat bearing takes vertical_scale)")
+        if ld.get("vertical_scale") is not None and not vertical:
+            ctx.fail("loading.vertical_scale", ld["vertical_scale"], vwhy)
         if ld.get("channels") is not None and (ld["channels"][1] or (ld["channels"][2] and not vertical)):
             ch = [c for c in ld["channels"] if c]
             what = vwhy if ld["channels"][2] and not vertical else why
@@ -1335,6 +1373,8 @@ def planar_only(ctx, data, device: str) -> None:
         for key in ("link_stiffness_N_per_m", "link_mass_kg"):
             if key in ld:
                 ctx.fail(f"loading.{key}", ld[key], f"the compliant link is the DFP / SFP test machine's: {why}")
+        if "hold_s" in ld:
+            ctx.fail("loading.hold_s", ld["hold_s"], f"the hold is the DFP / SFP test machines': {why}")
         if ld.get("direction_deg", 0.0) != 0.0:
             ctx.fail("loading.direction_deg", ld["direction_deg"], f"must be 0: {why}")
     if mech.get("normal_force") not in (None, "start"):
@@ -1377,7 +1417,7 @@ def tfp_cross_checks(ctx, data) -> None:
 
 def tfp3d_checks(ctx, data) -> None:
     """The TFP in both horizontal directions (mechanics/tfp3d.py): a record pair
-    or a turned record, seated, heat lumped, fe1d or fe3d along 2D footprint
+    or a turned record or an orbit (seated or two-phase), heat lumped, fe1d or fe3d along 2D footprint
     paths; what it does not do yet is refused in one line naming it."""
     ld, mech = data["loading"], data["mechanics"]
     if ld["kind"] == "displacement":
@@ -1389,6 +1429,8 @@ def tfp3d_checks(ctx, data) -> None:
             if key in ld:
                 ctx.fail(f"loading.{key}", ld[key], "the compliant link is the planar DFP / SFP test machine's "
                          "(not the TFP's)")
+        if "hold_s" in ld:
+            ctx.fail("loading.hold_s", ld["hold_s"], "the hold is the DFP / SFP test machines' (not the TFP's)")
         if ld.get("vertical") is not None:
             ctx.fail("loading.vertical", ld["vertical"], "is a key of the DFP / SFP test machine; the TFP's "
                      "machine passes the superstructure's weight and inertia down the stack (leave it out)")
@@ -1402,17 +1444,13 @@ def tfp3d_checks(ctx, data) -> None:
             ctx.fail("solver.duration", sol["duration"], f"must not exceed the orbit's length "
                      f"{loading_length(ld):g} s (cycles / frequency_Hz) on the test machine in both directions")
     if mech["model"] != "seated":
-        ctx.fail("mechanics.model", mech["model"], 'must be "seated" for the TFP in both directions: '
-                 "its two-phase model (phases in the plane of each step) is not built yet")
-    if ld.get("file_z") is not None:
-        ctx.fail("loading.file_z", ld["file_z"], "not yet for the TFP in both directions: "
-                 "its stepper takes the vertical acceleration, the loading does not pass it yet")
-    if ld.get("vertical_scale") is not None:
-        ctx.fail("loading.vertical_scale", ld["vertical_scale"], "not yet for the TFP in both directions "
-                 "(no vertical ground motion)")
-    if ld.get("channels") is not None and ld["channels"][2]:
-        ctx.fail("loading.channels", [c for c in ld["channels"] if c], "must not name a vertical channel: "
-                 "not yet for the TFP in both directions (no vertical ground motion)")
+        # the seated TFP in both directions takes the vertical ground motion; its two-phase model not yet
+        why = 'not yet for the two-phase TFP in both directions (mechanics.model = "seated" takes it)'
+        for key in ("file_z", "vertical_scale"):
+            if ld.get(key) is not None:
+                ctx.fail(f"loading.{key}", ld[key], why)
+        if ld.get("channels") is not None and ld["channels"][2]:
+            ctx.fail("loading.channels", [c for c in ld["channels"] if c], f"must not name a vertical channel: {why}")
     if mech.get("normal_force") not in (None, "start"):
         ctx.fail("mechanics.normal_force", mech["normal_force"], "is a key of the DFP steppers")
     if data["coupling"]["substeps"] > 1:

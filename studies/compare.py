@@ -90,9 +90,9 @@ def lumped_validity(scene) -> dict:
 
 
 def liner_cases(scene_arg, fast=False, log=lambda s: None) -> list[Case]:
-    """The scene once per liner preset (mechanics.friction.LINERS): its
+    """The scene once per liner preset (tribology.friction.LINERS): its
     [friction] table replaced by the preset on every surface."""
-    from fpd.mechanics.friction import LINERS
+    from fpd.tribology.friction import LINERS
 
     base = scn.load(scene_arg)
     extra = []
@@ -147,7 +147,8 @@ def cmd_compare_liners(args) -> int:
         text = (f"# Liner presets on {name}\n\n"
                 "The scene once per preset of docs/liners.md (its [friction] replaced by the preset on every "
                 "surface). Wear: the deepest surface's Archard depth; empty where the preset has no wear "
-                "coefficient. Presets marked as placeholders there are not measured values.\n\n"
+                "coefficient. The values no source states (marked * there, with the basis used) are not "
+                "measured values.\n\n"
                 + md_table(head, table))
         folder.path("liners.md").write_text(text)
         folder.path("summary.json").write_text(json.dumps(
@@ -238,6 +239,21 @@ def _mu_at_peak(case, i) -> float:
     return float(r[f"mu{i}"][int(np.argmax(r[f"T{i}_C"]))])
 
 
+
+def _time_plot(fig, ax, folder, file: str, title: str, ylabel: str) -> str:
+    """Finish a figure of curves against time (labels, grid, legend), write
+    it to folder/file and close it; returns file."""
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(folder / file, dpi=110)
+    _plt().close(fig)
+    return file
+
+
 def compare_plots(folder: Path, cases, name) -> list[str]:
     plt = _plt()
     made = []
@@ -251,28 +267,14 @@ def compare_plots(folder: Path, cases, name) -> list[str]:
             t = c.scene.thermal("lower")
             what = quantity_of(t["model"], t.get("source", "follow-pad"), t.get("radius_m", 0.0))
             ax.plot(r["t_s"], r["T1_C"], styles.get(c.label, "-"), lw=1, label=f"{c.label}, lower: {what}")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("lower plate T1 (\N{DEGREE SIGN}C), each model's own quantity")
-    ax.set_title(f"{name}: temperature by thermal model")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(folder / "temperature.png", dpi=110)
-    plt.close(fig)
-    made.append("temperature.png")
+    made.append(_time_plot(fig, ax, folder, "temperature.png", f"{name}: temperature by thermal model",
+                           "lower plate T1 (\N{DEGREE SIGN}C), each model's own quantity"))
     if ok and "mu1" in ok[0].result:
         fig, ax = plt.subplots(figsize=(7.5, 4))
         for c in ok:
             ax.plot(c.result["t_s"], c.result["mu1"], styles.get(c.label, "-"), lw=1, label=c.label)
-        ax.set_xlabel("t (s)")
-        ax.set_ylabel("friction coefficient mu1 (lower)")
-        ax.set_title(f"{name}: friction by thermal model")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(folder / "friction.png", dpi=110)
-        plt.close(fig)
-        made.append("friction.png")
+        made.append(_time_plot(fig, ax, folder, "friction.png", f"{name}: friction by thermal model",
+                               "friction coefficient mu1 (lower)"))
     if ok and "u_m" in ok[0].result:
         made.append(_loops(folder, ok, name))
     return made

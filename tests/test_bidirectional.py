@@ -305,7 +305,7 @@ def test_two_component_record_against_independent_ode_long():
 # -- the test machine: circular orbit ---------------------------------------------------
 
 def _circle_work(geom, A=0.2, f=0.5, dt=1e-3, mu=0.05, jit=False):
-    from fpd.mechanics.bidirectional import BidirectionalTestMachine
+    from fpd.machines.orbit import BidirectionalTestMachine
     from fpd.loading.orbits import orbit_programme
     prog = orbit_programme("circle", A, f, 3, dt)
     st = BidirectionalTestMachine(geom, prog, jit=jit)
@@ -340,7 +340,7 @@ def test_circular_orbit_dissipation_closed_form():
 def test_sine_test_machine_in_a_direction_is_the_planar_one_turned():
     """A sine orbit along 30 degrees gives the x-direction sine's work and
     forces turned by 30 degrees."""
-    from fpd.mechanics.bidirectional import BidirectionalTestMachine
+    from fpd.machines.orbit import BidirectionalTestMachine
     from fpd.loading.orbits import orbit_programme
     out = []
     for d in (0.0, 30.0):

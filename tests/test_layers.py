@@ -6,7 +6,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 # lower number = lower layer; a folder may import its own layer and those below
-LAYER = {"meshes": 0, "loading": 0, "mechanics": 1, "thermal": 2, "schema": 3, "coupling": 4, "outputs": 5,
+LAYER = {"meshes": 0, "loading": 0, "tribology": 0, "mechanics": 1, "machines": 2, "thermal": 2, "schema": 3, "coupling": 4, "outputs": 5,
          "studies": 6, "frontends": 7}
 ALLOWED_UP = {("fpd", "frontends")}     # fpd/__init__ and __main__ hand over to the front ends
 # fpd/__init__.py (the version, the API's names imported on first use) is the root

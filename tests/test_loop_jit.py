@@ -19,7 +19,7 @@ from fpd import kernels
 pytestmark = pytest.mark.skipif(not kernels.available(), reason="numba not installed (or FPD_NO_JIT)")
 
 from fpd.mechanics import two_phase_kernel as K  # noqa: E402
-from fpd.mechanics.friction import Constant, Kumar2015, Linear, Table  # noqa: E402
+from fpd.tribology.friction import Constant, Kumar2015, Linear, Table  # noqa: E402
 from fpd.mechanics.geometry import DeviceGeometry, G_ACC  # noqa: E402
 from fpd.mechanics.two_phase import PadOverturned, TwoPhaseStepper  # noqa: E402
 from tests.records_helper import elcentro, pulse  # noqa: E402
@@ -99,7 +99,7 @@ LAWS = [Constant(0.05), Linear(0.06, 20.0, -2e-4, 0.02), Kumar2015(0.06),
 @pytest.mark.parametrize("law", LAWS, ids=lambda x: type(x).__name__)
 def test_friction_law_kernel_matches_python(law):
     P = np.array(law.P)
-    law_mu = kernels.compiled("fpd.mechanics.friction_kernel").law_mu
+    law_mu = kernels.compiled("fpd.tribology.friction_kernel").law_mu
     rng = np.random.default_rng(3)
     T = np.r_[rng.uniform(-50, 400, 300), 20.0, 100.0, 250.0, 50.0, -1e3, 1e4]
     p = rng.uniform(0, 80e6, len(T))
@@ -348,13 +348,13 @@ def test_streamed_history_and_ctrl_c_while_a_block_is_taken(monkeypatch, tmp_pat
 
 @pytest.mark.parametrize("kind,scale", [("DFP", 1.0), ("SFP", 2.5)])
 def test_seated_kernel_compiled_matches_the_stepper(kind, scale):
-    """mechanics/seated_kernel.py compiled on float64 arrays against
+    """machines/seated_kernel.py compiled on float64 arrays against
     SeatedStepper (the same source run as Python on its list)."""
-    from fpd.mechanics.seated import SeatedStepper
+    from fpd.machines.seated import SeatedStepper
     geom = DeviceGeometry(kind, R1=2.2, R2=2.2 if kind == "DFP" else None, pad_height=0.10, pad_diameter=0.25,
                           pad_mass=30.0, mass=1.0e5)
     st = SeatedStepper(geom, elcentro(1e-3, scale, duration=10.0))
-    SK = kernels.compiled("fpd.mechanics.seated_kernel")
+    SK = kernels.compiled("fpd.machines.seated_kernel")
     C, S, A = np.array(st.C), np.array(st.S, dtype=float), np.asarray(st._a_step, dtype=float)
     xg = np.asarray(st._xg, dtype=float)
     row = np.zeros(SK.N_VALUES)

@@ -21,14 +21,14 @@ import json, os, sys
 import numpy as np
 os.environ["FPD_JIT_NO_CACHE"] = "1"           # a cached kernel keeps the constants it was built with
 from fpd import kernels
-from fpd.mechanics import friction_kernel
+from fpd.tribology import friction_kernel
 coef, what, out = float(sys.argv[1]), sys.argv[2], sys.argv[3]
 friction_kernel.KUMAR_T_COEF = coef            # the one place of the Kumar temperature coefficient
 if what == "law":
-    from fpd.mechanics.friction import Kumar2015
+    from fpd.tribology.friction import Kumar2015
     law = Kumar2015(0.06, use_pressure=True, use_velocity=True)
     T = np.linspace(-20.0, 400.0, 57)
-    comp = kernels.compiled("fpd.mechanics.friction_kernel").law_mu
+    comp = kernels.compiled("fpd.tribology.friction_kernel").law_mu
     P = np.array(law.P)
     np.savez(out, pure=[law(t, 3e7, 0.1) for t in T], comp=[comp(P, t, 3e7, 0.1) for t in T])
 else:
@@ -128,9 +128,9 @@ def test_no_numba_twin_of_a_kernel():
 
 def test_the_kernel_modules_are_kernels():
     import importlib
-    for name in ("fpd.mechanics.friction_kernel", "fpd.mechanics.two_phase_kernel", "fpd.mechanics.seated_kernel",
+    for name in ("fpd.tribology.friction_kernel", "fpd.mechanics.two_phase_kernel", "fpd.machines.seated_kernel",
                  "fpd.thermal.lumped_kernel", "fpd.thermal.column_kernel", "fpd.coupling.engine_kernel",
                  "fpd.mechanics.dev_two_phase", "fpd.mechanics.dev_bidirectional", "fpd.mechanics.dev_tfp",
-                 "fpd.mechanics.flat_kernel", "fpd.mechanics.dev_flat", "fpd.mechanics.dev_seated_machine",
-                 "fpd.mechanics.dev_orbit_machine"):
+                 "fpd.mechanics.flat_kernel", "fpd.mechanics.dev_flat", "fpd.machines.dev_seated_machine",
+                 "fpd.machines.dev_orbit_machine"):
         assert kernels.is_kernel_module(importlib.import_module(name)), name

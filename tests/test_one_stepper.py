@@ -131,9 +131,27 @@ def test_planar_columns_are_signed():
     # the TFP in both directions: a record pair, fe1d on the four parts along 2D footprint paths
     ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=6",
                       "solver.dt=2e-3"]),
+    # its two-phase model (the scene's), all four surfaces sliding
+    ("tfp-elcentro", ['loading.record="impvall-1979-e11"', "solver.duration=6", "solver.dt=2e-3",
+                      "friction.mu_ref=0.04"]),
+    # and on the test machine along a circle
+    ("tfp-lab", ['loading.waveform="circle"', "loading.amplitude_m=0.04", "loading.cycles=1",
+                 'mechanics.model="two-phase"', 'thermal.model="lumped"']),
     # the TFP under a vertical record (Ferndale's vertical channel x 3 at El Centro's first 35 s)
     ("tfp-elcentro", ["solver.duration=35", "thermal.model=lumped", "mechanics.model=two-phase",
                       f'loading.file_z="{V2}"', "loading.scale=3"]),
+    # the planar TFP flies and lands under a vertical pulse below -g (seated; two-phase with fe1d)
+    ("tfp-elcentro", ["solver.duration=3", "mechanics.model=seated", f'loading.file_z="{PULSE}"',
+                      "loading.baseline=false", "loading.scale=1"]),
+    ("tfp-elcentro", ["solver.duration=3", f'loading.file_z="{PULSE}"', "loading.baseline=false",
+                      "loading.scale=1"]),
+    # the TFP in both directions flies and lands under the pulse (the Imperial Valley pair)
+    ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=3",
+                      "solver.dt=2e-3", "loading.scale=1", f'loading.file_z="{PULSE}"', "loading.baseline=false",
+                      "thermal.model=lumped"]),
+    # the TFP in both directions under a vertical ground motion (0.6 of the pair's x component), fe1d
+    ("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"', "solver.duration=6",
+                      "solver.dt=2e-3", "loading.vertical_scale=0.6"]),
     ("flat-lab", []),
     ("flat-lab", ["thermal.model=lumped"]),
     ("lab-sine", []),

@@ -1,51 +1,25 @@
-"""The orbit test machine (mechanics/bidirectional.py BidirectionalTestMachine)
+"""The orbit test machine (machines/orbit.py BidirectionalTestMachine)
 under an axial-load programme (loading.vertical = "sine" | "series" held in
 force control): a turned sine is the planar machine's test, cycle for cycle,
 and its EDC the closed form of the imposed programmes; on a circle the normal
 forces follow N(t) and each cycle reports the programme's mean load."""
 from __future__ import annotations
 
-import csv
 import math
 
 import numpy as np
 import pytest
 
-from fpd.frontends import api
 from fpd.mechanics.geometry import G_ACC
 
-MU = 0.05
-A, F = 0.25, 0.4                    # lab-sine's programme: 0.25 m at 0.4 Hz
-
-
-def _run(out, loading: dict, cycles=2):
-    r = api.run("lab-sine", out, loading={"cycles": cycles, **loading},
-                friction={"mu_ref": MU, "use_temperature": False}, thermal={"model": "none"},
-                output={"plots": False})
-    assert r.ok, r.summary.get("message")
-    return r, list(csv.DictReader(open(out / "cycles.csv")))
-
-
-def _closed_form(scene, N_of_t):
-    """One cycle's EDC of the imposed programmes (quasi-static): the friction
-    work mu N |ds| on each surface plus the load's work through the pendulum's
-    rise, the closed integral of (N - W) L sin(theta) dtheta."""
-    dev = scene["device"]
-    L = dev["R1"] + dev["R2"] - dev["pad_height"]
-    W = scene["superstructure"]["mass"] * G_ACC
-    mg = dev["pad_mass"] * G_ACC
-    t = np.linspace(0.0, 1.0 / F, 400001)
-    th = np.arcsin(A * np.sin(2 * math.pi * F * t) / L)
-    N = N_of_t(t)
-    dth, Nm, thm = np.diff(th), 0.5 * (N[1:] + N[:-1]), 0.5 * (th[1:] + th[:-1])
-    friction = np.sum(MU * ((Nm + mg) * dev["R1"] + Nm * dev["R2"]) * np.abs(dth))
-    return friction + np.sum((Nm - W) * L * np.sin(thm) * dth)
+# the planar machine's run and closed form of the imposed programmes, reused as they are
+from tests.test_axial_machine import A, F, MU, _closed_form, _run
 
 
 @pytest.mark.parametrize("phase", [90.0, 0.0])
 def test_a_turned_sine_under_a_sine_load_is_the_planar_test(tmp_path, phase):
     """direction_deg = 30 runs the orbit machine: each cycle's EDC equals the
-    planar machine's (direction 0, mechanics/seated_kernel.py: another
+    planar machine's (direction 0, machines/seated_kernel.py: another
     kernel) within 1e-9 and the closed form within 0.5 % (measured 0.05 %
     at 90 deg), N_mean_N the programme's mean; the ledger closes."""
     vert = {"vertical": "sine", "vertical_amplitude_ratio": 0.4, "vertical_frequency_Hz": 2 * F,
@@ -58,7 +32,8 @@ def test_a_turned_sine_under_a_sine_load_is_the_planar_test(tmp_path, phase):
     def N_of_t(t):
         return W * (1.0 + 0.4 * np.sin(2 * math.pi * 2 * F * t + math.radians(phase)))
 
-    edc = _closed_form(r.scene, N_of_t)
+    friction, pendulum, *_ = _closed_form(r.scene, N_of_t)
+    edc = friction + pendulum
     assert len(rows) == 2
     for c, p in zip(rows, flat):
         assert float(c["EDC_J"]) == pytest.approx(float(p["EDC_J"]), rel=1e-9)

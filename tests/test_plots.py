@@ -175,3 +175,136 @@ def test_compare_loops_are_small_multiples(tmp_path):
     assert all(a.get_shared_y_axes().joined(a, shown[0]) for a in shown)
     assert [len(a.lines) for a in shown] == [1, 2, 2, 2, 2]
     assert (tmp_path / "hysteresis.png").stat().st_size > 10_000
+
+
+def _text_figure():
+    """A figure with what the run's figures draw: lines, a legend, a title,
+    rotated and mathematical text (its fraction bar is a box), a suptitle."""
+    from fpd.outputs import drawing
+    fig, (ax,) = drawing.new_figure()
+    t = np.linspace(0.0, 10.0, 500)
+    ax.plot(t, np.sin(t), label="sin t")
+    ax.plot(t, np.cos(t), "--", label=r"$\frac{\mu_1}{2}$ cos t")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(f"temperature ({drawing.DEG})")
+    ax.set_title("a title: 0123456789 AVWT fi")
+    ax.text(0.5, 0.5, "tilted", rotation=33, transform=ax.transAxes)
+    ax.legend()
+    fig.suptitle("two\nlines", fontsize=9)
+    return fig
+
+
+def test_png_writer_keeps_the_pixels(tmp_path):
+    """drawing.save writes the PNG itself (rows unfiltered, zlib): the image
+    read back is matplotlib's own PNG of the figure pixel for pixel, with its
+    resolution and mode."""
+    import io
+
+    from PIL import Image
+
+    from fpd.outputs import drawing
+    fig = _text_figure()
+    drawing.save(fig, tmp_path / "ours.png")
+    ref = io.BytesIO()
+    fig.savefig(ref, format="png", dpi=drawing.DPI)
+    a, b = Image.open(tmp_path / "ours.png"), Image.open(ref)
+    assert a.mode == b.mode == "RGBA" and a.size == b.size and a.info["dpi"] == b.info["dpi"]
+    assert "Matplotlib" in a.info["Software"]
+    assert np.array_equal(np.asarray(a), np.asarray(b))
+
+
+def test_lean_glyph_loop_draws_the_same_pixels():
+    """The command line's glyph loop (drawing._draw_glyphs: the transform's
+    matrix and the font size once per string) draws every pixel of
+    matplotlib's own loop: straight, rotated and mathematical text."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg
+
+    from fpd.outputs import drawing
+    loop = RendererAgg.__dict__.get("_draw_text_glyphs_and_boxes")
+    if loop is None or getattr(loop, "_fpd", False):
+        pytest.skip("this matplotlib has no glyph loop of that form (the command line keeps its own)")
+
+    def pixels():
+        fig = _text_figure()
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        return np.asarray(canvas.buffer_rgba()).copy()
+
+    ref = pixels()
+    RendererAgg._draw_text_glyphs_and_boxes = drawing._draw_glyphs(loop)
+    try:
+        lean = pixels()
+    finally:
+        RendererAgg._draw_text_glyphs_and_boxes = loop
+    assert ref.shape == lean.shape and (ref[..., :3] < 128).sum() > 2000      # text drawn
+    assert np.array_equal(ref, lean)
+
+
+def _title_figure():
+    """Titles matplotlib leaves at y = 1 and titles it lifts: over x ticks on
+    top, over a y axis offset text, two lines over a small title pad."""
+    from fpd.outputs import drawing
+    fig, ax = drawing.new_figure(2, 2, figsize=(8.0, 6.0), hgap=0.9)
+    t = np.linspace(0.0, 1.0, 50)
+    for a in ax:
+        a.plot(t, t ** 2)
+    ax[0].set_title("plain")
+    ax[1].plot(t, 1e7 + t)                              # the y axis gets an offset text
+    ax[1].set_title("an offset text on the y axis: a long title over it")
+    ax[2].xaxis.tick_top()
+    ax[2].set_title("ticks on top")
+    ax[3].set_title("two\nlines", pad=-12)
+    return fig
+
+
+def test_lean_title_placement_is_matplotlibs():
+    """The command line's title placement (drawing._place_titles: no y axis
+    layout pass where it cannot move a title) puts every title where
+    matplotlib does, the lifted ones included: the same pixels."""
+    from matplotlib.axes._base import _AxesBase
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from fpd.outputs import drawing
+    place = _AxesBase.__dict__["_update_title_position"]
+    if getattr(place, "_fpd", False):
+        pytest.skip("this process places titles lean already")
+
+    def drawn():
+        fig = _title_figure()
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        return np.asarray(canvas.buffer_rgba()).copy(), [a.title.get_position()[1] for a in fig.axes]
+
+    ref, ys = drawn()
+    _AxesBase._update_title_position = drawing._place_titles(place)
+    try:
+        lean, lean_ys = drawn()
+    finally:
+        _AxesBase._update_title_position = place
+    assert ys[0] == 1.0 and min(ys[1:]) > 1.0           # matplotlib lifted the last three
+    assert lean_ys == ys
+    assert np.array_equal(ref, lean)
+
+
+def test_lean_process_draws_the_same_figures(tmp_path):
+    """A process that imports matplotlib lean (fpd run's own: no set()
+    signatures, no 3-D axes, the glyph loop) writes the same pixels as one
+    importing it as usual."""
+    import subprocess
+    import sys
+
+    from PIL import Image
+    code = ("import sys; from fpd.outputs import drawing; drawing.LEAN = sys.argv[1] == 'lean'; "
+            "sys.path.insert(0, sys.argv[3]); from test_plots import _text_figure, _title_figure; "
+            "drawing.save(_text_figure(), sys.argv[2]); drawing.save(_title_figure(), sys.argv[2] + '.t.png'); "
+            "import matplotlib.projections as p; print('3d' in p.get_projection_names())")
+    here = str(Path(__file__).resolve().parent)
+    out = {}
+    for mode in ("lean", "usual"):
+        r = subprocess.run([sys.executable, "-c", code, mode, str(tmp_path / f"{mode}.png"), here],
+                           capture_output=True, text=True, cwd=ROOT, check=True)
+        out[mode] = r.stdout.split()[-1]
+    assert out == {"lean": "False", "usual": "True"}     # the lean import left the 3-D axes out
+    for suffix in ("", ".t.png"):
+        a, b = (np.asarray(Image.open(tmp_path / f"{m}.png{suffix}")) for m in ("lean", "usual"))
+        assert np.array_equal(a, b)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from fpd.loading.ground_motion import harmonic_ground_motion, sine_programme
-from fpd.mechanics.seated import SeatedStepper, SeatedTestMachine
+from fpd.machines.seated import SeatedStepper, SeatedTestMachine
 
 from helpers import at_rest, dfp, elcentro, run
 

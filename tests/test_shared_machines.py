@@ -23,6 +23,8 @@ from pathlib import Path
 
 import pytest
 
+from fpd.coupling.recording import CHUNK_ROWS
+
 from fpd.frontends import cli
 from fpd.outputs.claim import FolderBusy, claim, lock_path
 from fpd.schema.scene import SCENES_DIR, SceneError, load
@@ -160,8 +162,10 @@ def test_write_error_injected_mid_csv(tmp_path, errname, cause):
     proc = fpd_injected("csv", 200_000, ["run", "sfp-harmonic", "--out", str(out), "--quiet"], tmp_path, errname)
     err = one_line(proc, 1)
     assert cause in err and errname in err and str(out / "timeseries.csv") in err
-    assert "10000 steps computed" in err and "kept in" in err
-    s = assert_failed_folder_consistent(out, 10000)
+    s = assert_failed_folder_consistent(out, 1)
+    # stopped at the block of rows that failed, not at the end of the 10000 steps
+    assert s["steps"] < s["steps_computed"] <= min(10000, s["steps"] + CHUNK_ROWS)
+    assert f"{s['steps_computed']} steps computed" in err and "kept in" in err
     assert (out / "timeseries.csv").stat().st_size <= 200_000
     assert s["write_error"] == {"path": str(out / "timeseries.csv"), "errno": errname, "cause": cause}
     assert f"up to step {s['steps']} " in err
@@ -176,8 +180,8 @@ def test_write_error_injected_long_run_reports_progress(tmp_path):
                                            "--set", "solver.dt=2e-4", "--set", "output.plots=false"], tmp_path)
     err = one_line(proc, 1)
     s = assert_failed_folder_consistent(out, 1)
-    # stopped at the block of rows that failed (blocks of at most 16384 rows), not at the end
-    assert s["steps"] < s["steps_computed"] <= s["steps"] + 16384 and s["steps_computed"] < 50_000
+    # stopped at the block of rows that failed (blocks of at most CHUNK_ROWS rows), not at the end
+    assert s["steps"] < s["steps_computed"] <= s["steps"] + CHUNK_ROWS and s["steps_computed"] < 50_000
     assert f"{s['steps_computed']} steps computed" in err
 
 

@@ -36,7 +36,7 @@ def test_history_matches_pre_optimisation(ref, name):
 
 def test_chunked_csv_writes_the_bytes_savetxt_wrote(tmp_path):
     from fpd.outputs.output import write_csv
-    from fpd.mechanics.seated import PHASES
+    from fpd.machines.seated import PHASES
 
     class R:
         columns = ["t_s", "u_m", "phase", "T1_C"]

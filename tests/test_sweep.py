@@ -20,38 +20,13 @@ pytest.importorskip("dask.distributed")
 
 from fpd.frontends import cli  # noqa: E402
 from fpd.studies import sweep as swp  # noqa: E402
+from tests.sweep_scenes import lite, with_loading  # noqa: E402
 from fpd.studies import sweep_store as store  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "scenes" / "records" / "IELC180.AT2"
 
-LITE = """
-name = "lite"
-[device]
-kind = "DFP"
-R1 = 2.2
-R2 = 2.2
-pad_height = 0.10
-pad_diameter = 0.25
-[superstructure]
-mass = 1.0e5
-[friction]
-law = "constant"
-mu = 0.06
-[loading]
-kind = "pulse"
-shape = "cosine"
-velocity_mps = 0.5
-period_s = 1.0
-t0_s = 0.2
-duration_s = 1.5
-[thermal]
-model = "lumped"
-[solver]
-dt = 1e-3
-[output]
-plots = false
-"""
+LITE = lite(1.5)
 
 
 def _env(**extra):
@@ -143,8 +118,7 @@ def test_failing_members_are_rows_and_the_rest_complete(lite):
     cannot converge) become rows with their status and one-line message."""
     bad = lite / "bad.AT2"
     bad.write_text("PEER header\nno numbers here\nNPTS= 3, DT= .01 SEC\n0.1 zap 0.3\n")
-    rec_scene = LITE.split("[loading]")[0] + '[loading]\nkind = "record"\nrecord = "elcentro-1940"\n' + \
-        "[thermal]" + LITE.split("[thermal]")[1]
+    rec_scene = with_loading(LITE, 'kind = "record"\nrecord = "elcentro-1940"\n')
     (lite / "rec.toml").write_text(rec_scene)
     s = _write(lite, f'''scene = "rec.toml"
 mode = "zip"
@@ -336,8 +310,7 @@ def test_sweep_reports_rim_impacts_against_the_intensity(lite):
     and 2: the members whose slide reaches the rim (capacity ratio 1) are
     counted per scale in sweep.md and drawn against it (rim_probability.png);
     every member's capacity ratio is a column of sweep.csv."""
-    rec_scene = LITE.split("[loading]")[0] + '[loading]\nkind = "record"\nrecord = "elcentro-1940"\n' + \
-        "[thermal]" + LITE.split("[thermal]")[1]
+    rec_scene = with_loading(LITE, 'kind = "record"\nrecord = "elcentro-1940"\n')
     (lite / "rec.toml").write_text(rec_scene)
     s = _write(lite, '''scene = "rec.toml"
 [set]

@@ -32,37 +32,12 @@ import pytest
 pytest.importorskip("dask.distributed")
 
 from fpd.studies import sweep as swp  # noqa: E402
+from tests.sweep_scenes import lite, with_loading  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORD = ROOT / "scenes" / "records" / "IELC180.AT2"
 
-LITE = """
-name = "lite"
-[device]
-kind = "DFP"
-R1 = 2.2
-R2 = 2.2
-pad_height = 0.10
-pad_diameter = 0.25
-[superstructure]
-mass = 1.0e5
-[friction]
-law = "constant"
-mu = 0.06
-[loading]
-kind = "pulse"
-shape = "cosine"
-velocity_mps = 0.5
-period_s = 1.0
-t0_s = 0.2
-duration_s = 1.0
-[thermal]
-model = "lumped"
-[solver]
-dt = 1e-3
-[output]
-plots = false
-"""
+LITE = lite(1.0)
 
 
 def _env(**extra):
@@ -174,8 +149,7 @@ def _client_folder(tmp_path: Path) -> Path:
     (c / "sweeps" / "records").mkdir(parents=True)
     shutil.copy(RECORD, c / "sweeps" / "records" / "good.AT2")
     (c / "sweeps" / "records" / "bad.AT2").write_text("PEER header\nno numbers\nNPTS= 3, DT= .01 SEC\n0.1 zap 0.3\n")
-    rec = LITE.split("[loading]")[0] + '[loading]\nkind = "record"\nfile = "records/good.AT2"\n[thermal]' \
-        + LITE.split("[thermal]")[1]
+    rec = with_loading(LITE, 'kind = "record"\nfile = "records/good.AT2"\n')
     (c / "sweeps" / "rec.toml").write_text(rec)
     (c / "sweeps" / "lite.toml").write_text(LITE)
     return c

@@ -118,8 +118,8 @@ def test_vertical_scale_on_the_flat_bearing_and_refusals(tmp_path):
     assert r.status == "ok" and np.any(r["az_mps2"] != 0.0)
     with pytest.raises(scn.SceneError, match=r"^[^\n]*loading\.vertical_scale[^\n]*one vertical component[^\n]*$"):
         scn.load("default", ["loading.vertical_scale=0.5", f'loading.file_z="{PULSE}"'])
-    with pytest.raises(scn.SceneError, match=r"^[^\n]*loading\.vertical_scale[^\n]*not yet for this device[^\n]*$"):
-        scn.load("tfp-elcentro", ["loading.vertical_scale=0.5"])
+    # the TFP takes it too (tests/test_tfp3d_vertical.py)
+    assert scn.load("tfp-elcentro", ["loading.vertical_scale=0.5"])["loading"]["vertical_scale"] == 0.5
     with pytest.raises(scn.SceneError, match=r"^[^\n]*loading\.vertical_scale = 0[^\n]*non-zero[^\n]*$"):
         scn.load("default", ["loading.vertical_scale=0"])
     with pytest.raises(scn.SceneError, match=r"loading\.vertical_scale"):

@@ -378,14 +378,16 @@ def test_planar_devices_refuse_bidirectional_inputs(scene_name, override, key):
 
 @pytest.mark.parametrize("override,key", [("loading.angle_deg=10.0", "loading.angle_deg"),
                                           ('loading.record="impvall-1979-e11"', "loading.record")])
-def test_a_tfp_record_pair_is_the_tfp_in_both_directions_seated(override, key):
+def test_a_tfp_record_pair_is_the_tfp_in_both_directions(override, key):
     """A pair or a turned record runs the TFP in both directions
-    (tests/test_tfp3d.py), seated: its two-phase model is refused in one line."""
+    (tests/test_tfp3d.py, tests/test_tfp3d_two_phase.py): the scene's
+    two-phase model and the seated one."""
+    from fpd.coupling.build import build
     from fpd.schema import scene as scn
-    with pytest.raises(scn.SceneError) as err:
-        scn.load("tfp-elcentro", [override])
-    assert "mechanics.model" in str(err.value) and "two-phase" in str(err.value) and "\n" not in str(err.value)
-    assert scn.load("tfp-elcentro", [override, 'mechanics.model="seated"'])["loading"]
+    sets = [override, 'thermal.model="none"', "solver.duration=0.5"]
+    assert type(build(scn.load("tfp-elcentro", sets)).mechanics).__name__ == "TFP3DTwoPhaseStepper"
+    assert type(build(scn.load("tfp-elcentro", sets + ['mechanics.model="seated"'])).mechanics).__name__ \
+        == "TFP3DStepper"
 
 
 def test_vertical_load_key_is_refused_where_it_is_not_read():

@@ -265,7 +265,8 @@ def test_fe3d_on_the_four_parts_along_the_2d_paths(tmp_path):
 
 
 @pytest.mark.parametrize("sets,key", [
-    (['mechanics.model="two-phase"'], "mechanics.model"),
+    # the seated model takes a vertical ground motion (tests/test_tfp3d_vertical.py), the two-phase one not yet
+    (['mechanics.model="two-phase"', 'loading.vertical_scale=1.0'], "loading.vertical_scale"),
     (['thermal.model="axisym"'], "thermal.lower.model"),
     (["coupling.substeps=2"], "coupling.substeps"),
 ])
@@ -279,9 +280,9 @@ def test_what_the_tfp_in_both_directions_does_not_do_yet_is_refused_in_one_line(
 
 
 # -- the test machine ------------------------------------------------------------------------
-def orbit(g, A, f=0.1, cycles=2.0, dt=5e-3, mus=MUS):
+def orbit(g, A, f=0.1, cycles=2.0, dt=5e-3, mus=MUS, waveform="circle", direction_deg=0.0):
     from fpd.loading.orbits import orbit_programme
-    prog = orbit_programme("circle", A, f, cycles, dt)
+    prog = orbit_programme(waveform, A, f, cycles, dt, direction_deg=direction_deg)
     s = TFP3DStepper(g, prog, kernel=_kernel())
     rows = [s.values()]
     res = [s.ledger_residual()]
@@ -312,6 +313,32 @@ def test_circle_orbit_in_regime_one_dissipates_two_pi_a_f_i():
     Wi = (g.mass + g.slider_mass + 0.5 * g.pad_mass) * g.g
     Fi = (MUS[1] * g.R2 + MUS[2] * g.R3) * Wi / g.Li
     assert abs((W[-1] - W[n1]) / (2 * math.pi * A * Fi) - 1.0) <= 5e-3
+
+
+def test_a_turned_line_through_its_reversals_is_the_planar_machine():
+    """A straight sine of 120 mm at 0.2 Hz along 30 degrees engages S1 and S4
+    and reverses twice: at each reversal the bearing sticks while the
+    machine's force crosses from one friction cap to the other (Newton on the
+    force alone stalls there: the residual is the same over the whole stuck
+    region). The bearing follows the line, the ledger closes, and the
+    resultant history is the planar TFP machine's (another kernel) under the
+    same programme along x (measured: u 4.6e-16, F 2.1e-11, W 2.2e-15)."""
+    from fpd.loading.ground_motion import sine_programme
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from test_tfp import run as run_tfp
+    g = tfp()
+    ang = math.radians(30.0)
+    prog, d, res = orbit(g, 0.12, f=0.2, cycles=1.0, dt=2e-3, waveform="sine", direction_deg=30.0)
+    assert {3.0, 6.0} <= set(d["regime"]) and 0.0 in set(d["regime"])
+    assert np.max(np.abs(d["ux_m"] + d["xg_m"])) <= 1e-12 and np.max(np.abs(d["uy_m"] + d["yg_m"])) <= 1e-12
+    assert np.max(np.abs(res)) <= 1e-9 * np.max(np.abs(d["E_input_J"]))
+    _, p, _ = run_tfp(g, sine_programme(0.12, 0.2, 1.0, 2e-3))
+    um, Fm = np.max(np.abs(p["u_m"])), np.max(np.abs(p["F_N"]))
+    assert np.max(np.abs(d["ux_m"] * math.cos(ang) + d["uy_m"] * math.sin(ang) - p["u_m"])) <= 1e-9 * um
+    assert np.max(np.abs(d["Fx_N"] * math.cos(ang) + d["Fy_N"] * math.sin(ang) - p["F_N"])) <= 1e-9 * Fm
+    wt = sum(p[f"W{i}_J"][-1] for i in range(1, 5))
+    for i in range(1, 5):
+        assert np.max(np.abs(d[f"W{i}_J"] - p[f"W{i}_J"])) <= 1e-9 * wt, i
 
 
 def test_an_orbit_engaging_all_four_surfaces_against_an_independent_ode():

@@ -1,5 +1,5 @@
 """The TFP in both horizontal directions at its rims (mechanics/tfp3d_kernel.py,
-docs/model.md section 6.9): the planar TFP with its rims reproduced with no y
+docs/model.md section 6.11): the planar TFP with its rims reproduced with no y
 component and turned, a record pair that engages all four rims converging in
 dt with no footprint past its capacity, compiled equal to pure."""
 from __future__ import annotations

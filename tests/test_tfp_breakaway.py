@@ -157,6 +157,49 @@ def test_tfp_breakaway_threshold_under_a_ground_motion(model):
     assert peaks[1.01, True] > 1e-6
 
 
+@pytest.mark.parametrize("model", ["seated", "two-phase"])
+def test_the_tfp_in_both_directions_breaks_away_as_the_planar_one(model):
+    """The TFP in both directions takes the same static coefficients (one rule,
+    tfp_kernel.holding_caps, in both kernels): a harmonic ground motion turned
+    by 30 degrees whose peak acceleration is 1 % below the static threshold
+    leaves it stuck, while with the sliding mu alone it slides; 1 % above, it
+    breaks away, and its resultant history is the planar TFP's to 1e-9."""
+    import sys
+    from pathlib import Path
+    from fpd.loading.ground_motion import harmonic_ground_motion
+    from fpd.mechanics.tfp3d import TFP3DStepper
+    from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from test_tfp3d import turned
+    g = scn.tfp_geometry(scn.load("tfp-lab").data)
+    a_s = _tfp_threshold(g, STAT)
+    ang = math.radians(30.0)
+    three = TFP3DTwoPhaseStepper if model == "two-phase" else TFP3DStepper
+    peaks = {}
+    for fac in (0.99, 1.01):
+        gm = harmonic_ground_motion(fac * a_s / (2 * math.pi) ** 2, 1.0, 2, 1e-3)
+        for static in (True, False):
+            s3 = three(g, *turned(gm, ang))
+            sp = T.TFPStepper(g, gm, model=model)
+            if static:
+                s3.set_static(STAT, (0.0,) * 4)
+                sp.set_static(STAT, (0.0,) * 4)
+            rows3, rowsp = [s3.values()], [sp.values()]
+            for _ in range(gm.n_steps):
+                s3.step(*KIN)
+                sp.step(*KIN)
+                rows3.append(s3.values())
+                rowsp.append(sp.values())
+            d3 = dict(zip(s3.columns, np.array(rows3).T))
+            dp = dict(zip(sp.columns, np.array(rowsp).T))
+            peaks[fac, static] = float(np.max(np.abs(d3["u_m"])))
+            um = max(float(np.max(np.abs(dp["u_m"]))), 1e-300)
+            assert np.max(np.abs(d3["ux_m"] * math.cos(ang) + d3["uy_m"] * math.sin(ang) - dp["u_m"])) <= 1e-9 * um
+    assert peaks[0.99, True] == 0.0
+    assert peaks[0.99, False] > 1e-4
+    assert peaks[1.01, True] > 1e-6
+
+
 # -- the flat bearing ------------------------------------------------------------------------
 def test_flat_machine_breaks_away_at_mu_s_n():
     """flat-lab (the top face slides, mu 0.5) with mu_s = 0.6: the first step's

@@ -16,7 +16,7 @@ from hypothesis import given, settings, strategies as st_
 from fpd.mechanics.geometry import G_ACC, DeviceGeometry, geometry_errors
 from fpd.loading.ground_motion import GroundMotion
 from fpd.mechanics.phases import DIAGONAL_AC, DIAGONAL_BD, PHASES, SLIP, STICK, TILT
-from fpd.mechanics.seated import SeatedStepper
+from fpd.machines.seated import SeatedStepper
 from fpd.mechanics.two_phase import (
     COLUMNS, PadOverturned, TwoPhaseStepper, corner_pivot_rotation, leading_corner_tipping_ratio,
     pivot_chain, rocking_acceleration, rocking_threshold, seated_normal_forces,

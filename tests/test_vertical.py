@@ -96,17 +96,19 @@ def test_file_z_is_refused_where_it_cannot_be_taken(tmp_path):
     assert scn.load(str(flat), ['loading.record="ferndale-2022"', "loading.channels=[1, 3]"])["loading"]["path_z"]
     with pytest.raises(scn.SceneError, match=r"loading.channels.*planar"):
         scn.load(str(flat), ['loading.record="ferndale-2022"'])
-    # a vertical as a factor of the horizontal record: not yet on the TFP
-    with pytest.raises(scn.SceneError, match=r"loading.vertical_scale.*not yet for this device: the TFP"):
-        scn.load("tfp-elcentro", ["loading.vertical_scale=0.5"])
+    # a vertical as a factor of the horizontal record: the TFP takes it (tests/test_tfp3d_vertical.py)
+    assert scn.load("tfp-elcentro", ["loading.vertical_scale=0.5"])["loading"]["vertical_scale"] == 0.5
     # the TFP takes the vertical component (tests/test_tfp_vertical.py), not a second horizontal one
     assert scn.load("tfp-elcentro", [f'loading.file_z="{z}"'])["loading"]["path_z"]
     assert scn.load("tfp-elcentro", ['loading.record="ferndale-2022"', "loading.channels=[1, 3]"])["loading"]["path_z"]
-    # the TFP in both directions (seated) takes two horizontal channels, not yet the vertical one with them
+    # the TFP in both directions (seated) takes two horizontal channels and the vertical one with them
     assert scn.load("tfp-elcentro", ['loading.record="ferndale-2022"', "mechanics.model=seated",
                                      "loading.channels=[1, 2]"])["loading"]["path_y"]
-    with pytest.raises(scn.SceneError, match=r"loading.channels.*vertical channel.*not yet for the TFP in both"):
-        scn.load("tfp-elcentro", ['loading.record="ferndale-2022"', "mechanics.model=seated"])
+    ld = scn.load("tfp-elcentro", ['loading.record="ferndale-2022"', "mechanics.model=seated"])["loading"]
+    assert ld["path_y"] and ld["path_z"]
+    # not by a machine: file_z is a key of records
+    with pytest.raises(scn.SceneError, match=r"loading.file_z"):
+        scn.load("tfp-lab", [f'loading.file_z="{z}"', 'loading.waveform="circle"'])
     with pytest.raises(scn.SceneError, match=r"loading.file_z.*vertical one"):
         scn.load("ferndale-3c", [f'loading.file_z="{z}"'])
     with pytest.raises(scn.SceneError, match=r"loading.file_z"):       # a key of records only

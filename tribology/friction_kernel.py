@@ -1,9 +1,9 @@
 """The friction laws mu(T, p, v), written once (kernel module, fpd/kernels.py).
 
 A law is a row of floats ``P`` (kind, parameters; a table's points after
-N_HEAD slots), built by mechanics.friction from the ``[friction]`` table.
+N_HEAD slots), built by tribology.friction from the ``[friction]`` table.
 ``law_mu(P, T_C, p_Pa, v_mps)`` is the one evaluation: the pure path calls it
-through the law objects of mechanics/friction.py (P a Python list), the
+through the law objects of tribology/friction.py (P a Python list), the
 compiled loop calls its numba copy (P a float64 array).
 
 Kumar, Whittaker and Constantinou (2015): mu = mu_ref k_p k_T k_v with
@@ -16,6 +16,13 @@ exp(-a |v|), the velocity law bearing tests are fitted with.
 Breakaway (``holding_mu``): a stuck surface holds while the force it must
 carry stays within mu_s N, mu_s the static coefficient (never below the
 sliding mu); every stepper's stick test takes its cap from it.
+
+Dwell (``dwell_mu``, ``holding_mu_dwell``, ``dwell_advance``): the static
+coefficient grows with the time t the surface has been stuck, in the
+empirical form of Kato, Sato and Matsubayashi (1972),
+mu_s(t) = mu_s_inf - (mu_s_inf - mu_s0) exp(-(t / tau)^m), mu_s0 the
+holding coefficient at zero dwell; the dwell time is per surface state the
+stepper keeps (advanced by ``dwell_advance``).
 """
 from __future__ import annotations
 
@@ -103,3 +110,28 @@ def wear_step(K, T_C, dW, mu, N, area, PW, i, ni):
         ds = dW / (mu * N)
         PW[i] += ds
         PW[ni + i] += law_mu(K, T_C, 0.0, 0.0) * (N / area) * ds
+
+
+def dwell_mu(h0, mu_inf, tau, expo, t):
+    """The static coefficient after a dwell of t seconds (Kato, Sato and
+    Matsubayashi 1972): mu_inf - (mu_inf - h0) exp(-(t / tau)^expo), h0 the
+    coefficient at zero dwell; h0 itself without a dwell law (tau = 0), for
+    t <= 0, or when mu_inf does not exceed it."""
+    if tau > 0.0 and t > 0.0 and mu_inf > h0:
+        return mu_inf - (mu_inf - h0) * math.exp(-((t / tau) ** expo))
+    return h0
+
+
+def holding_mu_dwell(mu, mu_s, ratio, mu_inf, tau, expo, t):
+    """holding_mu grown by a dwell of t seconds (dwell_mu): the cap of a
+    surface stuck for t (tau = 0: holding_mu)."""
+    return dwell_mu(holding_mu(mu, mu_s, ratio), mu_inf, tau, expo, t)
+
+
+def dwell_advance(D, i, stuck, dt):
+    """Surface i's dwell time D[i] over a step of dt: grows while stuck,
+    back to zero once it slides."""
+    if stuck:
+        D[i] += dt
+    else:
+        D[i] = 0.0

@@ -1,22 +1,24 @@
 """The seated reference step (model.md section 2), written once (kernel
 module, fpd/kernels.py): a Moreau-type scheme on the one DOF theta; the
-derivation is in mechanics/seated.py's docstring. SeatedStepper holds the
+derivation is in machines/seated.py's docstring. SeatedStepper holds the
 state vector S and the constants C these functions read; SeatedTestMachine
 the same, stepped by ``machine_step`` (the imposed displacement), which the
-compiled engine calls too (mechanics/dev_seated_machine.py).
+compiled engine calls too (machines/dev_seated_machine.py).
 """
 from __future__ import annotations
 
 import math
 
-from .friction_kernel import holding_mu
-from .phases import SLIP, STICK
+from fpd.tribology.friction_kernel import dwell_advance, holding_mu_dwell
+from fpd.mechanics.phases import SLIP, STICK
 
 __kernel__ = True
 
 # S: the state, in SeatedStepper.save()'s order
 SN, ST, TH, THD, SF, N1, N2, W1, W2, EIN, MODE, SV1, SV2 = range(13)
-N_STATE = 13
+# the lower and upper surface's dwell time (s stuck; friction_kernel.dwell_advance)
+SDW1, SDW2 = 13, 14
+N_STATE = 15
 # C: constants
 CDT, CI, CS, CL, CM, Cm, CRHO, CG, CR1, CR2, CITER, TWO = range(12)
 # the test machine's: the inertial S (S less M L with the vertical load held) and the riding mass's factor
@@ -28,7 +30,10 @@ CMUS1, CMUS2 = 14, 15
 CLINK, CMPL, CNSUB = 16, 17, 18
 # the static coefficients as ratios to the sliding mu at rest (0: none)
 CMUR1, CMUR2 = 19, 20
-N_CONST = 21
+# the dwell law of the static coefficients (friction_kernel.dwell_mu): mu_s after a long
+# dwell, the time constant (0: none) and the exponent, lower and upper
+CMUI1, CMUI2, CTAU1, CTAU2, CEXP1, CEXP2 = 21, 22, 23, 24, 25, 26
+N_CONST = 27
 N_VALUES = 17             # len(seated.SEATED_COLUMNS)
 
 
@@ -180,7 +185,8 @@ def link_step(C, S, U, GV, mu1, mu2):
     link (C[CLINK] the spring, C[CMPL] the plate's mass; the machine's
     position U linear in time between grid points), in C[CNSUB] sub-steps.
     Stuck (u' = 0): the bearing holds while the link's force stays between its
-    static caps (friction_kernel.holding_mu), the breakaway located inside the
+    static caps (friction_kernel.holding_mu_dwell: grown by the time stuck so
+    far, that of the sub-step's start), the breakaway located inside the
     sub-step; sliding: _link_slide. Returns the friction work per interface."""
     L, dt, k = C[CL], C[CDT], C[CLINK]
     i0 = int(S[SN])
@@ -193,7 +199,7 @@ def link_step(C, S, U, GV, mu1, mu2):
     u = L * math.sin(th)
     v = L * math.cos(th) * S[THD]
     moved = False
-    hm1, hm2 = holding_mu(mu1, C[CMUS1], C[CMUR1]), holding_mu(mu2, C[CMUS2], C[CMUR2])
+    tw1, tw2 = S[SDW1], S[SDW2]
     for j in range(ns):
         um0 = U[i0] + (U[i1] - U[i0]) * (j / ns)
         um1 = U[i0] + (U[i1] - U[i0]) * ((j + 1) / ns)
@@ -203,11 +209,15 @@ def link_step(C, S, U, GV, mu1, mu2):
                 break
             uma = um0 + (um1 - um0) * (t0 / h)
             if v == 0.0:
+                hm1 = holding_mu_dwell(mu1, C[CMUS1], C[CMUR1], C[CMUI1], C[CTAU1], C[CEXP1], tw1)
+                hm2 = holding_mu_dwell(mu2, C[CMUS2], C[CMUR2], C[CMUI2], C[CTAU2], C[CEXP2], tw2)
                 f1 = k * (um1 - u)
                 Rp = _bearing(C, u, 0.0, 0.0, gv, hm1, hm2, 1.0)[0]
                 Rm = _bearing(C, u, 0.0, 0.0, gv, hm1, hm2, -1.0)[0]
                 S[SF] = f1
                 if Rm <= f1 <= Rp:
+                    tw1 += rem                  # stuck to the sub-step's end
+                    tw2 += rem
                     break
                 f0 = k * (uma - u)
                 target = Rp if f1 > Rp else Rm
@@ -226,8 +236,10 @@ def link_step(C, S, U, GV, mu1, mu2):
                 sgn = 1.0 if v > 0.0 else -1.0
             u, v, used = _link_slide(C, S, u, v, uma, um1, rem, gv, mu1, mu2, sgn)
             moved = True
+            tw1, tw2 = 0.0, 0.0                 # slid: a stop from here dwells anew
             t0 = t0 + used
             rem = h - t0
+    S[SDW1], S[SDW2] = tw1, tw2
     th1 = math.asin(u / L)
     S[TH] = th1
     S[THD] = v / (L * math.cos(th1))
@@ -278,15 +290,23 @@ def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, GV, mu1, mu2):
     else:
         Q1 = (F * L + Sin * UDD[i1]) * c
         S[EIN] += 0.5 * (Q0 + Q1) * dth
+        if dth == 0.0:
+            # at rest: a programme that starts again after a hold launches the bearing
+            # by an impulse at fixed position, whose work is the kinetic energy it gives
+            S[EIN] += 0.5 * C[CI] * (thd * thd - S[THD] * S[THD])
     # the vertical actuator's work beyond the weight's (zero with the load held at M g)
     ML, g = C[CM] * L, C[CG]
     S[EIN] -= 0.5 * (ML * (GV[i0] - g) * math.sin(th0) + ML * (GV[i1] - g) * math.sin(th)) * dth
-    hm1, hm2 = holding_mu(mu1, C[CMUS1], C[CMUR1]), holding_mu(mu2, C[CMUS2], C[CMUR2])
+    hm1 = holding_mu_dwell(mu1, C[CMUS1], C[CMUR1], C[CMUI1], C[CTAU1], C[CEXP1], S[SDW1])
+    hm2 = holding_mu_dwell(mu2, C[CMUS2], C[CMUR2], C[CMUI2], C[CTAU2], C[CEXP2], S[SDW2])
     if S[MODE] == STICK and sgn != 0.0 and (hm1 > mu1 or hm2 > mu2):
         # breakaway: the bearing at rest holds until the restraint carries the
-        # static cap at the step's start; the step's row reports that force,
-        # the largest of the step (the sliding law takes over once it moves)
+        # static cap at the step's start (grown by the time stuck so far); the
+        # step's row reports that force, the largest of the step (the sliding
+        # law takes over once it moves)
         F = machine_point(C, U[i0], UD[i0], UDD[i0], GV[i0], hm1, hm2, sgn)[3]
+    dwell_advance(S, SDW1, dth == 0.0, dt)
+    dwell_advance(S, SDW2, dth == 0.0, dt)
     S[TH], S[THD], S[SF], S[N1], S[N2] = th, thd, F, N1_, N2_
     S[W1] += dW1
     S[W2] += dW2

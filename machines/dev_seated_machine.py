@@ -1,4 +1,4 @@
-"""The planar bearing-test machine (mechanics/seated.py SeatedTestMachine: a
+"""The planar bearing-test machine (machines/seated.py SeatedTestMachine: a
 seated DFP/SFP driven along an imposed displacement) as the coupled engine
 sees it: the device interface of mechanics/dev_two_phase.py.
 
@@ -7,7 +7,7 @@ where the machine has stopped the bearing, the programme's smooth branch
 there and the axial load over M (seated_kernel.machine_step); X unused. Everything is the stepper's
 own kernel (seated_kernel.machine_step, values).
 """
-from fpd.mechanics import seated_kernel as sk
+from fpd.machines import seated_kernel as sk
 
 __kernel__ = True
 

@@ -14,10 +14,10 @@ gravity is evaluated by the discrete gradient sin(theta_m) sinc(dtheta / 2),
 so that the potential energy change of a step is exact. Second order while
 sliding, first order at stick-slip transitions.
 
-Both steps are mechanics/seated_kernel.py (kernel module, written once):
+Both steps are machines/seated_kernel.py (kernel module, written once):
 SeatedStepper's ``step``, SeatedTestMachine's imposed-displacement
 ``machine_step`` (the one the compiled engine calls,
-mechanics/dev_seated_machine.py).
+machines/dev_seated_machine.py).
 
 Energies are those of the ground frame (relative energy formulation):
 E_input is the work of the ground acceleration's d'Alembert forces through
@@ -29,16 +29,13 @@ import math
 
 import numpy as np
 
-from .geometry import DeviceGeometry
+from fpd.mechanics.geometry import DeviceGeometry
 from . import seated_kernel as K
 from fpd.loading.ground_motion import as_float64, float_array
 
-from .protocol import TwoInterfaces
-from .phases import PHASES, SLIP, STICK, TILT, MechanicsFailure  # noqa: F401
+from fpd.mechanics.protocol import TwoInterfaces
+from fpd.mechanics.phases import PHASES, SEATED_COLUMNS, SLIP, STICK, TILT, MechanicsFailure  # noqa: F401
 
-SEATED_COLUMNS = ("t_s", "xg_m", "u_m", "v_mps", "F_N", "z_m", "theta_rad",
-                  "s1_m", "s2_m", "N1_N", "N2_N", "W1_J", "W2_J", "phase",
-                  "E_input_J", "E_kin_J", "E_pot_J")
 
 
 class _SeatedBase(TwoInterfaces):
@@ -113,7 +110,7 @@ def _slot(i: int, kind=float):
 
 
 class _SeatedState(_SeatedBase):
-    """A seated stepper whose state is the list ``S`` of mechanics/seated_kernel.py
+    """A seated stepper whose state is the list ``S`` of machines/seated_kernel.py
     (the attributes are views of its slots) and whose constants are the list ``C``."""
 
     n, t, theta, theta_dot = _slot(K.SN, int), _slot(K.ST), _slot(K.TH), _slot(K.THD)
@@ -151,7 +148,7 @@ class _SeatedState(_SeatedBase):
 class SeatedStepper(_SeatedState):
     """Seated DFP/SFP under an imposed ground motion (loading.ground_motion.GroundMotion).
 
-    The step is mechanics/seated_kernel.py (written once); the state is the
+    The step is machines/seated_kernel.py (written once); the state is the
     list ``S`` it reads and writes, the attributes are views of its slots."""
 
     def __init__(self, geom: DeviceGeometry, ground, iterations: int = 3):
@@ -262,12 +259,20 @@ class SeatedTestMachine(_SeatedState):
         self.C[K.CMUS1], self.C[K.CMUS2] = float(mu_s1), float(mu_s2)
         self.C[K.CMUR1], self.C[K.CMUR2] = float(ratio1), float(ratio2)
 
+    def set_dwell(self, lower: tuple, upper: tuple) -> None:
+        """The static coefficients' growth with the time stuck, per interface
+        (mu_s after a long dwell, time constant tau in s, exponent; tau = 0:
+        none): seated_kernel CMUI1.., friction_kernel.dwell_mu."""
+        C = self.C
+        C[K.CMUI1], C[K.CTAU1], C[K.CEXP1] = (float(x) for x in lower)
+        C[K.CMUI2], C[K.CTAU2], C[K.CEXP2] = (float(x) for x in upper)
+
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         return K.machine_step(self.C, self.S, self._u, self._ud, self._udd, self._sm, self._uds, self._udds,
                               self._gv, mu1, mu2)
 
     # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
-    engine_device = "fpd.mechanics.dev_seated_machine"
+    engine_device = "fpd.machines.dev_seated_machine"
 
     def engine_state(self):
         """(C, S, L, X) as the engine reads them: float64 copies of the
