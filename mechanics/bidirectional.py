@@ -179,7 +179,7 @@ class _Base(TwoInterfaces):
         ``damping``: its damping ratio zeta in [0, 1), a dashpot on the same
         slide, 2 zeta sqrt(k m_eff) with m_eff = I / sum R_i^2 over those
         surfaces (the pendulum's generalised inertia carried by the slide),
-        i.e. 2 zeta sqrt(C_KRIM I) on the tilt (docs/model.md 6.11)."""
+        i.e. 2 zeta sqrt(C_KRIM I) on the tilt (docs/model.md 9)."""
         g = self.geom
         arcs = [d1 / g.R1] + ([d2 / g.R2] if (d2 is not None and g.kind == "DFP") else [])
         th = min(arcs)

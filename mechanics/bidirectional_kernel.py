@@ -90,7 +90,7 @@ C_MUI1, C_MUI2, C_TAU1, C_TAU2, C_EXP1, C_EXP2, C_DT = 41, 42, 43, 44, 45, 46, 4
 # the orbit machine's compliant link (docs/model.md 11.3): the spring (0: a rigid machine),
 # the plate's mass, sub-steps per step
 C_LINK, C_MPL, C_NSUB = 48, 49, 50
-# the rim's dashpot (docs/model.md 6.11): 2 zeta sqrt(C_KRIM I), the generalised damping
+# the rim's dashpot (docs/model.md 9): 2 zeta sqrt(C_KRIM I), the generalised damping
 # (N m s / rad^2) opposing the tilt's rate while the axis is beyond the capacity; 0: none
 C_CRIM = 51
 N_C = 52
