@@ -222,10 +222,11 @@ def record_info(scene: Scene, loading) -> dict:
 
 
 def rim_of(scene: Scene) -> tuple:
-    """(d1, d2, restitution, stiffness) of a DFP / SFP (d2 None for the SFP;
-    stiffness None: the rigid rim)."""
+    """(d1, d2, restitution, stiffness, damping ratio) of a DFP / SFP (d2 None
+    for the SFP; stiffness None: the rigid rim)."""
     dev = scene["device"]
-    return dev["d1"], dev.get("d2"), dev["rim_restitution"], dev.get("rim_stiffness_N_per_m")
+    return (dev["d1"], dev.get("d2"), dev["rim_restitution"], dev.get("rim_stiffness_N_per_m"),
+            dev["rim_damping_ratio"])
 
 
 def plate_params(scene: Scene, side: str) -> PlateParams:

@@ -87,11 +87,18 @@ KEYS: dict[str, tuple[str, str]] = {
                                             "of the rigid one: a spring on the slide past the capacity of each "
                                             "surface that sets it, so the impact is a contact force (in F_N, "
                                             "converging as dt shrinks) and the slide passes the capacity by its "
-                                            "compression; elastic (no rim loss: E_rim_J and J_rim_Ns stay 0, the "
+                                            "compression; elastic unless rim_damping_ratio (no impulse: J_rim_Ns "
+                                            "stays 0; without damping E_rim_J stays 0 too, the "
                                             "spring's energy is in E_pot_J); the rigid rim of rim_restitution = 1 "
                                             "is its stiff limit. dt must resolve the contact, about pi sqrt(m / k). "
                                             "Refused on the TFP, the flat bearing, the test machine and with "
                                             "rim_restitution."),
+    "device.rim_damping_ratio": ("", "DFP / SFP with rim_stiffness_N_per_m: damping ratio zeta in [0, 1) of the "
+                                     "rim's contact: a linear dashpot 2 zeta sqrt(k m_eff) on the slide past the "
+                                     "capacity, opposing its rate while the slider is beyond it, m_eff the "
+                                     "pendulum's generalised inertia over the sum of R_i^2 of the surfaces that "
+                                     "set the rim. An impact's restitution is then exp(-zeta pi / sqrt(1 - "
+                                     "zeta^2)); its loss is in E_rim_J. Refused without a rim stiffness."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
     "device.slider_mass": ("kg", "TFP: mass of each slider plate; default: a solid steel cylinder of "
@@ -545,7 +552,8 @@ COLUMNS: dict[str, tuple[str, str]] = {
                          "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
                          "flat bearing: the sum of the step's impact impulses, the lower rim's on the pad and "
                          "the upper rim's between pad and superstructure (a face resting on its rim is held: "
-                         "its reaction is part of F_N)."),
+                         "its reaction is part of F_N). The TFP in both directions: the impulse's "
+                         "magnitude."),
     "n_rim1": ("", "Rim impacts on the lower surface (TFP: S1) so far: arrivals at the rim (a DFP counts them on "
                    "the surface that bounds the slide, or on both)."),
     "n_rim2": ("", "Rim impacts on the upper surface of a DFP (TFP: S2) so far."),

@@ -169,13 +169,17 @@ class _Base(TwoInterfaces):
         C[K.C_MUI2], C[K.C_TAU2], C[K.C_EXP2] = (float(x) for x in upper)
 
     def set_rim(self, d1: float, d2: float | None = None, restitution: float = 0.0,
-                stiffness: float | None = None) -> None:
+                stiffness: float | None = None, damping: float = 0.0) -> None:
         """The slide capacities (arc from each surface's centre, m; the SFP's
         d1 only) and the rim's restitution: the axis's tilt is bounded by
         min(d1 / R1, d2 / R2), the surface (or both) that sets it counts the
         impacts (docs/model.md 9). ``stiffness`` (N/m): a rim of finite
         stiffness instead of the rigid one, a spring on the slide beyond the
-        capacity of each surface that sets it (elastic: no loss at the rim)."""
+        capacity of each surface that sets it (elastic: no loss at the rim);
+        ``damping``: its damping ratio zeta in [0, 1), a dashpot on the same
+        slide, 2 zeta sqrt(k m_eff) with m_eff = I / sum R_i^2 over those
+        surfaces (the pendulum's generalised inertia carried by the slide),
+        i.e. 2 zeta sqrt(C_KRIM I) on the tilt (docs/model.md 9)."""
         g = self.geom
         arcs = [d1 / g.R1] + ([d2 / g.R2] if (d2 is not None and g.kind == "DFP") else [])
         th = min(arcs)
@@ -185,6 +189,7 @@ class _Base(TwoInterfaces):
         C[K.C_RIM2] = 1.0 if len(arcs) > 1 and arcs[1] <= th * (1 + 1e-12) else 0.0
         if stiffness:
             C[K.C_KRIM] = float(stiffness) * (C[K.C_RIM1] * g.R1 ** 2 + C[K.C_RIM2] * g.R2 ** 2)
+            C[K.C_CRIM] = 2.0 * float(damping) * math.sqrt(C[K.C_KRIM] * C[K.C_I])
         self.capacity = (d1, d2 if g.kind == "DFP" else None)
 
     # -- protocol attributes ----------------------------------------------------

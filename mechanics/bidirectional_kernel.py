@@ -90,7 +90,10 @@ C_MUI1, C_MUI2, C_TAU1, C_TAU2, C_EXP1, C_EXP2, C_DT = 41, 42, 43, 44, 45, 46, 4
 # the orbit machine's compliant link (docs/model.md 11.3): the spring (0: a rigid machine),
 # the plate's mass, sub-steps per step
 C_LINK, C_MPL, C_NSUB = 48, 49, 50
-N_C = 51
+# the rim's dashpot (docs/model.md 9): 2 zeta sqrt(C_KRIM I), the generalised damping
+# (N m s / rad^2) opposing the tilt's rate while the axis is beyond the capacity; 0: none
+C_CRIM = 51
+N_C = 52
 PLANAR_NONE, PLANAR_TWO_PHASE, PLANAR_SEATED = 0.0, 1.0, 2.0
 
 # -- state array S -------------------------------------------------------------
@@ -239,6 +242,48 @@ def _rim_spring_drive(C, nx, ny, nz, ex, ey, ez, bx, by, bz, d):
     return ke, kb
 
 
+def _tilt_beyond(C, nx, ny, nz):
+    """The axis's tilt minus the rim's, theta - thmax (rad, signed)."""
+    return math.atan2(hypot(nx, ny), -nz) - C[C_THMAX]
+
+
+def rim_damper(C, nx, ny, nz, ex, ey, ez, d, h):
+    """The rim's dashpot over an increment of angle d >= 0 along the unit
+    tangent e from n, travelled in the time h: the generalised force
+    -c f r m, with c = C[C_CRIM], r = (m . t) d / h the tilt's rate at
+    mid-arc (m the outward meridian there, t the arc's tangent), and f the
+    share of the arc beyond the capacity (the tilt taken linear along it).
+    Returns (qx, qy, qz, loss): the force as a vector at n (its component
+    along e the work-conjugate one, -c f (m . t)^2 d / h; across, on b =
+    n x e, constant along the arc, -c f (m . t)(m . b) d / h) and the energy
+    it takes over the increment, c f (m . t)^2 d^2 / h >= 0."""
+    if not (d > 0.0 and h > 0.0):
+        return 0.0, 0.0, 0.0, 0.0
+    c1, s1 = math.cos(d), math.sin(d)
+    t0 = _tilt_beyond(C, nx, ny, nz)
+    t1 = _tilt_beyond(C, c1 * nx + s1 * ex, c1 * ny + s1 * ey, c1 * nz + s1 * ez)
+    if t0 > 0.0 and t1 > 0.0:
+        f = 1.0
+    elif t0 > 0.0 or t1 > 0.0:
+        f = max(t0, t1) / abs(t1 - t0)
+    else:
+        return 0.0, 0.0, 0.0, 0.0
+    q = 0.5 * d
+    c, s = math.cos(q), math.sin(q)
+    px, py, pz = c * nx + s * ex, c * ny + s * ey, c * nz + s * ez
+    tx, ty, tz = -s * nx + c * ex, -s * ny + c * ey, -s * nz + c * ez
+    r = hypot(px, py)
+    if r == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    mx, my, mz = -pz * px / r, -pz * py / r, r
+    bx, by, bz = ny * ez - nz * ey, nz * ex - nx * ez, nx * ey - ny * ex
+    me = mx * tx + my * ty + mz * tz
+    mb = mx * bx + my * by + mz * bz
+    k = C[C_CRIM] * f * me * d / h
+    fe, fb = -k * me, -k * mb
+    return fe * ex + fb * bx, fe * ey + fb * by, fe * ez + fb * bz, -fe * d
+
+
 def _free_direction(C, nx, ny, nz, ax, ay, gv):
     """Unit direction of the tangential drive at n (from rest), or (0, 0, 0)."""
     S = C[C_S]
@@ -289,6 +334,9 @@ def _arrest(C, nx, ny, nz, wx, wy, wz, ax, ay, gv, h, cap0, mu1, mu2):
                                    0.5 * wx, 0.5 * wy, 0.5 * wz, ax, ay, gv)
             cap = mu1 * N1 * C[C_R1] + mu2 * N2 * C[C_R2]
         dx, dy, dz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay, gv)
+        if C[C_CRIM] != 0.0:
+            qx, qy, qz, _loss = rim_damper(C, nx, ny, nz, ex, ey, ez, d, tau)
+            dx, dy, dz = dx + qx, dy + qy, dz + qz
         De = dx * ex + dy * ey + dz * ez
         px, py, pz = dx - De * ex, dy - De * ey, dz - De * ez
         plane = math.sqrt(px * px + py * py + pz * pz) <= 1e-9 * (cap + abs(De))
@@ -357,7 +405,9 @@ def _slide(C, S, d, ex, ey, ez, v1x, v1y, v1z, ax, ay, gv, f1, f2):
 
 def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, middir):
     """The stick trial's fixed point on the step increment D (a tangent
-    vector at n): returns (v1, D, lam, N1, N2, arrest). ``middir``: friction
+    vector at n): returns (v1, D, lam, N1, N2, cap, arrest, q), q the rim
+    dashpot's force the last velocity took (its work q . D is the loss booked:
+    exact whatever the fixed point's last change). ``middir``: friction
     along the mid-step velocity (the midpoint scheme while moving), else along
     the end velocity (radial return of the free trial velocity)."""
     I, R1, R2 = C[C_I], C[C_R1], C[C_R2]
@@ -369,6 +419,7 @@ def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, middir):
     v1x, v1y, v1z = w0x, w0y, w0z
     lam = 0.0
     arrest = False
+    qx = qy = qz = 0.0
     fx0, fy0, fz0 = _free_direction(C, nx, ny, nz, ax, ay, gv)
     for _ in range(FIXED_POINT_ITERS):
         d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
@@ -386,6 +437,9 @@ def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, middir):
                                    0.5 * (w0x + v1x), 0.5 * (w0y + v1y), 0.5 * (w0z + v1z), ax, ay, gv)
             cap = mu1 * N1 * R1 + mu2 * N2 * R2
         gx, gy, gz = drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay, gv)
+        if C[C_CRIM] != 0.0:
+            qx, qy, qz, _loss = rim_damper(C, nx, ny, nz, ex, ey, ez, d, h)
+            gx, gy, gz = gx + qx, gy + qy, gz + qz
         vfx, vfy, vfz = w0x + hI * gx, w0y + hI * gy, w0z + hI * gz
         if middir:
             # friction along the mid-step velocity x = w0 + v1: x + h cap x/|x| / I
@@ -419,7 +473,7 @@ def _trial(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, middir):
         Dx, Dy, Dz = Nx, Ny, Nz
         if math.sqrt(ddx * ddx + ddy * ddy + ddz * ddz) <= FIXED_POINT_TOL:
             break
-    return v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest
+    return v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest, qx, qy, qz
 
 
 def smallest_positive_root(c2, c1, c0, default):
@@ -557,15 +611,15 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
     if not moving and (hm1 > mu1 or hm2 > mu2):
         # at rest: the stick trial with the static cap; a drive beyond it breaks
         # the pad away and the step slides with the sliding cap
-        v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+        v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest, qx, qy, qz = _trial(
             C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, hm1, hm2, False)
         if v1x == 0.0 and v1y == 0.0 and v1z == 0.0:
             mu1, mu2 = hm1, hm2
         else:
-            v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+            v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest, qx, qy, qz = _trial(
                 C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, False)
     else:
-        v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+        v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest, qx, qy, qz = _trial(
             C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, mid and moving)
     if moving and (arrest or v1x * w0x + v1y * w0y + v1z * w0z <= 0.0):
         tau, d, ex, ey, ez, N1a, N2a, plane = _arrest(C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, cap, mu1, mu2)
@@ -575,7 +629,7 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
             # cross impulse); friction along the end velocity (radial return,
             # the Moreau step: it sticks exactly if the drive is inside the disk)
             if mid:
-                v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest = _trial(
+                v1x, v1y, v1z, Dx, Dy, Dz, lam, N1, N2, cap, arrest, qx, qy, qz = _trial(
                     C, nx, ny, nz, w0x, w0y, w0z, ax, ay, gv, h, mu1, mu2, False)
         else:
             if mid:
@@ -583,6 +637,8 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
             S[S_N1], S[S_N2] = N1, N2
             f1, f2 = mu1 * N1 * R1, mu2 * N2 * R2
             S[S_FF1], S[S_FF2] = f1 / C[C_L], f2 / C[C_L]
+            if C[C_CRIM] != 0.0:
+                S[S_ERIM] += rim_damper(C, nx, ny, nz, ex, ey, ez, d, tau)[3]
             _slide(C, S, d, ex, ey, ez, 0.0, 0.0, 0.0, ax, ay, gv, f1, f2)
             S[S_MODE] = STICK
             S[S_SV1] = S[S_SV2] = 0.0
@@ -596,6 +652,7 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
         if moving:                 # from a moving state (2D, no split): it slid by D first
             d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
             if d > 0.0:
+                S[S_ERIM] -= qx * Dx + qy * Dy + qz * Dz
                 _slide(C, S, d, Dx / d, Dy / d, Dz / d, 0.0, 0.0, 0.0, ax, ay, gv, f1, f2)
             S[S_WX] = S[S_WY] = S[S_WZ] = 0.0
         S[S_MODE] = STICK
@@ -622,6 +679,8 @@ def _part(C, S, ax, ay, gv, h, mu1, mu2):
                     return _tilt(C, S, ax, ay, gv, h)
         return h, FLAG_OK
     d = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
+    # the rim dashpot's work over the increment (the force the trial's velocity took)
+    S[S_ERIM] -= qx * Dx + qy * Dy + qz * Dz
     _slide(C, S, d, Dx / d, Dy / d, Dz / d, v1x, v1y, v1z, ax, ay, gv, f1, f2)
     S[S_MODE] = SLIP
     S[S_DW1] = S[S_DW2] = 0.0
@@ -686,7 +745,8 @@ def rim(C, S, gv):
     if thmax <= 0.0 or S[S_ROCK] != 0.0:
         return 0.0, 0.0
     if C[C_KRIM] != 0.0:
-        # a rim of finite stiffness: a contact force in the drive, no impulse;
+        # a rim of finite stiffness: a contact force in the drive (its dashpot's loss
+        # booked by the part-step, rim_damper), no impulse;
         # an impact is counted when the axis passes the capacity
         if rim_overlap(C, S[S_NX], S[S_NY], S[S_NZ]) > 0.0:
             if S[S_ATRIM] == 0.0:

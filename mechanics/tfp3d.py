@@ -158,12 +158,17 @@ class TFP3DStepper:
         return K.potential(self.par, self.S[0:4])
 
     @property
+    def E_rim(self) -> float:
+        """The kinetic energy the rim impacts took (J)."""
+        return float(self.S[K.S_ERIM])
+
+    @property
     def E_land(self) -> float:
         """Energy taken by the lift-offs and landings (docs/model.md 10)."""
         return float(self.S[K.S_ELAND])
 
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_land)
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim + self.E_land)
 
     def values(self) -> tuple:
         n = self.n
@@ -222,8 +227,8 @@ class TFP3DStepper:
             raise TFP3DFailure("the test machine's force did not make the bearing follow the orbit "
                                "(Newton on the machine's force did not converge; lower solver.dt)")
         if fail == K.FAIL_RIM:
-            raise TFP3DFailure("a surface reached its rim: rim impacts of the TFP in both directions are not "
-                               "modelled yet (the planar TFP has them)")
+            raise TFP3DFailure("a surface reached its rim under the test machine: the TFP's machine in both "
+                               "directions runs without rims (a smaller orbit)")
         if fail == K.FAIL_LAND:
             raise TFP3DFailure("the TFP would land from its flight beyond the outer surfaces' reach: a landing "
                                "on the rims is not modelled (docs/model.md 10)")

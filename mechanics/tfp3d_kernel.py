@@ -44,20 +44,22 @@ S_ITER, S_KKT, S_EPS = 34, 35, 36          # fixed-point iterations, the step's 
 # (x, y, up) and its velocity relative to the ground; the landings' loss (J), the lift-offs'
 # count, the time spent in flight (s)
 S_FLY, S_XF, S_YF, S_ZF, S_VXF, S_VYF, S_VZF, S_ELAND, S_NLIFT, S_TFLY = 40, 41, 42, 43, 44, 45, 46, 47, 48, 49
-N_S = 50
+S_J, S_NHIT = 50, 52    # the step's rim impulse on the superstructure (x, y, N s); rim impacts of S1..S4 so far
+N_S = 56
 
 # -- step output -------------------------------------------------------------------------
 O_EIN, O_WO, O_WI, O_ITER, O_FAIL, O_ARR_O, O_ARR_I, O_KKT = 0, 1, 2, 3, 4, 5, 6, 7
 O_DQ = 8            # 8..11: the increment
 O_FX, O_FY = 12, 13  # the step's mean horizontal force of the bearing (machine: its force)
-N_OUT = 16
+O_RIM, O_DXR, O_HIT_O, O_HIT_I, O_ARRIVE = 16, 17, 19, 20, 21   # rim loss, u' jump at the rims (x, y), arrivals
+N_OUT = 24
 
 FAIL_NONE, FAIL_FIXED_POINT, FAIL_RIM, FAIL_CAPACITY = 0, 2, 4, 1
 FAIL_LAND = 5           # a flight would land beyond the outer surfaces' reach (not modelled)
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
-N_SC = 420              # scratch length
+N_SC = 616              # scratch length (the rims' from RB = 420 on: N_SC_RIM)
 
 # Gauss-Legendre, 4 points on [0, 1]
 GL_X0, GL_X1 = 0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563
@@ -632,7 +634,7 @@ def normal_forces(par, q, v, agx, agy, az, Fx, Fy, N, sc):
 
 
 # -- the step -----------------------------------------------------------------------------
-def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc):
+def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc, nobounds):
     """One step of the 3D rigid TFP. st = [phi(2), alpha(2), rates(4)] (updated).
     agx, agy: mean ground acceleration over the step; az: vertical ground
     acceleration (gravity g + az); c_o = mu1 N1 R1 + mu4 N4 R4, c_i = mu2 N2
@@ -642,7 +644,9 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     found by Newton on the cone program's dual, ``machine_force``; its
     start is sc[256:258]). out[O_*]: increment, input work, friction work per
     coordinate (arrests included), iterations, KKT residual, the machine's
-    force, failure flag. sc: scratch of length N_SC."""
+    force, failure flag. sc: scratch of length N_SC. nobounds = 0: the rim
+    circles bound the end tilts (``rim_constrain``; not under the machine),
+    1: unbounded (the increment ``step_rims`` splits a step with)."""
     for i in range(N_OUT):
         out[i] = 0.0
     q0 = sc[100:104]
@@ -659,6 +663,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     tmp = sc[180:200]
     for i in range(4):
         q0[i] = st[i]
+    rb = 1 if (nobounds != 0 or machine == 1) else 0
+    rim_start(par, st, rb, sc)
     # p0 = M(q0) v0
     mass_matrix(par, q0, H, tmp)
     for i in range(4):
@@ -716,6 +722,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
                 mfail = True
         else:
             nit += socp(Hy, ry, c_o, c_i, y, sc)
+            if rb == 0:
+                nit += rim_constrain(par, q0, x, Lm, Hy, ry, c_o, c_i, y, rb, sc)
         # dq = L^-1 y
         for blk in range(2):
             k0 = 4 * blk
@@ -724,6 +732,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             a1 = (l11 * y[2 * blk + 1] - l12 * y[2 * blk]) / det
             tmp[2 * blk] = a0
             tmp[2 * blk + 1] = a1
+        if rb == 0 and it > 6 and rim_involved(sc):
+            rim_relax(x, tmp, sc)
         ch = 0.0
         for i in range(4):
             ch += abs(tmp[i] - x[i])
@@ -735,6 +745,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         out[O_FAIL] = FAIL_FIXED_POINT
     if mfail:
         out[O_FAIL] = FAIL_CAPACITY
+    if rb == 0:
+        rim_snap(par, q0, x, y, ry, Lm, rb, sc)
     if machine == 1:
         # the cone program the machine's force makes: r' + Dy F
         for i in range(4):
@@ -748,6 +760,7 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         for j in range(4):
             s -= H[4 * i + j] * x[j]
         tmp[i] = p0[i] + dt * (G[i] - s)          # p1
+        sc[R_PHI + i] = s
     mass_matrix(par, q1, H, tmp[8:20])
     chol_solve(H, tmp[0:4], tmp[4:8], sc[200:216])
     for i in range(4):
@@ -772,7 +785,18 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     z2 = x[2] == 0.0 and x[3] == 0.0
     arr_o = 0.0
     arr_i = 0.0
-    if z1 or z2:
+    if rb == 0 and rim_involved(sc):
+        rim_velocities(par, q0, q1, x, st, H, dt, c_o, c_i, y, Lm, par[tk.I_REST], sc)
+        arr_o = sc[R_OUT + 1]
+        arr_i = sc[R_OUT + 2]
+        out[O_RIM] = sc[R_OUT]
+        out[O_DXR] = sc[R_OUT + 3]
+        out[O_DXR + 1] = sc[R_OUT + 4]
+        out[O_HIT_O] = sc[R_OUT + 5]
+        out[O_HIT_I] = sc[R_OUT + 6]
+        if sc[R_OUT + 5] != 0.0 or sc[R_OUT + 6] != 0.0:
+            out[O_ARRIVE] = 1.0
+    elif z1 or z2:
         K0 = kinetic(par, q1, st[4:8], tmp[8:20])
         # p = M(q1) v
         for i in range(4):
@@ -818,10 +842,10 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     out[O_ARR_O] = arr_o
     out[O_ARR_I] = arr_i
     out[O_ITER] = it
-    # a rim: the 3D model has no rim impacts yet
+    # the test machine runs without rims: one reached stops it
     tp = st[0] * st[0] + st[1] * st[1]
     ta = st[2] * st[2] + st[3] * st[3]
-    if tp > qm * qm or ta > par[tk.I_QMAX_ALPHA] * par[tk.I_QMAX_ALPHA]:
+    if machine == 1 and (tp > qm * qm or ta > par[tk.I_QMAX_ALPHA] * par[tk.I_QMAX_ALPHA]):
         out[O_FAIL] = FAIL_RIM
 
 
@@ -1113,6 +1137,761 @@ def _to_metric(H, r, Lm, Hy, ry, tmp):
             Hy[4 * i + j] = s
 
 
+# -- the rims (docs/model.md section 6.11) -----------------------------------------------------
+# scratch of the rims in sc[RB:RB + 100]
+RB = 420
+R_M, R_H, R_N, R_NU, R_ACT, R_RS, R_ON0, R_V0 = 420, 424, 426, 430, 432, 434, 438, 440
+R_PHI = 444          # the step's generalised force of friction and rims, r - H dq (q-space)
+R_MR, R_VR, R_WR, R_PR, R_LL, R_B, R_X = 448, 464, 468, 472, 476, 492, 496
+R_C, R_ROT, R_OUT, R_Q = 500, 508, 516, 524   # R_OUT: rim loss, arr_o, arr_i, dxr (2), hits (2)
+R_SAVE, R_ACC = 532, 540                      # the part's start state (8), the parts' outputs (N_OUT)
+R_SV = R_ACC + N_OUT                          # the rim point (8)
+R_UD = R_SV + 8                               # u' scratch (6), u'(start), u'(part start), u'(free) (2 each)
+R_MM, R_VF = R_UD + 12, R_UD + 28            # a mass matrix (16), the free rates (4)
+R_DXP, R_OM = R_VF + 4, R_VF + 8             # the fixed point's last change (4) and relaxation
+N_SC_RIM = R_OM + 1
+
+
+def rim_qmax(par, k, nobounds):
+    if nobounds != 0:
+        return 1e30
+    return par[tk.I_QMAX_PHI] if k == 0 else par[tk.I_QMAX_ALPHA]
+
+
+def rim_start(par, st, nobounds, sc):
+    """Before a step: which blocks start on their rims (|q0_k| within 1e-13 of
+    qmax_k, or past it by round-off), and the start rates."""
+    for k in range(2):
+        qm = rim_qmax(par, k, nobounds)
+        nq = math.sqrt(st[2 * k] * st[2 * k] + st[2 * k + 1] * st[2 * k + 1])
+        sc[R_ON0 + k] = 1.0 if nq >= qm * (1.0 - 1e-13) else 0.0
+        sc[R_ACT + k] = 0.0
+        sc[R_NU + k] = 0.0
+    for i in range(4):
+        sc[R_V0 + i] = st[4 + i]
+        sc[R_DXP + i] = 0.0
+    sc[R_OM] = 1.0
+
+
+def _rim_eval(H, r, c1, c2, y, nua, nub, sc):
+    """y = the cone program's minimiser with r less the rims' reactions nu_k m_k."""
+    for i in range(2):
+        sc[R_RS + i] = r[i] - nua * sc[R_M + i]
+        sc[R_RS + 2 + i] = r[2 + i] - nub * sc[R_M + 2 + i]
+    return socp(H, sc[R_RS:R_RS + 4], c1, c2, y, sc)
+
+
+def _rim_gap(k, y, sc):
+    """m_k . y_k - h_k: > 0 past the rim's tangent line."""
+    return sc[R_M + 2 * k] * y[2 * k] + sc[R_M + 2 * k + 1] * y[2 * k + 1] - sc[R_H + k]
+
+
+def _rim_scale(H, k, sc):
+    """m_k^T H_kk^-1 m_k: the gap's rate of fall with nu_k when block k alone slides."""
+    i0 = 2 * k
+    a11, a12, a22 = H[4 * i0 + i0], H[4 * i0 + i0 + 1], H[4 * (i0 + 1) + i0 + 1]
+    m0, m1 = sc[R_M + i0], sc[R_M + i0 + 1]
+    return (a22 * m0 * m0 - 2.0 * a12 * m0 * m1 + a11 * m1 * m1) / (a11 * a22 - a12 * a12)
+
+
+def _rim_inner(H, r, c1, c2, y, nua, sc):
+    """nu_b >= 0 for the given nu_a: 0 if block b's rim does not act (then y
+    is the minimiser at (nu_a, 0)), else the root of block b's gap (nonincreasing
+    in nu_b: minus the derivative of the concave dual), by regula falsi
+    (Illinois) in a bracket grown by fours. y: the minimiser at the result."""
+    its = _rim_eval(H, r, c1, c2, y, nua, 0.0, sc)
+    if sc[R_ACT + 1] == 0.0:
+        return 0.0
+    flo = _rim_gap(1, y, sc)
+    if flo <= 0.0:
+        return 0.0
+    lo = 0.0
+    hi = 1.5 * flo / _rim_scale(H, 1, sc) + 1e-300
+    fhi = 0.0
+    for k in range(200):
+        its += _rim_eval(H, r, c1, c2, y, nua, hi, sc)
+        fhi = _rim_gap(1, y, sc)
+        if fhi <= 0.0:
+            break
+        lo, flo = hi, fhi
+        hi *= 4.0
+    side = 0
+    for k in range(200):
+        if fhi == 0.0 or hi - lo <= 2e-16 * hi:
+            break
+        x = lo + (hi - lo) * flo / (flo - fhi)
+        if not (lo < x < hi):
+            x = 0.5 * (lo + hi)
+        its += _rim_eval(H, r, c1, c2, y, nua, x, sc)
+        fx = _rim_gap(1, y, sc)
+        if fx > 0.0:
+            lo, flo = x, fx
+            if side == 1:
+                fhi *= 0.5
+            side = 1
+        else:
+            hi, fhi = x, fx
+            if side == -1:
+                flo *= 0.5
+            side = -1
+    its += _rim_eval(H, r, c1, c2, y, nua, hi, sc)
+    return hi
+
+
+def rim_socp(H, r, c1, c2, y, sc):
+    """The cone program of ``socp`` with the rims' half-planes m_k . y_k <= h_k
+    (for the blocks flagged at sc[R_ACT + k]): its dual over nu = (nu_a, nu_b)
+    >= 0 is concave and its gradient is the gaps (m_k . y_k(nu) - h_k), y(nu)
+    the unconstrained minimiser at r - nu_a m_a - nu_b m_b; nu_b solved for
+    each nu_a (``_rim_inner``), nu_a by the same bracketed regula falsi on a's
+    gap (the derivative of the dual maximised over nu_b, nonincreasing). The
+    minimiser into y, the multipliers into sc[R_NU:R_NU + 2]. Returns the cone
+    program's Newton iterations."""
+    its = 0
+    nub = _rim_inner(H, r, c1, c2, y, 0.0, sc)
+    nua = 0.0
+    if sc[R_ACT] != 0.0:
+        flo = _rim_gap(0, y, sc)
+        if flo > 0.0:
+            lo = 0.0
+            hi = 1.5 * flo / _rim_scale(H, 0, sc) + 1e-300
+            fhi = 0.0
+            for k in range(200):
+                nub = _rim_inner(H, r, c1, c2, y, hi, sc)
+                fhi = _rim_gap(0, y, sc)
+                if fhi <= 0.0:
+                    break
+                lo, flo = hi, fhi
+                hi *= 4.0
+            side = 0
+            for k in range(200):
+                if fhi == 0.0 or hi - lo <= 2e-16 * hi:
+                    break
+                x = lo + (hi - lo) * flo / (flo - fhi)
+                if not (lo < x < hi):
+                    x = 0.5 * (lo + hi)
+                nub = _rim_inner(H, r, c1, c2, y, x, sc)
+                fx = _rim_gap(0, y, sc)
+                if fx > 0.0:
+                    lo, flo = x, fx
+                    if side == 1:
+                        fhi *= 0.5
+                    side = 1
+                else:
+                    hi, fhi = x, fx
+                    if side == -1:
+                        flo *= 0.5
+                    side = -1
+            nua = hi
+            nub = _rim_inner(H, r, c1, c2, y, nua, sc)
+    sc[R_NU] = nua
+    sc[R_NU + 1] = nub
+    return its
+
+
+def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
+    """Inside the step's fixed point, after the unconstrained cone program:
+    a block whose end tilt q0_k + dq_k (dq_k = L_k^-1 y_k) lies past its rim
+    circle |q_k| = qmax_k is held by the rim's tangent line there, n_k . q_k <=
+    qmax_k, n_k the outward normal at the previous iterate's end point if that
+    was held (or on the rim), else at the unconstrained one: in y, m_k . y_k <= h_k with
+    m_k = L_k^-1 n_k, h_k = qmax_k - n_k . q0_k (0 for a block that starts on
+    its rim, as the planar box). At the fixed point n_k is the normal at q1_k
+    itself, so q1_k lies on the circle. The held blocks' normal components are
+    then set on their lines exactly. Returns the Newton iterations.
+
+    A block the previous iterate held (multiplier nu_k) adds the rim's
+    curvature to the program first, the Hessian of nu_k (|q_k| - qmax_k) at
+    that iterate's point qb_k on the circle, nu_k / qmax_k t t^T (t the
+    tangent; the sequential quadratic programming step): 1/2 nu_k / qmax_k
+    (t . (q_k - qb_k))^2, which vanishes with its gradient at the fixed point
+    (q1_k = qb_k) but keeps the iteration from running along the tangent
+    when a light mode is pressed hard into a rim (without it the full lock
+    in two directions diverges)."""
+    its = 0
+    curv = 0
+    hp0 = sc[R_ACT] != 0.0 and sc[R_NU] > 0.0
+    hp1 = sc[R_ACT + 1] != 0.0 and sc[R_NU + 1] > 0.0
+    for k in range(2):
+        held = hp0 if k == 0 else hp1
+        nu = sc[R_NU + k]
+        sc[R_ACT + k] = 0.0
+        sc[R_NU + k] = 0.0
+        if not held:
+            continue
+        p0_ = q0[2 * k] + x[2 * k]
+        p1_ = q0[2 * k + 1] + x[2 * k + 1]
+        npv = math.sqrt(p0_ * p0_ + p1_ * p1_)
+        if npv == 0.0:
+            continue
+        t0 = -p1_ / npv
+        t1 = p0_ / npv
+        off = -(t0 * q0[2 * k] + t1 * q0[2 * k + 1])      # t . (qb - q0), t . qb = 0
+        kap = nu / rim_qmax(par, k, nobounds)
+        k0 = 4 * k
+        l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
+        w0 = (l22 * t0 - l12 * t1) / det
+        w1 = (l11 * t1 - l12 * t0) / det
+        i0 = 2 * k
+        H[4 * i0 + i0] += kap * w0 * w0
+        H[4 * i0 + i0 + 1] += kap * w0 * w1
+        H[4 * (i0 + 1) + i0] += kap * w1 * w0
+        H[4 * (i0 + 1) + i0 + 1] += kap * w1 * w1
+        r[i0] += kap * w0 * off
+        r[i0 + 1] += kap * w1 * off
+        curv = 1
+    if curv != 0:
+        its += socp(H, r, c1, c2, y, sc)
+    for rep in range(3):
+        added = 0
+        for k in range(2):
+            if sc[R_ACT + k] != 0.0:
+                continue
+            qm = rim_qmax(par, k, nobounds)
+            k0 = 4 * k
+            l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
+            d0 = (l22 * y[2 * k] - l12 * y[2 * k + 1]) / det
+            d1 = (l11 * y[2 * k + 1] - l12 * y[2 * k]) / det
+            e0 = q0[2 * k] + d0
+            e1 = q0[2 * k + 1] + d1
+            ne = math.sqrt(e0 * e0 + e1 * e1)
+            if not ne > qm:
+                continue
+            # the normal: the previous iterate's end point if on the rim
+            p0_ = q0[2 * k] + x[2 * k]
+            p1_ = q0[2 * k + 1] + x[2 * k + 1]
+            npv = math.sqrt(p0_ * p0_ + p1_ * p1_)
+            n0, n1, h, m0, m1 = 0.0, 0.0, 0.0, 0.0, 0.0
+            for tr in range(2):
+                hp = hp0 if k == 0 else hp1
+                if tr == 0 and npv > 0.0 and (hp or npv >= qm * (1.0 - 1e-12)):
+                    n0, n1 = p0_ / npv, p1_ / npv
+                else:
+                    n0, n1 = e0 / ne, e1 / ne
+                h = qm - (n0 * q0[2 * k] + n1 * q0[2 * k + 1])
+                if sc[R_ON0 + k] != 0.0 and abs(h) <= 1e-13 * qm:
+                    h = 0.0
+                if h < 0.0:
+                    h = 0.0
+                m0 = (l22 * n0 - l12 * n1) / det
+                m1 = (l11 * n1 - l12 * n0) / det
+                if m0 * y[2 * k] + m1 * y[2 * k + 1] > h or tr == 1:
+                    break
+            sc[R_N + 2 * k] = n0
+            sc[R_N + 2 * k + 1] = n1
+            sc[R_M + 2 * k] = m0
+            sc[R_M + 2 * k + 1] = m1
+            sc[R_H + k] = h
+            sc[R_ACT + k] = 1.0
+            added += 1
+        if added == 0:
+            break
+        its += rim_socp(H, r, c1, c2, y, sc)
+    for k in range(2):
+        if sc[R_ACT + k] != 0.0 and sc[R_NU + k] > 0.0:
+            # on the line exactly
+            m0, m1 = sc[R_M + 2 * k], sc[R_M + 2 * k + 1]
+            g = (sc[R_H + k] - (m0 * y[2 * k] + m1 * y[2 * k + 1])) / (m0 * m0 + m1 * m1)
+            y[2 * k] += g * m0
+            y[2 * k + 1] += g * m1
+    return its
+
+
+def rim_snap(par, q0, x, y, ry, Lm, nobounds, sc):
+    """After the fixed point: a held block's end tilt is put on its circle
+    (q1_k = qmax_k q1_k / |q1_k|, a change of the fixed point's tolerance; in
+    one direction q1 = +-qmax exactly, the planar box's), one past it by
+    round-off likewise; y_k = L_k dq_k again; ry less the rims' reactions (the
+    optimality conditions then hold with them)."""
+    for k in range(2):
+        qm = rim_qmax(par, k, nobounds)
+        e0 = q0[2 * k] + x[2 * k]
+        e1 = q0[2 * k + 1] + x[2 * k + 1]
+        ne = math.sqrt(e0 * e0 + e1 * e1)
+        held = sc[R_ACT + k] != 0.0 and sc[R_NU + k] > 0.0
+        if not held:
+            sc[R_ACT + k] = 0.0
+        if (held or ne > qm) and ne > 0.0:
+            x[2 * k] = qm * (e0 / ne) - q0[2 * k]
+            x[2 * k + 1] = qm * (e1 / ne) - q0[2 * k + 1]
+            k0 = 4 * k
+            y[2 * k] = Lm[k0] * x[2 * k] + Lm[k0 + 1] * x[2 * k + 1]
+            y[2 * k + 1] = Lm[k0 + 1] * x[2 * k] + Lm[k0 + 2] * x[2 * k + 1]
+        if held:
+            ry[2 * k] -= sc[R_NU + k] * sc[R_M + 2 * k]
+            ry[2 * k + 1] -= sc[R_NU + k] * sc[R_M + 2 * k + 1]
+
+
+def rim_relax(x, xn, sc):
+    """The step's fixed point with a rim in it, past its first iterations: a
+    block pressed into its rim along a turning normal can make the plain
+    iteration alternate and converge slowly (or not); the new iterate xn is
+    relaxed, x + w (xn - x), w = 1 / (1 - lambda) for an alternating factor
+    lambda < 0 estimated from the last two changes (Irons and Tuck's secant
+    in one dimension; w = 1, the plain iteration, otherwise). The fixed point,
+    where xn = x, is the same."""
+    dd = 0.0
+    dp = 0.0
+    for i in range(4):
+        d = xn[i] - x[i]
+        dd += d * sc[R_DXP + i]
+        dp += sc[R_DXP + i] * sc[R_DXP + i]
+    om = 1.0
+    if dp > 0.0:
+        # the raw changes' ratio is the relaxed factor 1 + w0 (lambda - 1)
+        lam = 1.0 + (dd / dp - 1.0) / sc[R_OM]
+        if lam < 0.0:
+            om = 1.0 / (1.0 - lam)
+            if om < 0.05:
+                om = 0.05
+    for i in range(4):
+        sc[R_DXP + i] = xn[i] - x[i]
+        xn[i] = x[i] + om * (xn[i] - x[i])
+    sc[R_OM] = om
+
+
+def rim_involved(sc):
+    return sc[R_ACT] != 0.0 or sc[R_ACT + 1] != 0.0 or sc[R_ON0] != 0.0 or sc[R_ON0 + 1] != 0.0
+
+
+def _rot_basis(q, k, on, sc):
+    """Block k's basis (n, t): n the outward normal of its rim at q_k when on it,
+    else (1, 0); t = (-n_y, n_x). Into sc[R_ROT + 4 k: +4] = (nx, ny, tx, ty)."""
+    n0, n1 = 1.0, 0.0
+    if on:
+        nq = math.sqrt(q[2 * k] * q[2 * k] + q[2 * k + 1] * q[2 * k + 1])
+        if nq > 0.0:
+            n0, n1 = q[2 * k] / nq, q[2 * k + 1] / nq
+    sc[R_ROT + 4 * k] = n0
+    sc[R_ROT + 4 * k + 1] = n1
+    sc[R_ROT + 4 * k + 2] = -n1
+    sc[R_ROT + 4 * k + 3] = n0
+
+
+def _rot_fwd(v, o, sc):
+    """o = R^T v (the rates in the blocks' (n, t) bases)."""
+    for k in range(2):
+        n0, n1 = sc[R_ROT + 4 * k], sc[R_ROT + 4 * k + 1]
+        a, b = v[2 * k], v[2 * k + 1]
+        o[2 * k] = n0 * a + n1 * b
+        o[2 * k + 1] = -n1 * a + n0 * b
+
+
+def _rot_back(v, o, sc):
+    """o = R v."""
+    for k in range(2):
+        n0, n1 = sc[R_ROT + 4 * k], sc[R_ROT + 4 * k + 1]
+        a, b = v[2 * k], v[2 * k + 1]
+        o[2 * k] = n0 * a - n1 * b
+        o[2 * k + 1] = n1 * a + n0 * b
+
+
+def _rot_mass(M, sc):
+    """sc[R_MR] = R^T M R."""
+    for i in range(4):
+        for j in range(4):
+            s = 0.0
+            for a in range(4):
+                ka, ia = a // 2, i // 2
+                if ka != ia:
+                    continue
+                # R[a, i]: column i of block ka: (n0, n1) for i even, (-n1, n0) for i odd
+                ra = sc[R_ROT + 4 * ka + 2 * (i % 2) + (a % 2)]
+                for b in range(4):
+                    kb, jb = b // 2, j // 2
+                    if kb != jb:
+                        continue
+                    rb = sc[R_ROT + 4 * kb + 2 * (j % 2) + (b % 2)]
+                    s += ra * M[4 * a + b] * rb
+            sc[R_MR + 4 * i + j] = s
+
+
+def _proj_zero(mask, v, w, sc):
+    """The kinetic-metric projection of the rates v (rotated) onto {w_i = 0, i
+    in mask} (bit i of mask): the momentum of the free coordinates kept,
+    w_F = Mr_FF^-1 (Mr v)_F. Returns the kinetic energy removed, 1/2 |v - w|^2_Mr."""
+    Mr = sc[R_MR:R_MR + 16]
+    nf = 0
+    for i in range(4):
+        if (mask >> i) & 1 == 0:
+            sc[R_X + nf] = float(i)
+            nf += 1
+    for i in range(4):
+        w[i] = 0.0
+    if nf > 0:
+        # p_F and Mr_FF, Gaussian elimination (SPD, no pivoting)
+        for a in range(nf):
+            ia = int(sc[R_X + a])
+            s = 0.0
+            for j in range(4):
+                s += Mr[4 * ia + j] * v[j]
+            sc[R_B + a] = s
+            for b in range(nf):
+                sc[R_LL + 4 * a + b] = Mr[4 * ia + int(sc[R_X + b])]
+        for c in range(nf):
+            piv = sc[R_LL + 4 * c + c]
+            for a in range(c + 1, nf):
+                f = sc[R_LL + 4 * a + c] / piv
+                for b in range(c, nf):
+                    sc[R_LL + 4 * a + b] -= f * sc[R_LL + 4 * c + b]
+                sc[R_B + a] -= f * sc[R_B + c]
+        for a in range(nf - 1, -1, -1):
+            s = sc[R_B + a]
+            for b in range(a + 1, nf):
+                s -= sc[R_LL + 4 * a + b] * w[int(sc[R_X + b])]
+            w[int(sc[R_X + a])] = s / sc[R_LL + 4 * a + a]
+    e = 0.0
+    for i in range(4):
+        s = 0.0
+        for j in range(4):
+            s += Mr[4 * i + j] * (v[j] - w[j])
+        e += (v[i] - w[i]) * s
+    return 0.5 * e
+
+
+def _stage(mask, label, sc):
+    """A stage of the end-of-step impulses on the rotated rates sc[R_VR]:
+    project (``_proj_zero``), book the loss (label 0: S1/S4's arrest, 1:
+    S2/S3's, 2: the rim, whose velocity jump of the superstructure is kept)."""
+    v = sc[R_VR:R_VR + 4]
+    w = sc[R_WR:R_WR + 4]
+    e = _proj_zero(mask, v, w, sc)
+    if label == 2:
+        sc[R_OUT] += e
+        _rot_back(v, sc[R_PR:R_PR + 4], sc)
+        for i in range(4):
+            sc[R_Q + i] = sc[R_PR + i]
+        _rot_back(w, sc[R_PR:R_PR + 4], sc)
+        for c in range(2):
+            s = 0.0
+            for i in range(4):
+                s += sc[R_C + 2 * i + c] * (sc[R_PR + i] - sc[R_Q + i])
+            sc[R_OUT + 3 + c] += s
+    else:
+        sc[R_OUT + 1 + label] += e
+    for i in range(4):
+        v[i] = w[i]
+
+
+def _stages(k, stuck, rimk, base, sc):
+    """Block k's stages on top of the mask base: a block that stuck stops whole
+    (its normal rate first, the rim's if the rim stopped it, then the rest,
+    friction's arrest); one that reached its rim sliding loses its normal rate
+    only (the rim's). Returns the mask after them."""
+    bn = 1 << (2 * k)
+    bt = 1 << (2 * k + 1)
+    if stuck:
+        if rimk:
+            _stage(base | bn, 2, sc)
+        _stage(base | bn | bt, k, sc)
+        return base | bn | bt
+    _stage(base | bn, 2, sc)
+    return base | bn
+
+
+def rim_lock3(o0, o1, sc):
+    """The inelastic rim impact on the rotated rates sc[R_VR]: a block k on its
+    rim (o_k) may not move into it (its normal rate <= 0). The kinetic-metric
+    projection onto that cone (as tfp_kernel.rim_lock, the coordinates being
+    the normal rates): one block's normal rate stopped if the other's is then
+    not driven into its rim and the impulse pushes off the rim, else both.
+    The loss and the superstructure's jump are booked as the rim's."""
+    v = sc[R_VR:R_VR + 4]
+    w = sc[R_WR:R_WR + 4]
+    in0 = o0 and v[0] > 0.0
+    in1 = o1 and v[2] > 0.0
+    if not in0 and not in1:
+        return
+    Mr = sc[R_MR:R_MR + 16]
+    mask = 5
+    for c in range(2):
+        if c == 0 and not in0:
+            continue
+        if c == 1 and not in1:
+            continue
+        i = 2 * c
+        j = 2 - i
+        _proj_zero(1 << i, v, w, sc)
+        imp = 0.0
+        for a in range(4):
+            imp += Mr[4 * i + a] * (w[a] - v[a])
+        oj = o1 if c == 0 else o0
+        if not (oj and w[j] > 0.0) and imp <= 0.0:
+            mask = 1 << i
+            break
+    _stage(mask, 2, sc)
+
+
+def rim_velocities(par, q0, q1, x, st, M, dt, c_o, c_i, y, Lm, e_rest, sc):
+    """The end-of-step velocity jumps of a step with a rim in it (the planar
+    TFP's, tfp_kernel.substep, block by block in each block's (normal,
+    tangent) basis): a block that stuck stops (friction's arrest; its normal
+    rate the rim's if it rests on its rim and pushed into it), one that reached
+    its rim loses its normal rate (the rim's); the stuck-then-rim hand-over,
+    Newton's restitution e of an arrival, and last the inelastic lock of every
+    block that ends on its rim (``rim_lock3``). st[4:8]: the rates, updated;
+    M = M(q1). Results at sc[R_OUT:R_OUT + 7]: rim loss, arrests of
+    phi and alpha, the superstructure's velocity jump at the rims (x, y), and
+    whether phi, alpha arrived at their rims."""
+    for i in range(7):
+        sc[R_OUT + i] = 0.0
+    grad_u(par, q1, sc[R_C:R_C + 8])
+    s0, at0, rim0, on0_ = _rim_flags(q0, y, 0, sc)
+    s1, at1, rim1, on1_ = _rim_flags(q0, y, 1, sc)
+    _rot_basis(q1, 0, on0_, sc)
+    _rot_basis(q1, 1, on1_, sc)
+    # the rim's work over the increment of a held block (its reaction's, r - H dq less friction's)
+    for k in range(2):
+        if sc[R_ACT + k] != 0.0:
+            c = c_o if k == 0 else c_i
+            sc[R_OUT] += sc[R_PHI + 2 * k] * x[2 * k] + sc[R_PHI + 2 * k + 1] * x[2 * k + 1] \
+                - c * math.sqrt(y[2 * k] * y[2 * k] + y[2 * k + 1] * y[2 * k + 1])
+    _rot_mass(M, sc)
+    _rot_fwd(st[4:8], sc[R_VR:R_VR + 4], sc)
+    za = (not s0) or at0
+    zb = (not s1) or at1
+    if za and zb and rim1 and not rim0:
+        # phi stuck by friction, alpha stopped by its rim: the arrest, then the
+        # rim's impulse on alpha alone (phi keeps the momentum it hands it)
+        _stages(0, not s0, False, 0, sc)
+        _stages(1, not s1, rim1, 0, sc)
+    elif za and zb and rim0 and not rim1:
+        _stages(1, not s1, False, 0, sc)
+        _stages(0, not s0, rim0, 0, sc)
+    elif za and zb:
+        mk = _stages(0, not s0, rim0, 0, sc)
+        _stages(1, not s1, rim1, mk, sc)
+    elif za or zb:
+        k = 0 if za else 1
+        sk = s0 if za else s1
+        atk = at0 if za else at1
+        rk = rim0 if za else rim1
+        _stages(k, not sk, rk, 0, sc)
+        if atk and e_rest != 0.0:
+            # Newton's restitution: the free momentum is p1 plus the rim's
+            # impulse over the step (its reaction: the force r - H dq less friction's)
+            _rot_back(sc[R_VR:R_VR + 4], sc[R_Q:R_Q + 4], sc)
+            c = c_o if k == 0 else c_i
+            ny = math.sqrt(y[2 * k] * y[2 * k] + y[2 * k + 1] * y[2 * k + 1])
+            for i in range(4):
+                t = 0.0
+                for j in range(4):
+                    t += M[4 * i + j] * st[4 + j]
+                sc[R_PR + i] = t           # p1, the scheme's end momentum
+            k0 = 4 * k
+            for j in range(2):
+                fr = 0.0
+                if ny > 0.0:
+                    # L^T y / |y| (L symmetric)
+                    fr = c * (Lm[k0 + j] * y[2 * k] + Lm[k0 + j + 1] * y[2 * k + 1]) / ny
+                sc[R_PR + 2 * k + j] += dt * (sc[R_PHI + 2 * k + j] - fr)
+            chol_solve(M, sc[R_PR:R_PR + 4], sc[R_WR:R_WR + 4], sc[R_LL:R_LL + 16])
+            # the stop's jump d = v - v_free taken (1 + e) times
+            _rot_fwd(sc[R_WR:R_WR + 4], sc[R_PR:R_PR + 4], sc)
+            for i in range(4):
+                sc[R_WR + i] = sc[R_VR + i] + e_rest * (sc[R_VR + i] - sc[R_PR + i])
+            # the energy handed back, e^2 of the stop's 1/2 d^T M d (d is M-orthogonal
+            # to v), booked as the kinetic energy's change itself, 1/2 (w - v)^T M (w + v)
+            Mr = sc[R_MR:R_MR + 16]
+            ee = 0.0
+            for i in range(4):
+                t = 0.0
+                for j in range(4):
+                    t += Mr[4 * i + j] * (sc[R_WR + j] + sc[R_VR + j])
+                ee += (sc[R_WR + i] - sc[R_VR + i]) * t
+            sc[R_OUT] -= 0.5 * ee
+            _rot_back(sc[R_WR:R_WR + 4], sc[R_PR:R_PR + 4], sc)
+            for c2 in range(2):
+                t = 0.0
+                for i in range(4):
+                    t += sc[R_C + 2 * i + c2] * (sc[R_PR + i] - sc[R_Q + i])
+                sc[R_OUT + 3 + c2] += t
+            for i in range(4):
+                sc[R_VR + i] = sc[R_WR + i]
+    # a block that ends on its rim cannot move into it
+    rim_lock3(on0_, on1_, sc)
+    _rot_back(sc[R_VR:R_VR + 4], st[4:8], sc)
+    # (an arrival that moved)
+    sc[R_OUT + 5] = 1.0 if at0 and s0 else 0.0
+    sc[R_OUT + 6] = 1.0 if at1 and s1 else 0.0
+
+
+def _rim_flags(q0, y, k, sc):
+    """Block k after the step: whether it slid, arrived at its rim (held by it,
+    not on it at the start), was stopped by its rim (arrived, or stuck on it
+    while its start rate pushed into it) and ends on it (held, or stuck on it)."""
+    sk = y[2 * k] != 0.0 or y[2 * k + 1] != 0.0
+    held = sc[R_ACT + k] != 0.0
+    on0 = sc[R_ON0 + k] != 0.0
+    push = False
+    if on0 and not sk:
+        push = q0[2 * k] * sc[R_V0 + 2 * k] + q0[2 * k + 1] * sc[R_V0 + 2 * k + 1] > 0.0
+    at = held and not on0
+    return sk, at, at or push, held or (on0 and not sk)
+
+
+def _ud(par, st, sc, o):
+    """The superstructure's velocity u' of the state st into sc[o:o+2]."""
+    u_dot(par, st[0:4], st[4:8], sc, R_UD)
+    sc[o] = sc[R_UD]
+    sc[o + 1] = sc[R_UD + 1]
+
+
+def step_rims(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc):
+    """One step of the 3D TFP (``step``) with its rims, split at each arrival
+    as the planar TFP's step (tfp_kernel.step): the first part ends where the
+    unclamped increment of what is left of the step meets the rim circle
+    (the segment's crossing), the impact there is inelastic at velocity level
+    (``rim_velocities``; restitution as an option), the rest starts on the
+    rim and is split again if the other block meets its own rim in it.
+    out[O_DXR:O_DXR + 2]: the superstructure's velocity change at the
+    impacts, each part's change up to its rim less its share of the free
+    flight's smooth change. The test machine runs without rims (``step``'s
+    capacity check stops it at one)."""
+    for i in range(8):
+        sc[R_SAVE + i] = st[i]
+    step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc, 0)
+    if out[O_FAIL] != FAIL_NONE or machine == 1 or out[O_ARRIVE] == 0.0:
+        return
+    e_rest = par[tk.I_REST]
+    for i in range(N_OUT):
+        sc[R_ACC + i] = 0.0
+    kkt = 0.0
+    u_p = R_UD + 8
+    u_f = R_UD + 10
+    t0 = 0.0
+    for part in range(3):
+        h = (1.0 - t0) * dt
+        # the unclamped increment of what is left decides where the rim is met
+        for i in range(8):
+            st[i] = sc[R_SAVE + i]
+        _ud(par, st, sc, u_p)
+        step(par, st, h, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc, 1)
+        _ud(par, st, sc, u_f)
+        tau = 1.0
+        for b in range(2):
+            d0 = out[O_DQ + 2 * b]
+            d1 = out[O_DQ + 2 * b + 1]
+            nd = math.sqrt(d0 * d0 + d1 * d1)
+            if nd == 0.0:
+                continue
+            qm = rim_qmax(par, b, 0)
+            a0 = sc[R_SAVE + 2 * b]
+            a1 = sc[R_SAVE + 2 * b + 1]
+            e0 = a0 + d0
+            e1 = a1 + d1
+            if not math.sqrt(e0 * e0 + e1 * e1) > qm:
+                continue
+            # the segment a + s d meets the circle at s = (sqrt(qm^2 - c^2) - a.d^) / |d|,
+            # c = a x d^ (in one direction c = 0 and s = (+-qm - a) / d, the planar)
+            dx = d0 / nd
+            dy = d1 / nd
+            ad = a0 * dx + a1 * dy
+            cr = a0 * dy - a1 * dx
+            disc = qm * qm - cr * cr
+            if disc < 0.0:
+                disc = 0.0
+            dist = math.sqrt(disc) - ad
+            # (a block already resting on its rim does not meet it inside the step)
+            if abs(dist) > 1e-13 * qm:
+                tau = min(tau, dist / nd)
+        if tau < 1e-9:
+            tau = 1e-9
+        if tau > 1.0 - 1e-9:
+            tau = 1.0 - 1e-9
+        for i in range(8):
+            st[i] = sc[R_SAVE + i]
+        th = t0 + tau * (1.0 - t0)
+        step(par, st, tau * h, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc, 0)
+        if out[O_FAIL] != FAIL_NONE:
+            return
+        if out[O_HIT_O] == 0.0 and out[O_HIT_I] == 0.0:
+            # the part ended on a rim only to round-off, still moving into it:
+            # the impact is here (tfp_kernel.step)
+            o0 = _rim_touch(par, st, 0)
+            o1 = _rim_touch(par, st, 1)
+            if o0 or o1:
+                rim_touch_impact(par, st, o0, o1, e_rest, sc)
+                out[O_RIM] += sc[R_OUT]
+                if o0:
+                    out[O_HIT_O] = 1.0
+                if o1:
+                    out[O_HIT_I] = 1.0
+        _ud(par, st, sc, R_UD)
+        for c in range(2):
+            out[O_DXR + c] = sc[R_UD + c] - sc[u_p + c] - tau * (sc[u_f + c] - sc[u_p + c])
+        for i in range(N_OUT):
+            if i != O_FAIL and i != O_KKT and i != O_ARRIVE and i != O_FX and i != O_FY:
+                sc[R_ACC + i] += out[i]
+        if out[O_KKT] > kkt:
+            kkt = out[O_KKT]
+        t0 = th
+        for i in range(8):
+            sc[R_SAVE + i] = st[i]
+            sc[R_SV + i] = st[i]
+        # the rest, from the rim
+        step(par, st, (1.0 - t0) * dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc, 0)
+        if out[O_FAIL] != FAIL_NONE or out[O_ARRIVE] == 0.0 or part == 2:
+            break
+        # the other block meets its rim in the rest: split it too
+        for i in range(8):
+            st[i] = sc[R_SV + i]
+    for i in range(N_OUT):
+        if i != O_FAIL and i != O_KKT and i != O_ARRIVE and i != O_FX and i != O_FY:
+            out[i] += sc[R_ACC + i]
+    if kkt > out[O_KKT]:
+        out[O_KKT] = kkt
+    out[O_ARRIVE] = 1.0
+
+
+def _rim_touch(par, st, k):
+    """Block k on its rim to round-off and moving into it."""
+    qm = rim_qmax(par, k, 0)
+    a0, a1 = st[2 * k], st[2 * k + 1]
+    nq = math.sqrt(a0 * a0 + a1 * a1)
+    return abs(nq - qm) <= 1e-13 * qm and a0 * st[4 + 2 * k] + a1 * st[4 + 2 * k + 1] > 0.0
+
+
+def rim_touch_impact(par, st, o0, o1, e_rest, sc):
+    """The inelastic lock (``rim_lock3``) of the blocks o_k put on their rims
+    exactly, then Newton's restitution e (no reaction in the part: the free
+    rates are the rates before the lock; the lock's jump taken (1 + e) times,
+    e^2 of its loss handed back). The rim loss into sc[R_OUT]."""
+    for i in range(7):
+        sc[R_OUT + i] = 0.0
+    for k in range(2):
+        if (k == 0 and o0) or (k == 1 and o1):
+            qm = rim_qmax(par, k, 0)
+            a0, a1 = st[2 * k], st[2 * k + 1]
+            nq = math.sqrt(a0 * a0 + a1 * a1)
+            st[2 * k] = qm * (a0 / nq)
+            st[2 * k + 1] = qm * (a1 / nq)
+    M = sc[R_MM:R_MM + 16]
+    mass_matrix(par, st[0:4], M, sc[R_LL:R_LL + 12])
+    grad_u(par, st[0:4], sc[R_C:R_C + 8])
+    _rot_basis(st, 0, o0, sc)
+    _rot_basis(st, 1, o1, sc)
+    _rot_mass(M, sc)
+    _rot_fwd(st[4:8], sc[R_VR:R_VR + 4], sc)
+    for i in range(4):
+        sc[R_VF + i] = sc[R_VR + i]
+    rim_lock3(o0, o1, sc)
+    if e_rest != 0.0:
+        Mr = sc[R_MR:R_MR + 16]
+        ee = 0.0
+        for i in range(4):
+            sc[R_VF + i] = e_rest * (sc[R_VR + i] - sc[R_VF + i])      # the jump e d
+        for i in range(4):
+            t = 0.0
+            for j in range(4):
+                t += Mr[4 * i + j] * (2.0 * sc[R_VR + j] + sc[R_VF + j])
+            ee += sc[R_VF + i] * t
+        sc[R_OUT] -= 0.5 * ee
+        for i in range(4):
+            sc[R_VR + i] += sc[R_VF + i]
+    _rot_back(sc[R_VR:R_VR + 4], st[4:8], sc)
+
+
 # -- the whole step of the stepper ---------------------------------------------------------
 def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
     """One step on the state vector S (layout S_*): normal forces at the start
@@ -1138,8 +1917,9 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     ux0, uy0 = sc[220], sc[221]
     sc[256] = S[S_F]            # the machine's force: Newton starts from the last step's
     sc[257] = S[S_F + 1]
-    step(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    step_rims(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
     fail = int(out[O_FAIL])
+    rim_account(par, S, out)
     S[S_ITER] = out[O_ITER]
     S[S_KKT] = out[O_KKT]
     wo = out[O_WO]
@@ -1159,8 +1939,9 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
         S[S_F] = out[O_FX]
         S[S_F + 1] = out[O_FY]
     else:
-        S[S_F] = -Ms * (agx + (sc[220] - ux0) / dt)
-        S[S_F + 1] = -Ms * (agy + (sc[221] - uy0) / dt)
+        # (the velocity jump at a rim is an impulse, S_J, kept out of the force)
+        S[S_F] = -Ms * (agx + (sc[220] - out[O_DXR] - ux0) / dt)
+        S[S_F + 1] = -Ms * (agy + (sc[221] - out[O_DXR + 1] - uy0) / dt)
     dp = math.sqrt(out[O_DQ] * out[O_DQ] + out[O_DQ + 1] * out[O_DQ + 1])
     da = math.sqrt(out[O_DQ + 2] * out[O_DQ + 2] + out[O_DQ + 3] * out[O_DQ + 3])
     so = 1.0 if dp != 0.0 else 0.0
@@ -1177,7 +1958,7 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
         S[S_REG] = 3.0
     elif si != 0.0:
         S[S_PHASE] = tk.PHASE_INNER
-        S[S_REG] = 1.0
+        S[S_REG] = 5.0 if S[0] * S[0] + S[1] * S[1] >= (par[tk.I_QMAX_PHI] * (1.0 - 1e-12)) ** 2 else 1.0
     else:
         S[S_PHASE] = tk.PHASE_STICK
         S[S_REG] = 0.0
@@ -1191,6 +1972,30 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     S[S_SV + 2] = R3 * ai / dt
     S[S_SV + 3] = R4 * ao / dt
     return fail
+
+
+def rim_account(par, S, out):
+    """A step's rims in the state: the rim loss, the impulse on the
+    superstructure (minus its mass times u's jump at the rims, N s) and the
+    impacts, counted on the surfaces whose capacity makes the rim (as
+    tfp_kernel.advance)."""
+    S[S_ERIM] += out[O_RIM]
+    Ms = par[tk.I_MSUP]
+    S[S_J] = -Ms * out[O_DXR]
+    S[S_J + 1] = -Ms * out[O_DXR + 1]
+    tol = 1.0 - 1e-12
+    if out[O_HIT_O] != 0.0:
+        qm = par[tk.I_QMAX_PHI]
+        if par[tk.I_R1] * qm >= par[tk.I_D1] * tol:
+            S[S_NHIT] += out[O_HIT_O]
+        if par[tk.I_R4] * qm >= par[tk.I_D4] * tol:
+            S[S_NHIT + 3] += out[O_HIT_O]
+    if out[O_HIT_I] != 0.0:
+        qm = par[tk.I_QMAX_ALPHA]
+        if par[tk.I_R2] * qm >= par[tk.I_D2] * tol:
+            S[S_NHIT + 1] += out[O_HIT_I]
+        if par[tk.I_R3] * qm >= par[tk.I_D3] * tol:
+            S[S_NHIT + 2] += out[O_HIT_I]
 
 
 def vertical_row(par, S, az, row, sc):
@@ -1279,11 +2084,14 @@ def row_values(par, S, t, xg, yg, row, sc):
     row[45] = S[S_REG]
     for i in range(4):
         row[46 + i] = S[S_SLIDE + i]
+    # rim flags: a footprint at its capacity (the planar TFP's)
+    tol = 1.0 - 1e-12
+    dd = (par[tk.I_D1], par[tk.I_D2], par[tk.I_D3], par[tk.I_D4])
     for i in range(4):
-        row[50 + i] = 0.0          # rim flags (rims stop the run: none reached)
-    row[54] = 0.0                  # J_rim_Ns
+        row[50 + i] = 1.0 if row[22 + 3 * i] >= dd[i] * tol else 0.0
+    row[54] = math.sqrt(S[S_J] * S[S_J] + S[S_J + 1] * S[S_J + 1])     # J_rim_Ns: its magnitude
     for i in range(4):
-        row[55 + i] = 0.0          # n_rim
+        row[55 + i] = S[S_NHIT + i]
     # footprint centres on the four heated parts
     for i in range(4):
         sg = 1.0 if i < 2 else -1.0

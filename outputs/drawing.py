@@ -31,8 +31,9 @@ def lean_import() -> None:
     - ``matplotlib.projections`` is imported without the 3-D axes
       (``mpl_toolkits.mplot3d``, which no run draws: the "3d" projection is
       then not registered in this process);
-    - text is drawn by ``_draw_glyphs`` and titles placed by
-      ``_place_titles`` (``_lean_drawing``): the same pixels.
+    - text is drawn by ``_draw_glyphs``, titles placed by ``_place_titles``
+      and tick markers copied by ``_copy_markers`` (``_lean_drawing``): the
+      same pixels.
 
     Library use (``fpd.run``, ``Result.plot``) imports matplotlib as usual."""
     global _imported
@@ -122,6 +123,40 @@ def _lean_drawing() -> None:
     place = getattr(_AxesBase, "_update_title_position", None)
     if params(place) == ("self", "renderer") and not getattr(place, "_fpd", False):
         _AxesBase._update_title_position = _place_titles(place)
+    from matplotlib.markers import MarkerStyle
+    setm = MarkerStyle.__dict__.get("_set_marker")
+    if params(setm) == ("self", "marker") and not getattr(setm, "_fpd", False) and all(
+            hasattr(MarkerStyle("o"), a) for a in ("_marker", "_fillstyle", "_user_transform", "_user_capstyle",
+                                                  "_user_joinstyle")):
+        MarkerStyle._set_marker = _copy_markers(setm)
+
+
+def _copy_markers(setm):
+    """matplotlib's ``MarkerStyle._set_marker`` where it copies another
+    MarkerStyle (a Line2D's ``update_from``: every tick after an axis's first
+    takes its lines' properties from the first) by rebuilding the marker
+    from what defines it (the marker's name, fill style and user cap and
+    join styles) instead of deep-copying its dictionary (paths, transforms
+    and a bound method: about a tenth of a figure's time). A marker with a
+    user transform, a path or vertices, or a subclass goes through
+    matplotlib's own copy."""
+    from collections.abc import Hashable
+
+    from matplotlib.markers import MarkerStyle
+
+    def set_marker(self, marker):
+        if type(marker) is MarkerStyle and marker._user_transform is None:
+            name = marker._marker
+            if isinstance(name, Hashable) and not isinstance(name, MarkerStyle) and name in MarkerStyle.markers:
+                self._user_transform = None
+                self._user_capstyle = marker._user_capstyle
+                self._user_joinstyle = marker._user_joinstyle
+                self._fillstyle = marker._fillstyle
+                return setm(self, name)
+        return setm(self, marker)
+
+    set_marker._fpd = True
+    return set_marker
 
 
 def _place_titles(place):

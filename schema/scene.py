@@ -68,6 +68,10 @@ def _share(x):
     return None if 0 <= x <= 1 else "must be in [0, 1]"
 
 
+def _ratio_below_1(x):
+    return None if 0 <= x < 1 else "must be in [0, 1)"
+
+
 def _atleast(n):
     return lambda x: None if x >= n else f"must be >= {n}"
 
@@ -228,6 +232,8 @@ TABLES = {
         "rim_restitution": ("float", 0.0, _share),
         # a rim of finite stiffness (DFP / SFP): a spring on the slide beyond the capacity (N/m)
         "rim_stiffness_N_per_m": ("float", None, _pos),
+        # its damping ratio (a dashpot on the same slide, while beyond the capacity)
+        "rim_damping_ratio": ("float", 0.0, _ratio_below_1),
         "d3": ("float", None, _pos),
         "d4": ("float", None, _pos),
         "slider_mass": ("float", None, _nonneg),
@@ -881,6 +887,9 @@ def _capacities(ctx: _Ctx, data: dict, geom) -> None:
                      f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
     ld = data["loading"]
     k = dev.get("rim_stiffness_N_per_m")
+    if k is None and dev["rim_damping_ratio"] != 0.0:
+        ctx.fail("device.rim_damping_ratio", dev["rim_damping_ratio"], "damps a rim of finite stiffness: give "
+                 "device.rim_stiffness_N_per_m (the rigid rim's loss is device.rim_restitution)")
     if k is not None:
         if dev["rim_restitution"] != 0.0:
             ctx.fail("device.rim_restitution", dev["rim_restitution"], "is a key of the rigid rim: a rim of finite "
@@ -1494,8 +1503,12 @@ def _flat_capacities(ctx, data) -> None:
 
 
 def rigid_rim_only(ctx, data, device: str) -> None:
-    """A rim of finite stiffness is the DFP's and the SFP's (bidirectional_kernel)."""
+    """A rim of finite stiffness (and its damping) is the DFP's and the SFP's (bidirectional_kernel)."""
     k = data["device"].get("rim_stiffness_N_per_m")
+    zeta = data["device"].get("rim_damping_ratio", 0.0)
+    if k is None and zeta != 0.0:
+        ctx.fail("device.rim_damping_ratio", zeta, f"not yet for this device: the {device}'s rims are rigid "
+                 "(a DFP or an SFP takes a finite rim stiffness and its damping)")
     if k is not None:
         what = f"the {device}'s rims are rigid"
         ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: {what} "

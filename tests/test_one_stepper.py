@@ -124,6 +124,11 @@ def test_planar_columns_are_signed():
     ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9"]),
     ("impvall-bidirectional", ["solver.duration=8", "device.d1=0.04", "device.d2=0.04",
                                "device.rim_stiffness_N_per_m=1e9"]),
+    # and its dashpot (planar seated, and the two-phase DFP in both directions)
+    ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9",
+                      "device.rim_damping_ratio=0.2"]),
+    ("impvall-bidirectional", ["solver.duration=8", "device.d1=0.04", "device.d2=0.04",
+                               "device.rim_stiffness_N_per_m=1e9", "device.rim_damping_ratio=0.3"]),
     # the flight planar and seated
     ("ferndale-3c", ["solver.duration=3", "loading.channels=[1]", "loading.baseline=false",
                      f'loading.file_z="{PULSE}"', "mechanics.model=seated"]),

@@ -240,6 +240,54 @@ def test_lean_glyph_loop_draws_the_same_pixels():
     assert np.array_equal(ref, lean)
 
 
+def test_lean_marker_copy_is_matplotlibs():
+    """The command line's copy of a MarkerStyle (drawing._copy_markers: the
+    marker rebuilt from its name, fill style and user styles instead of a
+    deep copy, as every tick after an axis's first takes its lines'
+    properties) gives matplotlib's marker: the same paths, transforms,
+    fill, cap and join styles, for the tick markers and filled, unfilled
+    and half-filled ones; and the same pixels for a figure of many ticks."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.markers import MarkerStyle
+
+    from fpd.outputs import drawing
+    setm = MarkerStyle.__dict__.get("_set_marker")
+    if setm is None or getattr(setm, "_fpd", False):
+        pytest.skip("this matplotlib has no marker setter of that form (the command line keeps its own)")
+
+    def state(m):
+        alt = m.get_alt_path()
+        return (m.get_path().vertices.tolist(), m.get_path().codes if m.get_path().codes is None
+                else m.get_path().codes.tolist(), m.get_transform().get_matrix().tolist(),
+                None if alt is None else alt.vertices.tolist(),
+                None if alt is None else m.get_alt_transform().get_matrix().tolist(),
+                m.is_filled(), m.get_fillstyle(), m.get_capstyle(), m.get_joinstyle(), m.get_marker())
+
+    def pixels():
+        fig = Figure(figsize=(4, 3), dpi=80)
+        ax = fig.add_subplot()
+        ax.plot(np.arange(30), np.arange(30) ** 1.5, "o-", markevery=3)
+        ax.set_xticks(np.arange(0, 30, 1))
+        ax.minorticks_on()
+        canvas = FigureCanvasAgg(fig)
+        canvas.draw()
+        return np.asarray(canvas.buffer_rgba()).copy()
+
+    cases = [(m, fs) for m in (0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, "|", "_", "o", "s", "^", "x", "+", "D")
+             for fs in ("full", "left", "none")]
+    ref = [state(MarkerStyle(MarkerStyle(m, fs, capstyle="round"))) for m, fs in cases]
+    ref_px = pixels()
+    MarkerStyle._set_marker = drawing._copy_markers(setm)
+    try:
+        lean = [state(MarkerStyle(MarkerStyle(m, fs, capstyle="round"))) for m, fs in cases]
+        lean_px = pixels()
+    finally:
+        MarkerStyle._set_marker = setm
+    assert lean == ref
+    assert np.array_equal(ref_px, lean_px)
+
+
 def _title_figure():
     """Titles matplotlib leaves at y = 1 and titles it lifts: over x ticks on
     top, over a y axis offset text, two lines over a small title pad."""

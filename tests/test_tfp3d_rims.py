@@ -1,0 +1,160 @@
+"""The TFP in both horizontal directions at its rims (mechanics/tfp3d_kernel.py,
+docs/model.md section 6.11): the planar TFP with its rims reproduced with no y
+component and turned, a record pair that engages all four rims converging in
+dt with no footprint past its capacity, compiled equal to pure."""
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fpd import kernels
+from fpd.loading.ground_motion import GroundMotion, pulse_ground_motion
+from fpd.mechanics import tfp3d_kernel as K
+from fpd.mechanics.tfp3d import TFP3DStepper
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_tfp import tfp  # noqa: E402
+from test_tfp3d import _kernel, run3d, run_planar, turned  # noqa: E402
+from test_tfp_rims import MUS, elcentro  # noqa: E402
+
+
+def test_the_scratch_holds_the_rims():
+    assert K.N_SC >= K.N_SC_RIM
+
+
+def test_no_y_component_with_rims_reproduces_the_planar_tfp():
+    """El Centro x 4 for 6.5 s (all four rims engaged, the full lock at
+    4.9-5.6 s): the 3D stepper's x columns are the planar TFP's with its rims
+    to round-off: within twice what the planar model moves when its record
+    changes by one ulp, and below 1e-10 (measured 1.3e-11 of the peak
+    displacement); rim loss, impacts and regimes the same."""
+    g = tfp()
+    gm = elcentro(4.0, 1e-3, 6.5)
+    p = run_planar(g, gm, MUS)
+    ulp = run_planar(g, GroundMotion(gm.name, gm.dt, gm.t, gm.d, gm.v, gm.a, gm.a_step * (1 + 2.2e-16)), MUS)
+    _, d, res = run3d(g, gm, mus=MUS)
+    assert all(p[f"n_rim{i}"][-1] >= 1 for i in range(1, 5))
+    assert np.max(np.abs(d["uy_m"])) == 0.0
+    um = np.max(np.abs(p["u_m"]))
+    sens = np.max(np.abs(ulp["u_m"] - p["u_m"])) / um
+    tol = min(1e-10, 2.0 * max(sens, 1e-13))
+    assert np.max(np.abs(d["ux_m"] - p["u_m"])) <= tol * um
+    wt = sum(p[f"W{i}_J"][-1] for i in range(1, 5))
+    for c in ("W1_J", "W2_J", "W3_J", "W4_J", "E_input_J", "E_kin_J", "E_pot_J", "E_rim_J"):
+        assert np.max(np.abs(d[c] - p[c])) <= tol * wt, c
+    for i in range(1, 5):
+        assert np.array_equal(d[f"n_rim{i}"], p[f"n_rim{i}"])
+        assert np.array_equal(d[f"rim{i}"], p[f"rim{i}"])
+    assert np.array_equal(d["regime"], p["regime"])
+    assert np.max(np.abs(d["J_rim_Ns"] - np.abs(p["J_rim_Ns"]))) <= 1e-6 * np.max(np.abs(p["J_rim_Ns"]))
+    assert np.max(np.abs(res)) <= 1e-9 * np.max(np.abs(d["E_input_J"]))
+
+
+def test_a_turned_record_with_rims_is_the_planar_run_turned():
+    """The same record turned by 30 deg: the resultant history (|u|, the slides,
+    friction work, rim loss, impacts) is the run along x, to 1e-9; every
+    footprint stays on its circle of capacity."""
+    g = tfp()
+    gm = elcentro(4.0, 1e-3, 6.5)
+    _, d0, _ = run3d(g, gm, mus=MUS)
+    ang = math.radians(30.0)
+    _, d, res = run3d(g, *turned(gm, ang), mus=MUS)
+    um = np.max(d0["u_m"])
+    assert np.max(np.abs(d["u_m"] - d0["u_m"])) <= 1e-9 * um
+    wt = sum(d0[f"W{i}_J"][-1] for i in range(1, 5))
+    for c in ("W1_J", "W2_J", "W3_J", "W4_J", "E_rim_J", "E_input_J", "s1_m", "s2_m", "s3_m", "s4_m"):
+        scale = wt if c.endswith("_J") else np.max(d0[c])
+        assert np.max(np.abs(d[c] - d0[c])) <= 1e-9 * scale, c
+    for i in range(1, 5):
+        assert np.array_equal(d[f"n_rim{i}"], d0[f"n_rim{i}"])
+        cap = getattr(g, f"d{i}")
+        assert np.max(d[f"s{i}_m"]) <= cap * (1 + 1e-9)
+
+
+def _impvall(dt, scale=3.0, duration=15.0):
+    from fpd.coupling.build import bidirectional_loading_of
+    from fpd.schema import scene as scn
+    sc = scn.load("tfp-elcentro", ['loading.record="impvall-1979-e11"', 'mechanics.model="seated"',
+                                   f"loading.scale={scale}", f"solver.duration={duration}", f"solver.dt={dt}",
+                                   'thermal.model="none"'])
+    return scn.tfp_geometry(sc.data), bidirectional_loading_of(sc, dt)
+
+
+def test_a_pair_engaging_all_four_rims_converges_in_dt():
+    """Imperial Valley 1979, both components x 3, 15 s: all four rims reached;
+    dissipation (friction + rim loss) within 2 % across dt = 1, 0.5, 0.25 ms
+    (measured 144.1, 142.9, 142.8 kJ), no footprint ever past its capacity
+    (|s_i| <= d_i (1 + 1e-9)) and the ledger closed to 1e-9 of the input
+    every step."""
+    D = {}
+    for dt in (1e-3, 5e-4, 2.5e-4):
+        g, (gx, gy) = _impvall(dt)
+        s = TFP3DStepper(g, gx, gy, kernel=_kernel())
+        caps = np.array([g.d1, g.d2, g.d3, g.d4])
+        R = np.array([g.R1, g.R2, g.R3, g.R4])
+        worst = peak = 0.0
+        for _ in range(s.n_steps):
+            s.step(*MUS)
+            q = s.S
+            sl = R * np.array([math.hypot(q[0], q[1]), math.hypot(q[2], q[3]),
+                               math.hypot(q[2], q[3]), math.hypot(q[0], q[1])])
+            peak = max(peak, float(np.max(sl / caps)))
+            worst = max(worst, abs(s.ledger_residual()))
+        assert peak <= 1.0 + 1e-9
+        assert worst <= 1e-9 * s.E_in
+        assert all(s.S[K.S_NHIT + i] >= 1 for i in range(4)), s.S[K.S_NHIT:K.S_NHIT + 4]
+        D[dt] = sum(s.W) + s.E_rim
+    ref = D[2.5e-4]
+    assert max(abs(d / ref - 1) for d in D.values()) < 0.02, D
+
+
+def test_compiled_kernel_equals_pure_bit_for_bit_at_the_rims():
+    if not kernels.available():
+        pytest.skip("numba not available")
+    g = tfp()
+    gx = pulse_ground_motion("sine", 1.5, 1.5, 0.2, 1.6, 2e-3)
+    gy = pulse_ground_motion("sine", 1.0, 1.1, 0.4, 1.6, 2e-3)
+    _, a, _ = run3d(g, gx, gy, mus=MUS, kernel=None)
+    _, b, _ = run3d(g, gx, gy, mus=MUS, kernel=_kernel())
+    assert all(a[f"n_rim{i}"][-1] >= 1 for i in range(1, 5))
+    for c in a:
+        assert np.array_equal(a[c], b[c]), c
+
+
+@pytest.mark.parametrize("e", [0.0, 0.5])
+def test_an_oblique_impact_takes_the_kinetic_energy_normal_to_the_rim(e):
+    """Frictionless, the ground at rest, the pad's tilt a hair inside its rim
+    at 40 deg and its rate oblique to the rim (normal and tangential parts):
+    the impact takes (1 - e^2) of the kinetic energy normal to the rim, the
+    closed form 1/2 (n . v)^2 / (n^T M^-1 n) (n the rim's normal on alpha's
+    rates, M the mass matrix there), to 1e-3 (the motion in the 1 us step:
+    the frictionless stack under the tilted pad accelerates at ~100 rad/s2),
+    leaves the pad on its rim sliding along it (inelastic: no normal
+    rate) or leaving it at -e times its normal rate."""
+    g = tfp(rim_restitution=e)
+    pm, am = g.qmax
+    gm = pulse_ground_motion("cosine", 0.0, 1.0, 0.0, 1e-6, 1e-6)
+    s = TFP3DStepper(g, gm, kernel=None)
+    th = math.radians(40.0)
+    n = np.array([math.cos(th), math.sin(th)])
+    t = np.array([-n[1], n[0]])
+    s.S[2:4] = (am - 1e-10) * n
+    s.S[6:8] = 0.3 * n + 0.2 * t
+    M = np.zeros(16)
+    K.mass_matrix(s.par, s.S[0:4], M, np.zeros(12))
+    M = M.reshape(4, 4)
+    c = np.array([0.0, 0.0, n[0], n[1]])
+    vn = c @ s.S[4:8]
+    normal_ke = 0.5 * vn * vn / (c @ np.linalg.solve(M, c))
+    res0 = s.ledger_residual()          # minus the energy the state was given
+    s.step(0.0, 0.0, 0.0, 0.0)
+    assert s.E_rim == pytest.approx((1.0 - e * e) * normal_ke, rel=1e-3)
+    assert math.hypot(s.S[2], s.S[3]) <= am * (1 + 1e-12)
+    va = s.S[6:8]
+    assert va @ n == pytest.approx(-e * vn, abs=2e-3 * abs(vn))
+    assert abs(va @ t) > 0.1
+    assert abs(s.ledger_residual() - res0) <= 1e-9 * normal_ke
