@@ -686,12 +686,12 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "rim_impulse_Ns": ("N s", "The largest impulse of a rim impact on the superstructure (peak |J_rim_Ns|)."),
     "rim_impacts.lower": ("", "DFP / SFP / flat bearing: number of rim impacts on the lower surface (final n_rim1)."),
     "rim_impacts.upper": ("", "DFP / flat bearing: number of rim impacts on the upper surface (final n_rim2)."),
-    "capacity.*.capacity_m": ("m", "DFP / SFP / flat bearing: the surface's slide capacity (device.d1 / d2, or the plate's)."),
-    "capacity.*.peak_slide_m": ("m", "DFP / SFP / flat bearing: the largest arc of the footprint centre from the surface "
-                                     "centre (peak |s1_m| / |s2_m|)."),
-    "capacity.*.ratio": ("", "DFP / SFP / flat bearing: peak slide / capacity (1: the rim was reached)."),
-    "capacity.*.impacts": ("", "DFP / SFP / flat bearing: rim impacts counted on the surface."),
-    "capacity_ratio": ("", "DFP / SFP / flat bearing: the largest capacity ratio of the surfaces (1: the rim was reached)."),
+    "capacity.*.capacity_m": ("m", "Every device: the surface's slide capacity (device.d1 / d2, or the plate's; the TFP's d1..d4)."),
+    "capacity.*.peak_slide_m": ("m", "Every device: the largest arc of the footprint centre from the surface "
+                                     "centre (peak |s1_m| / |s2_m|; the TFP's |s1_m| .. |s4_m|)."),
+    "capacity.*.ratio": ("", "Every device: peak slide / capacity (1: the rim was reached)."),
+    "capacity.*.impacts": ("", "Every device: rim impacts counted on the surface."),
+    "capacity_ratio": ("", "Every device: the largest capacity ratio of the surfaces (1: the rim was reached)."),
     "rim_impacts.S1": ("", "TFP: number of rim impacts on S1 (final n_rim1)."),
     "rim_impacts.S2": ("", "TFP: number of rim impacts on S2 (final n_rim2)."),
     "rim_impacts.S3": ("", "TFP: number of rim impacts on S3 (final n_rim3)."),

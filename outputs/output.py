@@ -318,6 +318,15 @@ def tfp_summary(scene: Scene, result, sim) -> dict:
     s["input_work_J"] = _f(e_in)
     s["energy_residual_rel"] = _f(abs(e_in - out) / abs(e_in)) if e_in else 0.0
     s["peak_slide_m"] = {f"S{i}": _f(st.peak_abs(f"s{i}_m")) for i in range(1, 5)}
+    # per surface its capacity (device.d1..d4), peak slide, their ratio and impacts, as the DFP's
+    dev = d["device"]
+    cap = {}
+    for i in range(1, 5):
+        peak = st.peak_abs(f"s{i}_m")
+        cap[f"S{i}"] = {"capacity_m": _f(dev[f"d{i}"]), "peak_slide_m": _f(peak), "ratio": _f(peak / dev[f"d{i}"]),
+                        "impacts": int(round(st.final(f"n_rim{i}"))) if f"n_rim{i}" in result else 0}
+    s["capacity"] = cap
+    s["capacity_ratio"] = _f(max(c["ratio"] for c in cap.values()))
     if "T1_C" in result:
         for i in range(1, 5):
             s[f"peak_T{i}_C"] = _f(st.peak(f"T{i}_C"))

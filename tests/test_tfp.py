@@ -563,3 +563,30 @@ def test_a_long_lumped_tfp_run_takes_the_compiled_loop(monkeypatch):
     assert TFPStepper.engine_worth_loading(long_.n_steps) and not TFPStepper.engine_worth_loading(short.n_steps)
     assert fast_loop.compiled_loop(long_, 1, 2, fast_loop.loop_columns(long_)) is not None
     assert fast_loop.compiled_loop(short, 1, 2, fast_loop.loop_columns(short)) is None
+
+
+def test_the_tfp_summary_reports_each_surfaces_capacity_ratio():
+    """summary.json's capacity block on the TFP, as on the DFP: per surface
+    S1..S4 its capacity d_i, peak slide, their ratio and the impacts
+    counted; capacity_ratio the largest. El Centro x 4 drives the inner
+    surfaces onto their rims (ratio 1 to round-off, impacts counted) while
+    a surface that never reaches its rim has ratio < 1 and no impact."""
+    import fpd
+
+    r = fpd.run("tfp-elcentro", **{"solver.duration": 6.0, "loading.scale": 4.0, "thermal.model": "lumped",
+                                   "output.plots": False})
+    s = r.summary
+    assert s["status"] == "ok"
+    cap = s["capacity"]
+    assert set(cap) == {"S1", "S2", "S3", "S4"}
+    for i, k in enumerate(("S1", "S2", "S3", "S4"), start=1):
+        c = cap[k]
+        assert c["capacity_m"] == r.scene["device"][f"d{i}"]
+        assert c["peak_slide_m"] == pytest.approx(float(np.max(np.abs(r.history[f"s{i}_m"]))), rel=1e-12)
+        assert c["ratio"] == pytest.approx(c["peak_slide_m"] / c["capacity_m"], rel=1e-12)
+        assert c["ratio"] <= 1.0 + 1e-9
+        assert c["impacts"] == s["rim_impacts"][k]
+    assert s["capacity_ratio"] == max(c["ratio"] for c in cap.values())
+    hit = [k for k, c in cap.items() if c["impacts"] > 0]
+    assert hit and all(cap[k]["ratio"] >= 1.0 - 1e-9 for k in hit)
+    assert any(c["ratio"] < 1.0 - 1e-6 and c["impacts"] == 0 for c in cap.values())
