@@ -62,10 +62,25 @@ class Stats:
         self._ledger_cols = ([self.columns.index(c) for c in (*terms, *extra)]
                              if all(c in self.columns for c in terms) else None)
         self.ledger_worst = self.input_worst = 0.0
+        # when the assembly first left the bearing, and when it rose highest (a vertical record)
+        self._lift = ([self.columns.index(c) for c in ("t_s", "n_lift", "lift_m")]
+                      if all(c in self.columns for c in ("t_s", "n_lift", "lift_m")) else None)
+        self.first_lift_t = self.peak_lift_t = None
+        self._peak_lift = -np.inf
 
     def add(self, block: np.ndarray) -> None:
         if not len(block):
             return
+        if self._lift is not None:
+            jt, jn, jl = self._lift
+            if self.first_lift_t is None:
+                up = np.flatnonzero(block[:, jn] > 0.0)
+                if up.size:
+                    self.first_lift_t = float(block[up[0], jt])
+            k = int(np.argmax(block[:, jl]))
+            if block[k, jl] > self._peak_lift and block[k, jl] > 0.0:
+                self._peak_lift = float(block[k, jl])
+                self.peak_lift_t = float(block[k, jt])
         mx, mn = block.max(axis=0), block.min(axis=0)
         if self.rows == 0:
             self.max, self.min, self.first = mx, mn, block[0].copy()

@@ -679,6 +679,10 @@ SUMMARY: dict[str, tuple[str, str]] = {
     "lift_off.count": ("", "DFP / SFP / TFP / flat bearing under a vertical record: number of lift-offs (final n_lift)."),
     "lift_off.flight_time_s": ("s", "DFP / SFP / TFP / flat bearing under a vertical record: total time in flight (final "
                                     "t_flight_s)."),
+    "lift_off.first_lift_t_s": ("s", "DFP / SFP / TFP / flat bearing under a vertical record: when the moving assembly "
+                                     "first left the bearing (the first recorded row with n_lift > 0; null: never)."),
+    "lift_off.peak_lift_t_s": ("s", "DFP / SFP / TFP / flat bearing under a vertical record: when it rose highest (the "
+                                    "recorded row of peak lift_m; null: never)."),
     "lift_off.peak_lift_m": ("m", "DFP / SFP / TFP / flat bearing under a vertical record: the highest the moving assembly rose "
                                   "above its seat (peak lift_m)."),
     "lift_off.landing_loss_J": ("J", "DFP / SFP / TFP / flat bearing under a vertical record: energy taken by the landings (final "

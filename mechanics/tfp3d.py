@@ -210,6 +210,9 @@ class TFP3DStepper:
     def engine_push(self, S, n: int) -> None:
         self.n, self.t = n, n * self.dt
 
+    # a rim reached under a ground motion: the seated model takes the impact (docs/model.md 6.11)
+    RIM_MESSAGE = "a surface reached its rim"
+
     def set_static(self, mu_s, ratio) -> None:
         """The breakaway of S1..S4, as the planar TFP's (TFPStepper.set_static:
         the same slots of the same constants, read by tfp_kernel.holding_caps)."""
@@ -227,7 +230,8 @@ class TFP3DStepper:
             raise TFP3DFailure("the test machine's force did not make the bearing follow the orbit "
                                "(Newton on the machine's force did not converge; lower solver.dt)")
         if fail == K.FAIL_RIM:
-            raise TFP3DFailure("a surface reached its rim under the test machine: the TFP's machine in both "
+            raise TFP3DFailure(self.RIM_MESSAGE if not self.machine else
+                               "a surface reached its rim under the test machine: the TFP's machine in both "
                                "directions runs without rims (a smaller orbit)")
         if fail == K.FAIL_LAND:
             raise TFP3DFailure("the TFP would land from its flight beyond the outer surfaces' reach: a landing "

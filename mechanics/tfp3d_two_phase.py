@@ -50,6 +50,9 @@ class TFP3DTwoPhaseStepper(TFP3DStepper):
         self.out = np.zeros(K.N_OUT)
         self._row = np.zeros(len(self.columns))
 
+    RIM_MESSAGE = ('a surface reached its rim: the two-phase TFP in both directions has no rim impacts yet '
+                   '(mechanics.model = "seated" takes them; docs/model.md 6.11)')
+
     @property
     def E_reseat(self) -> float:
         """Kinetic energy removed by the re-seating of phases 2 and 3."""

@@ -214,10 +214,12 @@ def rim_summary(d: dict, st) -> dict:
 
 def lift_summary(st) -> dict:
     """Lift-off under a vertical record (docs/model.md 10): how many times the
-    moving assembly left the lower plate, the time it spent in flight, the
-    highest it rose above its seated position, and the landings' loss."""
+    moving assembly left the lower plate and when first (a recorded row's
+    time), the time it spent in flight, the highest it rose above its seated
+    position and when, and the landings' loss (None where it never left)."""
     return {"count": int(round(st.final("n_lift"))), "flight_time_s": _f(st.final("t_flight_s")),
-            "peak_lift_m": _f(st.peak("lift_m")), "landing_loss_J": _f(st.final("E_land_J"))}
+            "first_lift_t_s": st.first_lift_t, "peak_lift_m": _f(st.peak("lift_m")),
+            "peak_lift_t_s": st.peak_lift_t, "landing_loss_J": _f(st.final("E_land_J"))}
 
 
 def summary(scene: Scene, result, sim) -> dict:

@@ -210,6 +210,9 @@ def test_lift_off_through_a_scene_is_summarised_and_the_ledger_closes(tmp_path):
     assert s["status"] == "ok", s["message"]
     lo = s["lift_off"]
     assert lo["count"] == 1 and lo["flight_time_s"] > 0.2 and lo["peak_lift_m"] > 0.02 and lo["landing_loss_J"] > 0
+    n, t, lift = r.history["n_lift"], r.history["t_s"], r.history["lift_m"]
+    assert lo["first_lift_t_s"] == float(t[np.flatnonzero(n > 0)[0]])
+    assert lo["peak_lift_t_s"] == float(t[int(np.argmax(lift))])
     assert s["energy_residual_rel"] < 1e-10
     assert "record_z" in s
 

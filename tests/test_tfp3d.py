@@ -265,8 +265,7 @@ def test_fe3d_on_the_four_parts_along_the_2d_paths(tmp_path):
 
 
 @pytest.mark.parametrize("sets,key", [
-    # the seated model takes a vertical ground motion (tests/test_tfp3d_vertical.py), the two-phase one not yet
-    (['mechanics.model="two-phase"', 'loading.vertical_scale=1.0'], "loading.vertical_scale"),
+    # both models take a vertical ground motion (tests/test_tfp3d_vertical.py, test_tfp3d_two_phase_vertical.py)
     (['thermal.model="axisym"'], "thermal.lower.model"),
     (["coupling.substeps=2"], "coupling.substeps"),
 ])

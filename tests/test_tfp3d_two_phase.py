@@ -441,3 +441,27 @@ def test_fe3d_on_the_four_parts_along_the_2d_paths(tmp_path):
     s = json.loads((out / "summary.json").read_text())
     assert s["status"] == "ok" and s["heat_residual_rel"] <= 1e-9 and s["energy_residual_rel"] <= 1e-9
     assert s["peak_T2_C"] > 25.0 and s["reseat_loss_J"] > 0.0
+
+
+def test_a_rim_reached_by_the_two_phase_model_says_so_and_names_the_seated_one():
+    """Under a ground motion the two-phase TFP in both directions stops at a
+    rim (its rim impacts are the seated model's, docs/model.md 6.11) with a
+    message saying so, not the test machine's; the seated model runs the
+    same pair through its rims."""
+    g = tfp()
+    gx, gy = pair(1e-3)
+    scale = 3.0
+    f = ("d", "v", "a", "a_step")
+    gx = GroundMotion(gx.name, gx.dt, gx.t, *(scale * np.asarray(getattr(gx, k)) for k in f))
+    gy = GroundMotion(gy.name, gy.dt, gy.t, *(scale * np.asarray(getattr(gy, k)) for k in f))
+    s = TFP3DTwoPhaseStepper(g, gx, gy, kernel=_kernel())
+    with pytest.raises(TFP3DFailure) as err:
+        for _ in range(gx.n_steps):
+            s.step(*MUS)
+    msg = str(err.value)
+    assert "reached its rim" in msg and "seated" in msg and "test machine" not in msg
+    seated = TFP3DStepper(g, gx, gy, kernel=kernels.compiled("fpd.mechanics.tfp3d_kernel")
+                          if kernels.available() else None)
+    for _ in range(gx.n_steps):
+        seated.step(*MUS)
+    assert seated.E_rim > 0.0           # it went through its rims

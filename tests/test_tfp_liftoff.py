@@ -167,6 +167,13 @@ def test_lift_off_through_a_scene(tmp_path):
     import csv
     rows = list(csv.DictReader((out / "timeseries.csv").open()))
     assert float(rows[-1]["t_flight_s"]) == pytest.approx(lo["flight_time_s"], rel=1e-9)
+    # when: the first row that counts the lift-off, the row of the highest lift
+    first = next(float(r["t_s"]) for r in rows if float(r["n_lift"]) > 0)
+    lift = [float(r["lift_m"]) for r in rows]
+    assert lo["first_lift_t_s"] == pytest.approx(first, rel=1e-9) and 0.0 < first < 3.0
+    assert lo["peak_lift_t_s"] == pytest.approx(float(rows[int(np.argmax(lift))]["t_s"]), rel=1e-9)
+    assert lo["peak_lift_t_s"] > lo["first_lift_t_s"]
+    assert max(lift) == pytest.approx(lo["peak_lift_m"], rel=1e-9)
     assert all(math.isfinite(float(v)) for r in rows for k, v in r.items() if k != "phase")
     # z'' = -(g + a_z(t)) from rest at the first step with g + a_z < 0, landing at z = 0
     t, a = np.loadtxt(PULSE, comments="#", unpack=True)
