@@ -1217,7 +1217,7 @@ def _rim_inner(H, r, c1, c2, y, nua, sc):
         hi *= 4.0
     side = 0
     for k in range(200):
-        if fhi == 0.0 or hi - lo <= 2e-16 * hi:
+        if fhi == 0.0 or hi - lo <= 2e-16 * hi or not lo < 0.5 * (lo + hi) < hi:
             break
         x = lo + (hi - lo) * flo / (flo - fhi)
         if not (lo < x < hi):
@@ -1265,7 +1265,7 @@ def rim_socp(H, r, c1, c2, y, sc):
                 hi *= 4.0
             side = 0
             for k in range(200):
-                if fhi == 0.0 or hi - lo <= 2e-16 * hi:
+                if fhi == 0.0 or hi - lo <= 2e-16 * hi or not lo < 0.5 * (lo + hi) < hi:
                     break
                 x = lo + (hi - lo) * flo / (flo - fhi)
                 if not (lo < x < hi):
