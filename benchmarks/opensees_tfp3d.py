@@ -74,17 +74,20 @@ INSTALL = ("openseespy is not importable: OpenSees is not run. It is not a depen
 
 
 # -- the OpenSees worker: openseespy and the standard library only --------------------------
-def opensees_run(p: dict) -> dict:
-    import openseespy.opensees as ops
-
+def opensees_element(ops, p: dict, mass: bool) -> float:
+    """The model both analyses build: the fixed node and the upper one (free in
+    x, y, z), the TripleFrictionPendulum element between them with p's
+    friction, radii and capacities, the weight W a constant load on the upper
+    node; with mass, the superstructure's mass on x and y. Returns W."""
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
     ops.node(1, 0.0, 0.0, 0.0)
     ops.node(2, 0.0, 0.0, p["H"])
     ops.fix(1, 1, 1, 1, 1, 1, 1)
     ops.fix(2, 0, 0, 0, 1, 1, 1)
-    m = p["mass"]
-    ops.mass(2, m, m, 0.0, 0.0, 0.0, 0.0)         # no vertical mass: the axial force is W every step
+    if mass:
+        m = p["mass"]
+        ops.mass(2, m, m, 0.0, 0.0, 0.0, 0.0)     # no vertical mass: the axial force is W every step
     for i, mu in enumerate(p["mu"]):              # inner pair (L1), lower outer (L2), upper outer (L3)
         ops.frictionModel("Coulomb", i + 1, mu)
     ops.uniaxialMaterial("Elastic", 1, p["kv"])
@@ -97,6 +100,13 @@ def opensees_run(p: dict) -> dict:
     ops.timeSeries("Constant", 1)
     ops.pattern("Plain", 1, 1)
     ops.load(2, 0.0, 0.0, -W, 0.0, 0.0, 0.0)
+    return W
+
+
+def opensees_run(p: dict) -> dict:
+    import openseespy.opensees as ops
+
+    W = opensees_element(ops, p, mass=True)
     dt = p["dt"]
     ops.timeSeries("Path", 2, "-dt", dt, "-values", *p["ax"])
     ops.pattern("UniformExcitation", 2, 1, "-accel", 2)
@@ -149,24 +159,7 @@ def opensees_orbit(p: dict) -> dict:
     constant load): the forces along it."""
     import openseespy.opensees as ops
 
-    ops.wipe()
-    ops.model("basic", "-ndm", 3, "-ndf", 6)
-    ops.node(1, 0.0, 0.0, 0.0)
-    ops.node(2, 0.0, 0.0, p["H"])
-    ops.fix(1, 1, 1, 1, 1, 1, 1)
-    ops.fix(2, 0, 0, 0, 1, 1, 1)
-    for i, mu in enumerate(p["mu"]):
-        ops.frictionModel("Coulomb", i + 1, mu)
-    ops.uniaxialMaterial("Elastic", 1, p["kv"])
-    ops.uniaxialMaterial("Elastic", 2, 1.0e6)
-    L1, L2, L3 = p["L"]
-    d1, d2, d3 = p["ubar"]
-    W = p["W"]
-    ops.element("TripleFrictionPendulum", 1, 1, 2, 1, 2, 3, 1, 2, 2, 2, L1, L2, L3, d1, d2, d3, W,
-                p["uy"], 1.0, 0.1, 1.0e-10)
-    ops.timeSeries("Constant", 1)
-    ops.pattern("Plain", 1, 1)
-    ops.load(2, 0.0, 0.0, -W, 0.0, 0.0, 0.0)
+    opensees_element(ops, p, mass=False)
     for dof, key in ((1, "path_x"), (2, "path_y")):
         ops.timeSeries("Path", 1 + dof, "-dt", 1.0, "-values", *p[key])
         ops.pattern("Plain", 1 + dof, 1 + dof)

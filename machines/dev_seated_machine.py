@@ -5,8 +5,10 @@ sees it: the device interface of mechanics/dev_two_phase.py.
 L = (u, ud, udd, sm, uds, udds, gv): the programme per grid point, the marks
 where the machine has stopped the bearing, the programme's smooth branch
 there and the axial load over M (seated_kernel.machine_step); X unused. Everything is the stepper's
-own kernel (seated_kernel.machine_step, values).
+own kernel (link_kernel.seated_machine_step: seated_kernel.machine_step or the compliant link's step;
+seated_kernel.values).
 """
+from fpd.machines import link_kernel as lk
 from fpd.machines import seated_kernel as sk
 
 __kernel__ = True
@@ -33,7 +35,7 @@ def centre(C, S, i):
 
 
 def step(C, S, L, X, n, dt, mu, dW):
-    d1, d2 = sk.machine_step(C, S, L[0], L[1], L[2], L[3], L[4], L[5], L[6], mu[0], mu[1])
+    d1, d2 = lk.seated_machine_step(C, S, L[0], L[1], L[2], L[3], L[4], L[5], L[6], mu[0], mu[1])
     dW[0] = d1
     dW[1] = d2
     return 0

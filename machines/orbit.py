@@ -1,7 +1,8 @@
 """The orbit test machine: a seated DFP/SFP in a bearing-test machine driven
 along a planar orbit (loading.orbits.OrbitProgramme), stepped by the stepper
 in both directions' kernel (mechanics/bidirectional_kernel.py
-``machine_step``, ``link_step``); as the engine sees it:
+``machine_step``; through a compliant link, machines/link_kernel.py); as
+the engine sees it:
 machines/dev_orbit_machine.py."""
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import math
 
 import numpy as np
 
+from fpd.machines import link_kernel as _link
 from fpd.mechanics.bidirectional import K, _Base, _pure
 from fpd.mechanics.geometry import DeviceGeometry
 
@@ -57,7 +59,7 @@ class BidirectionalTestMachine(_Base):
     LINK_STEP = 0.02      # omega h per sub-step of the compliant link (as SeatedTestMachine's)
 
     def set_link(self, stiffness: float, plate_mass: float) -> None:
-        """Drive the plate through a compliant link (bidirectional_kernel.link_step):
+        """Drive the plate through a compliant link (link_kernel.orbit_link_step):
         a spring of ``stiffness`` (N/m) between the machine and the plate of mass
         ``plate_mass`` (kg); the bearing starts at rest at the programme's start.
         Sub-steps keep omega h <= LINK_STEP, omega the link's frequency with the
@@ -107,11 +109,18 @@ class BidirectionalTestMachine(_Base):
     def engine_push(self, S, n: int) -> None:
         self.n = n
 
+    def _machine(self):
+        """The machine's step (machines/link_kernel.py), compiled when the stepper's kernel is."""
+        if self.compiled:
+            from fpd import kernels
+            return kernels.compiled("fpd.machines.link_kernel")
+        return _link
+
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
         if self.n >= self.n_steps:
             raise IndexError(f"all {self.n_steps} steps of the loading are taken")
         S = self.S
         W1, W2 = S[K.S_W1], S[K.S_W2]
-        self._K.machine_step(self.C, S, self._U, self._UD, self._UDD, self._GV, self.n, mu1, mu2)
+        self._machine().orbit_machine_step(self.C, S, self._U, self._UD, self._UDD, self._GV, self.n, mu1, mu2)
         self.n += 1
         return float(S[K.S_W1] - W1), float(S[K.S_W2] - W2)

@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from fpd.mechanics.geometry import DeviceGeometry
+from . import link_kernel as LK
 from . import seated_kernel as K
 from fpd.loading.ground_motion import as_float64, float_array
 
@@ -234,7 +235,7 @@ class SeatedTestMachine(_SeatedState):
     LINK_STEP = 0.02      # omega h per sub-step of the compliant link (velocity Verlet: phase error ~ (omega h)^2 / 24)
 
     def set_link(self, stiffness: float, plate_mass: float) -> None:
-        """Drive the plate through a compliant link (seated_kernel.link_step):
+        """Drive the plate through a compliant link (link_kernel.seated_link_step):
         a spring of ``stiffness`` (N/m) between the machine and the plate of
         mass ``plate_mass`` (kg); the bearing starts at rest at the programme's
         start. Sub-steps keep omega h <= LINK_STEP, omega the link's frequency
@@ -268,8 +269,8 @@ class SeatedTestMachine(_SeatedState):
         C[K.CMUI2], C[K.CTAU2], C[K.CEXP2] = (float(x) for x in upper)
 
     def step(self, mu1: float, mu2: float) -> tuple[float, float]:
-        return K.machine_step(self.C, self.S, self._u, self._ud, self._udd, self._sm, self._uds, self._udds,
-                              self._gv, mu1, mu2)
+        return LK.seated_machine_step(self.C, self.S, self._u, self._ud, self._udd, self._sm, self._uds,
+                                      self._udds, self._gv, mu1, mu2)
 
     # -- the compiled engine (coupling/engine_kernel.py) ----------------------------
     engine_device = "fpd.machines.dev_seated_machine"

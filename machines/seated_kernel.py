@@ -115,142 +115,6 @@ def machine_point(C, u, ud, udd, gv, mu1, mu2, sgn):
     return th, thd, thdd, F, N1_0 + F * s, N2_0 + F * s, c
 
 
-def _bearing(C, u, v, a, gv, mu1, mu2, sgn):
-    """The bearing's force on the plate at (u, u', u'') sliding with sense sgn
-    (0: no friction), and its two normal forces: machine_point's."""
-    r = machine_point(C, u, v, a, gv, mu1, mu2, sgn)
-    return r[3], r[4], r[5]
-
-
-def _link_acc(C, u, v, um, gv, mu1, mu2, sgn):
-    """The plate's acceleration: m_p u'' + F_b(u, u', u'') = k (u_m - u), F_b
-    linear in u'' (machine_point), so u'' = (k (u_m - u) - F_b0) / (m_p + B)."""
-    F0 = _bearing(C, u, v, 0.0, gv, mu1, mu2, sgn)[0]
-    B = _bearing(C, u, v, 1.0, gv, mu1, mu2, sgn)[0] - F0
-    return (C[CLINK] * (um - u) - F0) / (C[CMPL] + B)
-
-
-def _link_slide(C, S, u, v, um0, um1, tau, gv, mu1, mu2, sgn):
-    """Slide over tau (velocity Verlet) with the machine from um0 to um1; a stop
-    inside (u' through 0) ends the slide there, stuck (cubic in time: the
-    acceleration linear between the ends). Books the friction work, the
-    input (the plate's force on the bearing, as machine_step's ledger) and
-    returns (u, v, the time slid)."""
-    L, Sin, R1, R2 = C[CL], C[CSIN], C[CR1], C[CR2]
-    a0 = _link_acc(C, u, v, um0, gv, mu1, mu2, sgn)
-    vh = v + 0.5 * tau * a0
-    u1 = u + tau * vh
-    a1 = _link_acc(C, u1, vh, um1, gv, mu1, mu2, sgn)
-    v1 = vh + 0.5 * tau * a1
-    used = tau
-    if v1 * sgn <= 0.0:
-        # v(s) = v + a0 s + (a1 - a0) s^2 / (2 tau): its first zero in (0, tau]
-        c2, c1, c0 = 0.5 * (a1 - a0) / tau, a0, v
-        s_ = tau
-        if c2 == 0.0:
-            if c1 != 0.0:
-                s_ = -c0 / c1
-        else:
-            disc = c1 * c1 - 4.0 * c2 * c0
-            if disc < 0.0:
-                disc = 0.0
-            q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
-            r1 = q / c2
-            r2 = c0 / q if q != 0.0 else tau
-            s_ = tau
-            if 0.0 <= r1 <= tau:
-                s_ = r1
-            if 0.0 <= r2 <= tau and r2 < s_:
-                s_ = r2
-        used = s_
-        u1 = u + v * s_ + 0.5 * a0 * s_ * s_ + (a1 - a0) * s_ * s_ * s_ / (6.0 * tau)
-        a1 = a0 + (a1 - a0) * s_ / tau
-        v1 = 0.0
-    um_e = um0 + (um1 - um0) * (used / tau)
-    th0, th1 = math.asin(u / L), math.asin(u1 / L)
-    Fa, N1a, N2a = _bearing(C, u, v, a0, gv, mu1, mu2, sgn)
-    Fb, N1b, N2b = _bearing(C, u1, v1, a1, gv, mu1, mu2, sgn)
-    dth = th1 - th0
-    adth = abs(dth)
-    S[W1] += mu1 * 0.5 * (N1a + N1b) * R1 * adth
-    S[W2] += mu2 * 0.5 * (N2a + N2b) * R2 * adth
-    S[EIN] += 0.5 * ((Fa * L + Sin * a0) * math.cos(th0) + (Fb * L + Sin * a1) * math.cos(th1)) * dth
-    S[N1], S[N2] = N1b, N2b
-    S[SF] = C[CLINK] * (um_e - u1)
-    return u1, v1, used
-
-
-def link_step(C, S, U, GV, mu1, mu2):
-    """One step of the test machine driving the plate through the compliant
-    link (C[CLINK] the spring, C[CMPL] the plate's mass; the machine's
-    position U linear in time between grid points), in C[CNSUB] sub-steps.
-    Stuck (u' = 0): the bearing holds while the link's force stays between its
-    static caps (friction_kernel.holding_mu_dwell: grown by the time stuck so
-    far, that of the sub-step's start), the breakaway located inside the
-    sub-step; sliding: _link_slide. Returns the friction work per interface."""
-    L, dt, k = C[CL], C[CDT], C[CLINK]
-    i0 = int(S[SN])
-    i1 = i0 + 1
-    gv = GV[i1]
-    ns = int(C[CNSUB])
-    h = dt / ns
-    w1, w2 = S[W1], S[W2]
-    th = S[TH]
-    u = L * math.sin(th)
-    v = L * math.cos(th) * S[THD]
-    moved = False
-    tw1, tw2 = S[SDW1], S[SDW2]
-    for j in range(ns):
-        um0 = U[i0] + (U[i1] - U[i0]) * (j / ns)
-        um1 = U[i0] + (U[i1] - U[i0]) * ((j + 1) / ns)
-        t0, rem = 0.0, h
-        for _ in range(4):
-            if not rem > 1e-12 * h:
-                break
-            uma = um0 + (um1 - um0) * (t0 / h)
-            if v == 0.0:
-                hm1 = holding_mu_dwell(mu1, C[CMUS1], C[CMUR1], C[CMUI1], C[CTAU1], C[CEXP1], tw1)
-                hm2 = holding_mu_dwell(mu2, C[CMUS2], C[CMUR2], C[CMUI2], C[CTAU2], C[CEXP2], tw2)
-                f1 = k * (um1 - u)
-                Rp = _bearing(C, u, 0.0, 0.0, gv, hm1, hm2, 1.0)[0]
-                Rm = _bearing(C, u, 0.0, 0.0, gv, hm1, hm2, -1.0)[0]
-                S[SF] = f1
-                if Rm <= f1 <= Rp:
-                    tw1 += rem                  # stuck to the sub-step's end
-                    tw2 += rem
-                    break
-                f0 = k * (uma - u)
-                target = Rp if f1 > Rp else Rm
-                sgn = 1.0 if f1 > Rp else -1.0
-                x = 0.0
-                if f1 != f0:
-                    x = (target - f0) / (f1 - f0)
-                if x < 0.0:
-                    x = 0.0
-                if x > 1.0:
-                    x = 1.0
-                t0 = t0 + x * rem
-                rem = h - t0
-                uma = um0 + (um1 - um0) * (t0 / h)
-            else:
-                sgn = 1.0 if v > 0.0 else -1.0
-            u, v, used = _link_slide(C, S, u, v, uma, um1, rem, gv, mu1, mu2, sgn)
-            moved = True
-            tw1, tw2 = 0.0, 0.0                 # slid: a stop from here dwells anew
-            t0 = t0 + used
-            rem = h - t0
-    S[SDW1], S[SDW2] = tw1, tw2
-    th1 = math.asin(u / L)
-    S[TH] = th1
-    S[THD] = v / (L * math.cos(th1))
-    S[MODE] = SLIP if moved else STICK
-    S[SV1] = C[CR1] * abs(S[THD])
-    S[SV2] = C[CR2] * abs(S[THD])
-    S[SN] = i1
-    S[ST] = i1 * dt
-    return S[W1] - w1, S[W2] - w2
-
-
 def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, GV, mu1, mu2):
     """One step of the test machine (grid point n -> n + 1 of the programme
     U, UD, UDD: u, u', u''); SM[i] != 0 where the machine has stopped the
@@ -262,9 +126,9 @@ def machine_step(C, S, U, UD, UDD, SM, UDS, UDDS, GV, mu1, mu2):
 
     The ledger's input is the horizontal restraint's work plus the vertical
     actuator's beyond the weight's, -(N - M g) dz with dz = L sin(theta) dtheta
-    (trapezoidal): E_pot keeps the weight's S g (1 - cos theta)."""
-    if C[CLINK] > 0.0:
-        return link_step(C, S, U, GV, mu1, mu2)
+    (trapezoidal): E_pot keeps the weight's S g (1 - cos theta). With a
+    compliant link (C[CLINK] > 0) the machine drives the plate through it
+    instead (machines/link_kernel.py)."""
     L, Sin, dt = C[CL], C[CSIN], C[CDT]
     i0 = int(S[SN])
     i1 = i0 + 1

@@ -1198,10 +1198,11 @@ def _slip_tangent(nx, ny, nz, wx, wy, dx, dy, dz):
     return _chord_tangent(nx, ny, nz, dx, dy, dz)
 
 
-def _link_bearing(C, ux, uy, vx, vy, ax, ay, hx, hy, mu1, mu2):
+def link_bearing(C, ux, uy, vx, vy, ax, ay, hx, hy, mu1, mu2):
     """The bearing's force on the plate and its normal forces at (u, u', u''),
     friction opposing the horizontal direction (hx, hy) (zero: none):
-    machine_point with that direction's tangent at n."""
+    machine_point with that direction's tangent at n (the compliant link of
+    the orbit machine: machines/link_kernel.py)."""
     L = C[C_L]
     nx, ny = ux / L, uy / L
     nz = -math.sqrt(1.0 - nx * nx - ny * ny)
@@ -1209,157 +1210,6 @@ def _link_bearing(C, ux, uy, vx, vy, ax, ay, hx, hy, mu1, mu2):
     if hx != 0.0 or hy != 0.0:
         tx, ty, tz = _chord_tangent(nx, ny, nz, hx, hy, 0.0)
     return machine_point(C, ux, uy, vx, vy, ax, ay, tx, ty, tz, mu1, mu2, C[C_G])
-
-
-def _link_acc(C, ux, uy, vx, vy, mx, my, hx, hy, mu1, mu2):
-    """The plate's acceleration: m_p u'' + F_b(u, u', u'') = k (u_m - u), F_b
-    affine in u'' (machine_point), so u'' = (m_p 1 + B)^-1 (k (u_m - u) - F_b0)."""
-    F0 = _link_bearing(C, ux, uy, vx, vy, 0.0, 0.0, hx, hy, mu1, mu2)
-    Fa = _link_bearing(C, ux, uy, vx, vy, 1.0, 0.0, hx, hy, mu1, mu2)
-    Fb = _link_bearing(C, ux, uy, vx, vy, 0.0, 1.0, hx, hy, mu1, mu2)
-    m, k = C[C_MPL], C[C_LINK]
-    m11, m21 = m + Fa[0] - F0[0], Fa[1] - F0[1]
-    m12, m22 = Fb[0] - F0[0], m + Fb[1] - F0[1]
-    rx, ry = k * (mx - ux) - F0[0], k * (my - uy) - F0[1]
-    det = m11 * m22 - m12 * m21
-    return (rx * m22 - m12 * ry) / det, (m11 * ry - m21 * rx) / det
-
-
-def _link_slide(C, S, ux, uy, vx, vy, m0x, m0y, m1x, m1y, tau, hx, hy, mu1, mu2):
-    """Slide over tau (velocity Verlet) with the machine from m0 to m1,
-    friction opposing the horizontal direction (hx, hy); a stop inside (the
-    velocity's component along h through 0) ends the slide there, stuck
-    (cubic in time: the acceleration linear between the ends). Books the
-    friction work and the input (the plate's force on the bearing and the
-    moving plate's d'Alembert force, as machine_step) and returns
-    (u, v, the time slid); the seated_kernel.link_step scheme in the plane."""
-    L, R1, R2 = C[C_L], C[C_R1], C[C_R2]
-    a0x, a0y = _link_acc(C, ux, uy, vx, vy, m0x, m0y, hx, hy, mu1, mu2)
-    vhx, vhy = vx + 0.5 * tau * a0x, vy + 0.5 * tau * a0y
-    u1x, u1y = ux + tau * vhx, uy + tau * vhy
-    a1x, a1y = _link_acc(C, u1x, u1y, vhx, vhy, m1x, m1y, hx, hy, mu1, mu2)
-    v1x, v1y = vhx + 0.5 * tau * a1x, vhy + 0.5 * tau * a1y
-    used = tau
-    if v1x * hx + v1y * hy <= 0.0:
-        # v(s) . h = v . h + (a0 . h) s + ((a1 - a0) . h) s^2 / (2 tau): its first zero in (0, tau]
-        c0 = vx * hx + vy * hy
-        c1 = a0x * hx + a0y * hy
-        c2 = 0.5 * ((a1x - a0x) * hx + (a1y - a0y) * hy) / tau
-        s_ = smallest_positive_root(c2, c1, c0, tau)
-        if not s_ <= tau:
-            s_ = tau
-        used = s_
-        f = s_ * s_ * s_ / (6.0 * tau)
-        u1x = ux + vx * s_ + 0.5 * a0x * s_ * s_ + (a1x - a0x) * f
-        u1y = uy + vy * s_ + 0.5 * a0y * s_ * s_ + (a1y - a0y) * f
-        a1x, a1y = a0x + (a1x - a0x) * s_ / tau, a0y + (a1y - a0y) * s_ / tau
-        v1x, v1y = 0.0, 0.0
-    mx = m0x + (m1x - m0x) * (used / tau)
-    my = m0y + (m1y - m0y) * (used / tau)
-    Fa = _link_bearing(C, ux, uy, vx, vy, a0x, a0y, hx, hy, mu1, mu2)
-    Fb = _link_bearing(C, u1x, u1y, v1x, v1y, a1x, a1y, hx, hy, mu1, mu2)
-    n0x, n0y, n0z = Fa[4], Fa[5], Fa[6]
-    n1x, n1y, n1z = Fb[4], Fb[5], Fb[6]
-    dx, dy, dz = n1x - n0x, n1y - n0y, n1z - n0z
-    ang = 2.0 * math.asin(0.5 * math.sqrt(dx * dx + dy * dy + dz * dz))
-    S[S_W1] += mu1 * 0.5 * (Fa[2] + Fb[2]) * R1 * ang
-    S[S_W2] += mu2 * 0.5 * (Fa[3] + Fb[3]) * R2 * ang
-    Sin = C[C_S]
-    S[S_EIN] += 0.5 * ((L * Fa[0] + Sin * a0x + L * Fb[0] + Sin * a1x) * dx
-                       + (L * Fa[1] + Sin * a0y + L * Fb[1] + Sin * a1y) * dy)
-    S[S_N1], S[S_N2] = Fb[2], Fb[3]
-    S[S_FF1], S[S_FF2] = mu1 * Fb[2], mu2 * Fb[3]
-    S[S_SLIP1] += R1 * ang
-    S[S_SLIP2] += R2 * ang
-    S[S_DS1] += R1 * ang
-    S[S_DS2] += R2 * ang
-    S[S_DPHI] += ang
-    k = C[C_LINK]
-    S[S_FX], S[S_FY] = k * (mx - u1x), k * (my - u1y)
-    return u1x, u1y, v1x, v1y, used
-
-
-def link_step(C, S, U, i, mu1, mu2):
-    """Grid point i -> i + 1 of the orbit machine driving the plate through the
-    compliant link (C[C_LINK] the spring, C[C_MPL] the plate's mass; the
-    machine's position U linear in time between grid points), in C[C_NSUB]
-    sub-steps: seated_kernel.link_step in the plane. Stuck (u' = 0): the
-    bearing holds while the link's demand k (u_m - u) - F_b(u, 0, 0; no
-    friction) stays inside the static cap along it (friction_kernel.
-    holding_mu_dwell: grown by the time stuck so far), the breakaway located
-    inside the sub-step (the demand linear in time); sliding: _link_slide,
-    friction opposing the velocity. A straight programme keeps the plate on
-    its line. Returns the flag."""
-    L, k = C[C_L], C[C_LINK]
-    ns = int(C[C_NSUB])
-    h = C[C_DT] / ns
-    ux, uy = L * S[S_NX], L * S[S_NY]
-    vx, vy = L * S[S_WX], L * S[S_WY]
-    tw1, tw2 = S[S_DW1], S[S_DW2]
-    S[S_DS1] = S[S_DS2] = S[S_DPHI] = 0.0
-    moved = False
-    for j in range(ns):
-        m0x = U[i, 0] + (U[i + 1, 0] - U[i, 0]) * (j / ns)
-        m0y = U[i, 1] + (U[i + 1, 1] - U[i, 1]) * (j / ns)
-        m1x = U[i, 0] + (U[i + 1, 0] - U[i, 0]) * ((j + 1) / ns)
-        m1y = U[i, 1] + (U[i + 1, 1] - U[i, 1]) * ((j + 1) / ns)
-        t0, rem = 0.0, h
-        for _ in range(4):
-            if not rem > 1e-12 * h:
-                break
-            max_ = m0x + (m1x - m0x) * (t0 / h)
-            may = m0y + (m1y - m0y) * (t0 / h)
-            if vx == 0.0 and vy == 0.0:
-                hm1 = holding_mu_dwell(mu1, C[C_MUS1], C[C_MUR1], C[C_MUI1], C[C_TAU1], C[C_EXP1], tw1)
-                hm2 = holding_mu_dwell(mu2, C[C_MUS2], C[C_MUR2], C[C_MUI2], C[C_TAU2], C[C_EXP2], tw2)
-                F0 = _link_bearing(C, ux, uy, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-                d1x, d1y = k * (m1x - ux) - F0[0], k * (m1y - uy) - F0[1]
-                S[S_FX], S[S_FY] = k * (m1x - ux), k * (m1y - uy)
-                dm = math.sqrt(d1x * d1x + d1y * d1y)
-                cap = 0.0
-                if dm > 0.0:
-                    Fc = _link_bearing(C, ux, uy, 0.0, 0.0, 0.0, 0.0, d1x / dm, d1y / dm, hm1, hm2)
-                    cap = ((Fc[0] - F0[0]) * d1x + (Fc[1] - F0[1]) * d1y) / dm
-                if dm <= cap:
-                    tw1 += rem                  # stuck to the sub-step's end
-                    tw2 += rem
-                    break
-                # the demand, linear in time from t0 to the sub-step's end, reaches the cap
-                d0x, d0y = k * (max_ - ux) - F0[0], k * (may - uy) - F0[1]
-                ex, ey = d1x - d0x, d1y - d0y
-                qa = ex * ex + ey * ey
-                qb = d0x * ex + d0y * ey
-                qc = d0x * d0x + d0y * d0y - cap * cap
-                x = 0.0
-                if qa > 0.0 and qc < 0.0:
-                    x = (-qb + math.sqrt(qb * qb - qa * qc)) / qa
-                if x > 1.0:
-                    x = 1.0
-                t0 = t0 + x * rem
-                rem = h - t0
-                max_ = m0x + (m1x - m0x) * (t0 / h)
-                may = m0y + (m1y - m0y) * (t0 / h)
-                hx, hy = d1x / dm, d1y / dm
-            else:
-                vm = math.sqrt(vx * vx + vy * vy)
-                hx, hy = vx / vm, vy / vm
-            ux, uy, vx, vy, used = _link_slide(C, S, ux, uy, vx, vy, max_, may, m1x, m1y, rem, hx, hy, mu1, mu2)
-            moved = True
-            tw1, tw2 = 0.0, 0.0                 # slid: a stop from here dwells anew
-            t0 = t0 + used
-            rem = h - t0
-    S[S_DW1], S[S_DW2] = tw1, tw2
-    nx, ny = ux / L, uy / L
-    nz = -math.sqrt(1.0 - nx * nx - ny * ny)
-    wx, wy = vx / L, vy / L
-    S[S_NX], S[S_NY], S[S_NZ] = nx, ny, nz
-    S[S_WX], S[S_WY], S[S_WZ] = wx, wy, -(nx * wx + ny * wy) / nz
-    S[S_MODE] = SLIP if moved else STICK
-    if moved and (S[S_DS1] > 0.0):
-        S[S_DIRX] = vx if vx != 0.0 else S[S_DIRX]
-    w = math.sqrt(S[S_WX] * S[S_WX] + S[S_WY] * S[S_WY] + S[S_WZ] * S[S_WZ])
-    S[S_SV1], S[S_SV2] = C[C_R1] * w, C[C_R2] * w
-    return FLAG_OK
 
 
 def machine_step(C, S, U, UD, UDD, GV, i, mu1, mu2):
@@ -1372,9 +1222,7 @@ def machine_step(C, S, U, UD, UDD, GV, i, mu1, mu2):
     the chord, and in force control the actuator's work beyond the weight's,
     -(N - M g) dz with dz = L dn_z (trapezoidal). Returns the flag.
     With C[C_LINK] the machine drives the plate through the compliant link
-    (link_step)."""
-    if C[C_LINK] > 0.0:
-        return link_step(C, S, U, i, mu1, mu2)
+    instead (machines/link_kernel.py)."""
     L = C[C_L]
     n0x, n0y = U[i, 0] / L, U[i, 1] / L
     n1x, n1y = U[i + 1, 0] / L, U[i + 1, 1] / L

@@ -132,5 +132,5 @@ def test_the_kernel_modules_are_kernels():
                  "fpd.thermal.lumped_kernel", "fpd.thermal.column_kernel", "fpd.coupling.engine_kernel",
                  "fpd.mechanics.dev_two_phase", "fpd.mechanics.dev_bidirectional", "fpd.mechanics.dev_tfp",
                  "fpd.mechanics.flat_kernel", "fpd.mechanics.dev_flat", "fpd.machines.dev_seated_machine",
-                 "fpd.machines.dev_orbit_machine"):
+                 "fpd.machines.dev_orbit_machine", "fpd.machines.link_kernel"):
         assert kernels.is_kernel_module(importlib.import_module(name)), name

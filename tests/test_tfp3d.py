@@ -18,11 +18,11 @@ import pytest
 from fpd import kernels
 from fpd.mechanics import tfp3d_kernel as K
 from fpd.loading.ground_motion import GroundMotion, pulse_ground_motion
-from fpd.mechanics.tfp import TFPStepper
 from fpd.mechanics.tfp3d import TFP3DStepper
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_tfp import MUS, tfp  # noqa: E402
+from tfp3d_helpers import run_planar, stepped  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -33,25 +33,7 @@ def _kernel():
 
 def run3d(g, gx, gy=None, mus=MUS, kernel="auto"):
     s = TFP3DStepper(g, gx, gy, kernel=_kernel() if kernel == "auto" else kernel)
-    rows = [s.values()]
-    res = [s.ledger_residual()]
-    for _ in range(gx.n_steps):
-        s.step(*mus)
-        rows.append(s.values())
-        res.append(s.ledger_residual())
-    d = np.array(rows)
-    return s, {c: d[:, i] for i, c in enumerate(s.columns)}, np.array(res)
-
-
-def run_planar(g, gm, mus=MUS):
-    """The planar TFP under a ground motion."""
-    s = TFPStepper(g, gm)
-    rows = [s.values()]
-    for _ in range(gm.n_steps):
-        s.step(*mus)
-        rows.append(s.values())
-    d = np.array(rows)
-    return {c: d[:, i] for i, c in enumerate(s.columns)}
+    return (s,) + stepped(s, gx.n_steps, mus)
 
 
 def turned(gm, ang):

@@ -21,13 +21,13 @@ from fpd import kernels
 from fpd.loading.ground_motion import GroundMotion, pulse_ground_motion
 from fpd.mechanics import tfp_kernel as TK
 from fpd.mechanics import tfp3d_two_phase_kernel as K
-from fpd.mechanics.tfp import TFPStepper
 from fpd.mechanics.tfp3d import TFP3DFailure, TFP3DStepper
 from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_tfp import MUS, tfp  # noqa: E402
 from test_tfp3d import WIDE, pair, turned  # noqa: E402
+from tfp3d_helpers import run_planar as planar, stepped  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PULSE = dict(kind="cosine", v=0.5, T=1.5, t0=0.5, duration=3.0)
@@ -43,24 +43,11 @@ def _pulse(dt=1e-3):
 
 def run2(g, gx, gy=None, mus=MUS, kernel="auto"):
     s = TFP3DTwoPhaseStepper(g, gx, gy, kernel=_kernel() if kernel == "auto" else kernel)
-    rows = [s.values()]
-    res = [s.ledger_residual()]
-    for _ in range(gx.n_steps):
-        s.step(*mus)
-        rows.append(s.values())
-        res.append(s.ledger_residual())
-    d = np.array(rows)
-    return s, {c: d[:, i] for i, c in enumerate(s.columns)}, np.array(res)
+    return (s,) + stepped(s, gx.n_steps, mus)
 
 
 def run_planar(g, gm, mus=MUS):
-    s = TFPStepper(g, gm, model="two-phase")
-    rows = [s.values()]
-    for _ in range(gm.n_steps):
-        s.step(*mus)
-        rows.append(s.values())
-    d = np.array(rows)
-    return {c: d[:, i] for i, c in enumerate(s.columns)}
+    return planar(g, gm, mus, model="two-phase")
 
 
 # -- the planar two-phase TFP reproduced ------------------------------------------------------

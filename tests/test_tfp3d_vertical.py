@@ -23,7 +23,8 @@ from fpd.mechanics.tfp3d import TFP3DStepper
 from fpd.schema import scene as scn
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from test_tfp import MUS, tfp  # noqa: E402
+from test_tfp import tfp  # noqa: E402
+from tfp3d_helpers import stepped  # noqa: E402
 from test_tfp3d import _kernel, turned  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -35,17 +36,6 @@ def _ledger(r):
     res = r["E_input_J"] - (r["E_kin_J"] + r["E_pot_J"] + r["W1_J"] + r["W2_J"] + r["W3_J"] + r["W4_J"]
                             + r["E_rim_J"])
     return np.max(np.abs(res)) / np.max(np.abs(r["E_input_J"]))
-
-
-def _rows(s, n_steps, mus=MUS):
-    rows = [s.values()]
-    res = [s.ledger_residual()]
-    for _ in range(n_steps):
-        s.step(*mus)
-        rows.append(s.values())
-        res.append(s.ledger_residual())
-    d = np.array(rows)
-    return {c: d[:, i] for i, c in enumerate(s.columns)}, np.array(res)
 
 
 def test_a_zero_vertical_record_reproduces_the_run_bit_for_bit(tmp_path):
@@ -73,11 +63,11 @@ def test_a_turned_record_with_a_vertical_one_is_the_planar_tfp_with_it(deg):
     dt = 1e-3
     gm = pulse_ground_motion("cosine", 0.35, 1.5, 0.5, 3.0, dt)
     gz = harmonic_ground_motion(0.5 * G_ACC / (2 * math.pi * 1.3) ** 2, 1.3, 10, dt, duration=3.0)
-    p, _ = _rows(TFPStepper(g, gm, gz=gz), gm.n_steps)
-    p0, _ = _rows(TFPStepper(g, gm), gm.n_steps)
+    p, _ = stepped(TFPStepper(g, gm, gz=gz), gm.n_steps)
+    p0, _ = stepped(TFPStepper(g, gm), gm.n_steps)
     ang = math.radians(deg)
     s = TFP3DStepper(g, *turned(gm, ang), kernel=_kernel(), az=gz.a_step)
-    d, res = _rows(s, gm.n_steps)
+    d, res = stepped(s, gm.n_steps)
     assert s.columns[-5] == "az_mps2" and np.array_equal(d["az_mps2"], p["az_mps2"])
     um = np.max(np.abs(p["u_m"]))
     assert np.max(np.abs(d["u_m"] - np.abs(p["u_m"]))) <= 1e-9 * um
@@ -162,10 +152,10 @@ def test_a_turned_record_flies_and_lands_as_the_planar_tfp(deg):
     g, dt = tfp(), 1e-3
     gx = harmonic_ground_motion(0.10, 0.5, 10, dt, duration=2.4)
     gz = _pulse(dt, gx.t, 1000, gx.n_steps)
-    p, _ = _rows(TFPStepper(g, gx, gz=gz), gx.n_steps)
+    p, _ = stepped(TFPStepper(g, gx, gz=gz), gx.n_steps)
     ang = math.radians(deg)
     s = TFP3DStepper(g, *turned(gx, ang), kernel=_kernel(), az=gz.a_step)
-    d, res = _rows(s, gx.n_steps)
+    d, res = stepped(s, gx.n_steps)
     assert not any(np.isnan(v).any() for v in d.values())
     assert d["n_lift"][-1] == p["n_lift"][-1] == 1.0
     assert d["t_flight_s"][-1] == pytest.approx(p["t_flight_s"][-1], rel=1e-9)
