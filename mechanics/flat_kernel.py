@@ -36,7 +36,7 @@ I_MUS1, I_MUS2, I_MUR1, I_MUR2 = 11, 12, 13, 14
 # its capacity, the dashpots 2 zeta sqrt(k m_eff) on q1 (m_eff = m) and q2 (m M / (m + M))
 I_KRIM, I_CRIM1, I_CRIM2 = 15, 16, 17
 N_PAR = 18
-RIM_ITERS = 40            # Newton's iterations on the increment with rim springs (2-4 in practice)
+RIM_ITERS = 40            # Newton's iterations on the increment with rim springs (2 off the rims, a few on them)
 
 # S: the state; step()'s st = S[0:4] = (q1, q2, q1', q2')
 S_Q1, S_Q2, S_V1, S_V2 = 0, 1, 2, 3
