@@ -150,6 +150,8 @@ class FlatStepper(TwoInterfaces):
                 raise ValueError(f"rim: capacities must be > 0 and the restitution in [0, 1], not {rim}")
             C[K.I_CAP1], C[K.I_CAP2], C[K.I_REST] = float(rim[0]), float(rim[1]), float(rim[2])
             if len(rim) > 3 and rim[3]:
+                if self.machine:
+                    raise ValueError("a rim of finite stiffness is for a ground motion, not the test machine")
                 m, M, zeta = geom.pad_mass, geom.mass, float(rim[4])
                 C[K.I_KRIM] = float(rim[3])
                 C[K.I_CRIM1] = rim_law.dashpot_coefficient(zeta, C[K.I_KRIM], m)
