@@ -222,8 +222,8 @@ def record_info(scene: Scene, loading) -> dict:
 
 
 def rim_of(scene: Scene) -> tuple:
-    """(d1, d2, restitution, stiffness, damping ratio) of a DFP / SFP (d2 None
-    for the SFP; stiffness None: the rigid rim)."""
+    """(d1, d2, restitution, stiffness, damping ratio) of a DFP / SFP / flat
+    bearing (d2 None for the SFP; stiffness None: the rigid rim)."""
     dev = scene["device"]
     return (dev["d1"], dev.get("d2"), dev["rim_restitution"], dev.get("rim_stiffness_N_per_m"),
             dev["rim_damping_ratio"])
@@ -554,7 +554,7 @@ def build_flat(scene: Scene) -> Simulation:
             axial = programme_of(scene["loading"], geom.weight)
         except AxialError as exc:
             raise SceneError(f"{exc} (loading.vertical_file)") from None
-    mech = FlatStepper(geom, loading, gz=gz, rim=(dev["d1"], dev["d2"], dev["rim_restitution"]), axial=axial)
+    mech = FlatStepper(geom, loading, gz=gz, rim=rim_of(scene), axial=axial)
     _set_static(scene, mech)
     sub = scene["coupling"]["substeps"]
     pp = (plate_params(scene, "lower"), plate_params(scene, "upper"))

@@ -83,21 +83,23 @@ KEYS: dict[str, tuple[str, str]] = {
                                    "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J). "
                                    "The TFP: at the arrival of phi or alpha at its rim (a coordinate stuck by "
                                    "friction at that instant, or both arriving together, stop inelastically)."),
-    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP under a ground motion: a rim of finite stiffness instead "
+    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP / flat bearing under a ground motion: a rim of finite stiffness instead "
                                             "of the rigid one: a spring on the slide past the capacity of each "
-                                            "surface that sets it, so the impact is a contact force (in F_N, "
+                                            "surface that sets it (the flat bearing: on each slip, s1_m past "
+                                            "d1 and s2_m past d2), so the impact is a contact force (in F_N, "
                                             "converging as dt shrinks) and the slide passes the capacity by its "
                                             "compression; elastic unless rim_damping_ratio (no impulse: J_rim_Ns "
                                             "stays 0; without damping E_rim_J stays 0 too, the "
                                             "spring's energy is in E_pot_J); the rigid rim of rim_restitution = 1 "
                                             "is its stiff limit. dt must resolve the contact, about pi sqrt(m / k). "
-                                            "Refused on the TFP, the flat bearing, the test machine and with "
-                                            "rim_restitution."),
-    "device.rim_damping_ratio": ("", "DFP / SFP with rim_stiffness_N_per_m: damping ratio zeta in [0, 1) of the "
+                                            "Refused on the TFP, the test machine, with rim_restitution and "
+                                            "on the flat bearing under a vertical ground motion."),
+    "device.rim_damping_ratio": ("", "DFP / SFP / flat bearing with rim_stiffness_N_per_m: damping ratio zeta in [0, 1) of the "
                                      "rim's contact: a linear dashpot 2 zeta sqrt(k m_eff) on the slide past the "
                                      "capacity, opposing its rate while the slider is beyond it, m_eff the "
                                      "pendulum's generalised inertia over the sum of R_i^2 of the surfaces that "
-                                     "set the rim. An impact's restitution is then exp(-zeta pi / sqrt(1 - "
+                                     "set the rim (the flat bearing: m on s1, m M / (m + M) on s2, the masses a "
+                                     "rigid rim's impulse sees). An impact's restitution is then exp(-zeta pi / sqrt(1 - "
                                      "zeta^2)); its loss is in E_rim_J. Refused without a rim stiffness."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
@@ -552,7 +554,8 @@ COLUMNS: dict[str, tuple[str, str]] = {
                          "force (a DFP / SFP resting against its rim: the rim's reaction is part of F_N). The "
                          "flat bearing: the sum of the step's impact impulses, the lower rim's on the pad and "
                          "the upper rim's between pad and superstructure (a face resting on its rim is held: "
-                         "its reaction is part of F_N). The TFP in both directions: the impulse's "
+                         "its reaction is part of F_N; a rim of finite stiffness: 0, the upper rim's spring "
+                         "force is in F_N). The TFP in both directions: the impulse's "
                          "magnitude."),
     "n_rim1": ("", "Rim impacts on the lower surface (TFP: S1) so far: arrivals at the rim (a DFP counts them on "
                    "the surface that bounds the slide, or on both)."),
@@ -565,14 +568,16 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "E_kin_J": ("J", "Kinetic energy of the moving parts relative to the ground (a DFP / SFP in flight: the "
                      "flying unit's (M + m) |V|^2 / 2; the flat bearing's: the slips' and (M + m) z'^2 / 2)."),
     "E_pot_J": ("J", "Potential energy (uplift of the superstructure and pad, in flight + (M + m) g times the rise since "
-                     "take-off; a TFP: and the slider plates; the flat bearing: 0 while seated)."),
+                     "take-off; a TFP: and the slider plates; the flat bearing: 0 while seated; with "
+                     "rim_stiffness_N_per_m + the rim springs' k o^2 / 2)."),
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
                         "seated configuration at t_n+1 is stopped; first order in dt)."),
     "E_rim_J": ("J", "Cumulative energy taken by the rims: a TFP's inelastic impacts; a DFP / SFP's impacts "
                      "((1 - e^2) of the kinetic energy normal to the rim) and contact; the flat bearing's "
                      "impacts (the lower rim stops the pad, mass m; the upper rim the slip between pad and "
-                     "superstructure, mass m M / (m + M); both at once: the exact impact of the pair)."),
+                     "superstructure, mass m M / (m + M); both at once: the exact impact of the pair; a rim "
+                     "of finite stiffness: its dashpot's work)."),
     "E_stored_J": ("J", "Heat stored in the plates (above the initial temperature; a TFP: its four parts)."),
     "E_air_J": ("J", "Cumulative heat lost to the air (and through the back face)."),
     # two-phase diagnostics (docs/two_phase.md, section 5)

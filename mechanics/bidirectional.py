@@ -21,7 +21,7 @@ import sys
 
 import numpy as np
 
-from . import bidirectional_kernel as _pure
+from . import bidirectional_kernel as _pure, rim_law
 from .geometry import DeviceGeometry
 from fpd.loading.ground_motion import as_float64, float_array
 from .phases import DIAGONAL_AC, MechanicsFailure
@@ -189,7 +189,7 @@ class _Base(TwoInterfaces):
         C[K.C_RIM2] = 1.0 if len(arcs) > 1 and arcs[1] <= th * (1 + 1e-12) else 0.0
         if stiffness:
             C[K.C_KRIM] = float(stiffness) * (C[K.C_RIM1] * g.R1 ** 2 + C[K.C_RIM2] * g.R2 ** 2)
-            C[K.C_CRIM] = 2.0 * float(damping) * math.sqrt(C[K.C_KRIM] * C[K.C_I])
+            C[K.C_CRIM] = rim_law.dashpot_coefficient(float(damping), C[K.C_KRIM], C[K.C_I])
         self.capacity = (d1, d2 if g.kind == "DFP" else None)
 
     # -- protocol attributes ----------------------------------------------------

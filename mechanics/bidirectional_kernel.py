@@ -51,6 +51,7 @@ docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
+from . import rim_law as rl
 from fpd.tribology.friction_kernel import dwell_advance, holding_mu_dwell
 from .two_phase_kernel import _sinc as sinc, pivot_angle, rocking_increment   # the planar stepper's, one source
 
@@ -204,14 +205,12 @@ def drive_along(C, nx, ny, nz, ex, ey, ez, d, ax, ay, gv):
 
 def rim_overlap(C, nx, ny, nz):
     """The axis's tilt beyond the rim, (theta - thmax)_+ (rad)."""
-    o = math.atan2(hypot(nx, ny), -nz) - C[C_THMAX]
-    return o if o > 0.0 else 0.0
+    return rl.overlap(math.atan2(hypot(nx, ny), -nz) - C[C_THMAX])
 
 
 def rim_spring_energy(C, nx, ny, nz):
     """Energy stored in the rim of finite stiffness, C_KRIM (theta - thmax)_+^2 / 2."""
-    o = rim_overlap(C, nx, ny, nz)
-    return 0.5 * C[C_KRIM] * o * o
+    return rl.spring_energy(C[C_KRIM], rim_overlap(C, nx, ny, nz))
 
 
 def _rim_spring_drive(C, nx, ny, nz, ex, ey, ez, bx, by, bz, d):
@@ -224,7 +223,7 @@ def _rim_spring_drive(C, nx, ny, nz, ex, ey, ez, bx, by, bz, d):
         c, s = math.cos(d), math.sin(d)
         v0 = rim_spring_energy(C, nx, ny, nz)
         v1 = rim_spring_energy(C, c * nx + s * ex, c * ny + s * ey, c * nz + s * ez)
-        ke = -(v1 - v0) / d
+        ke = rl.secant(v0, v1, d)
     else:
         o = rim_overlap(C, nx, ny, nz)
         ke = 0.0
@@ -262,11 +261,8 @@ def rim_damper(C, nx, ny, nz, ex, ey, ez, d, h):
     c1, s1 = math.cos(d), math.sin(d)
     t0 = _tilt_beyond(C, nx, ny, nz)
     t1 = _tilt_beyond(C, c1 * nx + s1 * ex, c1 * ny + s1 * ey, c1 * nz + s1 * ez)
-    if t0 > 0.0 and t1 > 0.0:
-        f = 1.0
-    elif t0 > 0.0 or t1 > 0.0:
-        f = max(t0, t1) / abs(t1 - t0)
-    else:
+    f = rl.share_beyond(t0, t1)
+    if f == 0.0:
         return 0.0, 0.0, 0.0, 0.0
     q = 0.5 * d
     c, s = math.cos(q), math.sin(q)

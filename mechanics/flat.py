@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import flat_kernel as K
+from . import flat_kernel as K, rim_law
 from .geometry import G_ACC
 from fpd.loading.ground_motion import as_float64, float_array
 from .protocol import TwoInterfaces
@@ -110,8 +110,11 @@ class FlatStepper(TwoInterfaces):
         """gz: the vertical ground motion (up) on the loading's grid, or None
         (model.md 10: every normal force, friction cap and the tipping check
         see g + a_z; g + a_z < 0 lifts the assembly off). rim: (d1, d2,
-        restitution), the capacities of the lower and the upper face (m,
-        > 0), or None: unbounded plates. axial: the test machine's axial-load
+        restitution[, stiffness, damping ratio]), the capacities of the lower
+        and the upper face (m, > 0), or None: unbounded plates; a stiffness
+        (N/m, None: rigid) makes each rim a spring on the slip beyond its
+        capacity with a dashpot 2 zeta sqrt(k m_eff), m_eff the mass a rigid
+        rim's impulse sees (m on q1, m M / (m + M) on q2; model.md 7). axial: the test machine's axial-load
         programme (loading.axial.AxialProgramme) held in force control on
         the superstructure (N2 = N(t), N1 = N(t) + m g; the step's mean
         of the programme at its two grid points), or None: the weight M g."""
@@ -146,6 +149,13 @@ class FlatStepper(TwoInterfaces):
             if not (rim[0] > 0.0 and rim[1] > 0.0 and 0.0 <= rim[2] <= 1.0):
                 raise ValueError(f"rim: capacities must be > 0 and the restitution in [0, 1], not {rim}")
             C[K.I_CAP1], C[K.I_CAP2], C[K.I_REST] = float(rim[0]), float(rim[1]), float(rim[2])
+            if len(rim) > 3 and rim[3]:
+                if self.machine:
+                    raise ValueError("a rim of finite stiffness is for a ground motion, not the test machine")
+                m, M, zeta = geom.pad_mass, geom.mass, float(rim[4])
+                C[K.I_KRIM] = float(rim[3])
+                C[K.I_CRIM1] = rim_law.dashpot_coefficient(zeta, C[K.I_KRIM], m)
+                C[K.I_CRIM2] = rim_law.dashpot_coefficient(zeta, C[K.I_KRIM], m * M / (m + M))
         self.S = [0.0] * K.N_S
         self.out = [0.0] * K.N_OUT
         self._w = [0.0] * 2

@@ -16,6 +16,7 @@ bookkeeping (friction work, input work, phase, slip speeds, the force, the
 tipping check as a flag), on the state vector S.
 """
 from . import bidirectional_kernel as bk
+from . import rim_law as rl
 from . import tfp_kernel as tk
 from fpd.tribology.friction_kernel import holding_mu
 from .phases import SLIP, STICK
@@ -31,7 +32,11 @@ I_MPAD, I_MSUP, I_H, I_D, I_G, I_DT, I_MACH, I_VERT = 0, 1, 2, 3, 4, 5, 6, 7
 I_CAP1, I_CAP2, I_REST = 8, 9, 10
 # breakaway (friction_kernel.holding_mu): the faces' static coefficients and static ratios (0: none)
 I_MUS1, I_MUS2, I_MUR1, I_MUR2 = 11, 12, 13, 14
-N_PAR = 15
+# a rim of finite stiffness (model.md 7; 0: the rigid rim): the spring k (N/m) on each slip beyond
+# its capacity, the dashpots 2 zeta sqrt(k m_eff) on q1 (m_eff = m) and q2 (m M / (m + M))
+I_KRIM, I_CRIM1, I_CRIM2 = 15, 16, 17
+N_PAR = 18
+RIM_ITERS = 40            # Newton's iterations on the increment with rim springs (2 off the rims, a few on them)
 
 # S: the state; step()'s st = S[0:4] = (q1, q2, q1', q2')
 S_Q1, S_Q2, S_V1, S_V2 = 0, 1, 2, 3
@@ -53,8 +58,8 @@ N_VERTICAL = 5            # then, with a vertical record: az_mps2, lift_m, n_lif
 # a landing this close to the step's end (relative to dt) ends the step: no seated remainder
 FLIGHT_REST = 1e-12
 
-O_DQ1, O_DQ2, O_F, O_EIN, O_W1, O_W2, O_FTOP, O_APAD = 0, 1, 2, 3, 4, 5, 6, 7
-N_OUT = 8
+O_DQ1, O_DQ2, O_F, O_EIN, O_W1, O_W2, O_FTOP, O_APAD, O_RLOSS = 0, 1, 2, 3, 4, 5, 6, 7, 8
+N_OUT = 9
 
 
 def kinetic(par, v1, v2):
@@ -69,7 +74,9 @@ def step(par, st, dt, ag, c1, c2, machine, u1, ud1, out, w, lo1, hi1, lo2, hi2):
     not move into it: 0 on that side; else -big, big).
     out: increments, machine force F, input work, friction work per face (the
     arrests included), the horizontal force of the superstructure on the
-    pad's top face, the pad's absolute acceleration."""
+    pad's top face, the pad's absolute acceleration, the rim dashpots' loss.
+    With rim springs (par[I_KRIM]) their force (rim_law.slide) joins the
+    step's: Newton's iteration on the increment, each solve the exact QP."""
     m, M = par[I_MPAD], par[I_MSUP]
     for i in range(N_OUT):
         out[i] = 0.0
@@ -90,8 +97,21 @@ def step(par, st, dt, ag, c1, c2, machine, u1, ud1, out, w, lo1, hi1, lo2, hi2):
         e = u1 - (st[0] + st[1])
         if tk.qp_line(h11, h12, h22, r1, r2, c1, c2, -big, big, -big, big, 1.0, 1.0, e, w) != 0:
             return
-    else:
+    elif par[I_KRIM] == 0.0:
         tk.qp_box(h11, h12, h22, r1, r2, c1, c2, lo1, hi1, lo2, hi2, w)
+    else:
+        x1 = x2 = 0.0
+        k, cap1, cap2 = par[I_KRIM], par[I_CAP1], par[I_CAP2]
+        for _ in range(RIM_ITERS):
+            f1, j1, _l1 = rl.slide(k, par[I_CRIM1], cap1, st[0], x1, dt)
+            f2, j2, _l2 = rl.slide(k, par[I_CRIM2], cap2, st[1], x2, dt)
+            tk.qp_box(h11 + j1, h12, h22 + j2, r1 - f1 + j1 * x1, r2 - f2 + j2 * x2, c1, c2, lo1, hi1, lo2, hi2, w)
+            dx = abs(w[0] - x1) + abs(w[1] - x2)
+            x1, x2 = w[0], w[1]
+            if dx <= 1e-12 * (abs(x1) + abs(x2)):     # quadratic: the iterate then to round-off
+                break
+        out[O_RLOSS] = (rl.slide(k, par[I_CRIM1], cap1, st[0], x1, dt)[2]
+                        + rl.slide(k, par[I_CRIM2], cap2, st[1], x2, dt)[2])
     x1, x2 = w[0], w[1]
     Phi1 = r1 - (h11 * x1 + h12 * x2)
     Phi2 = r2 - (h12 * x1 + h22 * x2)
@@ -233,6 +253,16 @@ def _rim_side(q, cap):
     return -1.0
 
 
+def _touch(S, q, cap, i_at, i_n):
+    """A contact of a rim of finite stiffness: counted as the slip passes the capacity."""
+    if abs(q) > cap:
+        if S[i_at] == 0.0:
+            S[i_n] += 1.0
+        S[i_at] = 1.0
+    else:
+        S[i_at] = 0.0
+
+
 def rim(C, S):
     """The rims after a (part-)step (model.md 7): a coordinate past its rim
     is put back on it, and the velocities get the impulses of a rigid,
@@ -247,8 +277,13 @@ def rim(C, S):
     rest of the change in E_rim. A coordinate arriving at its rim is an
     impact (counted, its impulse in S_JRIM, N s); one resting on it at the
     step's start was held by the step's bound (the rim's reaction is part
-    of the step's forces)."""
+    of the step's forces). A rim of finite stiffness acts in the step (no
+    impulse): here only its contacts are counted, as a face passes its capacity."""
     S[S_JRIM] = 0.0
+    if C[I_KRIM] != 0.0:
+        _touch(S, S[S_Q1], C[I_CAP1], S_AT1, S_NRIM1)
+        _touch(S, S[S_Q2], C[I_CAP2], S_AT2, S_NRIM2)
+        return
     o1 = _rim_side(S[S_Q1], C[I_CAP1])
     o2 = _rim_side(S[S_Q2], C[I_CAP2])
     if o1 == 0.0:
@@ -369,12 +404,12 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
             # a coordinate resting on its rim is held by it (the rim's reaction is then in
             # the step's forces; an arrival is an impact: ``rim`` after the step)
             lo1, hi1, lo2, hi2 = -big, big, -big, big
-            if S[S_AT1] != 0.0:
+            if S[S_AT1] != 0.0 and C[I_KRIM] == 0.0:
                 if S[S_Q1] > 0.0:
                     hi1 = 0.0
                 else:
                     lo1 = 0.0
-            if S[S_AT2] != 0.0:
+            if S[S_AT2] != 0.0 and C[I_KRIM] == 0.0:
                 if S[S_Q2] > 0.0:
                     hi2 = 0.0
                 else:
@@ -387,6 +422,7 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
         S[S_W1] += out[O_W1]
         S[S_W2] += out[O_W2]
         S[S_EIN] += out[O_EIN]
+        S[S_ERIM] += out[O_RLOSS]
         H = C[I_H]
         demand = abs(H * out[O_FTOP] - 0.5 * H * C[I_MPAD] * out[O_APAD])
         S[S_TIP] = demand / resisting_moment(C, S[S_N2], gv)
@@ -422,13 +458,16 @@ def _past(q, cap):
 
 def energies(C, S):
     """(E_kin, E_pot): the horizontal (1/2) q'^T M q', in flight the assembly's
-    (M + m) z'^2 / 2 added, and its potential (M + m) g z."""
+    (M + m) z'^2 / 2 added, and its potential (M + m) g z, with the rim springs'."""
     Ek = kinetic(C, S[S_V1], S[S_V2])
     Ep = 0.0
     if S[S_ZF] != 0.0 or S[S_ZFD] != 0.0:
         Mt = C[I_MPAD] + C[I_MSUP]
         Ek += 0.5 * Mt * S[S_ZFD] * S[S_ZFD]
         Ep = Mt * C[I_G] * S[S_ZF]
+    if C[I_KRIM] != 0.0:
+        Ep += (rl.spring_energy(C[I_KRIM], rl.overlap(abs(S[S_Q1]) - C[I_CAP1]))
+               + rl.spring_energy(C[I_KRIM], rl.overlap(abs(S[S_Q2]) - C[I_CAP2])))
     return Ek, Ep
 
 

@@ -230,7 +230,7 @@ TABLES = {
         "d1": ("float", None, _pos),
         "d2": ("float", None, _pos),
         "rim_restitution": ("float", 0.0, _share),
-        # a rim of finite stiffness (DFP / SFP): a spring on the slide beyond the capacity (N/m)
+        # a rim of finite stiffness (DFP / SFP / flat): a spring on the slide beyond the capacity (N/m)
         "rim_stiffness_N_per_m": ("float", None, _pos),
         # its damping ratio (a dashpot on the same slide, while beyond the capacity)
         "rim_damping_ratio": ("float", 0.0, _ratio_below_1),
@@ -886,17 +886,7 @@ def _capacities(ctx: _Ctx, data: dict, geom) -> None:
             ctx.fail(f"device.{key}", dev[key], f"the footprint (radius {a:g} m) would pass the plate's edge: at most "
                      f"thermal.{side}.plate_radius - a = {room:.4g} m (or a larger plate_radius)")
     ld = data["loading"]
-    k = dev.get("rim_stiffness_N_per_m")
-    if k is None and dev["rim_damping_ratio"] != 0.0:
-        ctx.fail("device.rim_damping_ratio", dev["rim_damping_ratio"], "damps a rim of finite stiffness: give "
-                 "device.rim_stiffness_N_per_m (the rigid rim's loss is device.rim_restitution)")
-    if k is not None:
-        if dev["rim_restitution"] != 0.0:
-            ctx.fail("device.rim_restitution", dev["rim_restitution"], "is a key of the rigid rim: a rim of finite "
-                     "stiffness (device.rim_stiffness_N_per_m) is elastic (leave rim_restitution out)")
-        if ld["kind"] == "displacement":
-            ctx.fail("device.rim_stiffness_N_per_m", k, "is for a ground motion: the test machine's programme "
-                     "stays within the capacity")
+    rim_stiffness_keys(ctx, dev, ld)
     if ld["kind"] == "displacement":
         arcs = [(key, dev[key] / (geom.R1 if key == "d1" else geom.R2)) for key, _ in keys]
         key, theta = min(arcs, key=lambda x: x[1])
@@ -1502,22 +1492,42 @@ def _flat_capacities(ctx, data) -> None:
                      f"= {dev[key]:.4g} m (the machine's amplitude must stay within d1 and d2)")
 
 
+def rim_stiffness_keys(ctx, dev: dict, ld: dict) -> None:
+    """device.rim_stiffness_N_per_m and rim_damping_ratio (DFP, SFP, flat bearing): the damping
+    needs the spring, the spring replaces the rigid rim's restitution and needs a ground motion."""
+    k = dev.get("rim_stiffness_N_per_m")
+    if k is None and dev["rim_damping_ratio"] != 0.0:
+        ctx.fail("device.rim_damping_ratio", dev["rim_damping_ratio"], "damps a rim of finite stiffness: give "
+                 "device.rim_stiffness_N_per_m (the rigid rim's loss is device.rim_restitution)")
+    if k is not None:
+        if dev["rim_restitution"] != 0.0:
+            ctx.fail("device.rim_restitution", dev["rim_restitution"], "is a key of the rigid rim: a rim of finite "
+                     "stiffness (device.rim_stiffness_N_per_m) is elastic (leave rim_restitution out)")
+        if ld["kind"] == "displacement":
+            ctx.fail("device.rim_stiffness_N_per_m", k, "is for a ground motion: the test machine's programme "
+                     "stays within the capacity")
+
+
 def rigid_rim_only(ctx, data, device: str) -> None:
-    """A rim of finite stiffness (and its damping) is the DFP's and the SFP's (bidirectional_kernel)."""
+    """A rim of finite stiffness (and its damping) is the DFP's, the SFP's and the flat bearing's."""
     k = data["device"].get("rim_stiffness_N_per_m")
     zeta = data["device"].get("rim_damping_ratio", 0.0)
     if k is None and zeta != 0.0:
         ctx.fail("device.rim_damping_ratio", zeta, f"not yet for this device: the {device}'s rims are rigid "
-                 "(a DFP or an SFP takes a finite rim stiffness and its damping)")
+                 "(a DFP, an SFP or a flat bearing takes a finite rim stiffness and its damping)")
     if k is not None:
         what = f"the {device}'s rims are rigid"
         ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: {what} "
-                 "(a DFP or an SFP takes a finite rim stiffness)")
+                 "(a DFP, an SFP or a flat bearing takes a finite rim stiffness)")
 
 
 def flat_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "flat bearing")
-    rigid_rim_only(ctx, data, "flat bearing")
+    rim_stiffness_keys(ctx, data["device"], data["loading"])
+    if data["device"].get("rim_stiffness_N_per_m") is not None and (
+            data["loading"].get("path_z") or data["loading"].get("vertical_scale") is not None):
+        ctx.fail("device.rim_stiffness_N_per_m", data["device"]["rim_stiffness_N_per_m"], "not yet with a vertical "
+                 "ground motion for the flat bearing (its rims are then rigid: leave the stiffness out)")
 
     ld, sol, dev = data["loading"], data["solver"], data["device"]
     if data["output"]["vtk_every"] > 0:

@@ -127,7 +127,7 @@ def test_the_rim_dashpot_is_booked_in_the_ledger(scene, over):
     ("sfp-harmonic", ["device.rim_stiffness_N_per_m=1e9", "device.rim_damping_ratio=1"], "must be in [0, 1)"),
     ("sfp-harmonic", ["device.rim_stiffness_N_per_m=1e9", "device.rim_damping_ratio=-0.1"], "must be in [0, 1)"),
     ("tfp-elcentro", ["device.rim_damping_ratio=0.1"], "not yet for this device: the TFP's rims are rigid"),
-    ("flat-lab", ["device.rim_damping_ratio=0.1"], "not yet for this device: the flat bearing's rims are rigid"),
+    ("flat-lab", ["device.rim_damping_ratio=0.1"], "device.rim_damping_ratio = 0.1: damps a rim of finite"),
 ])
 def test_rim_damping_is_refused_where_it_has_no_spring(scene, over, needle):
     with pytest.raises(SceneError) as e:

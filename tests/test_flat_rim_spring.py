@@ -1,0 +1,185 @@
+"""The flat bearing's rim of finite stiffness (docs/model.md 7): a spring k
+on each slip beyond its capacity and its dashpot 2 zeta sqrt(k m_eff), the
+DFP's law (mechanics/rim_law.py), against the closed forms of a mass on a
+linear spring (and dashpot) while in contact."""
+import math
+
+import numpy as np
+import pytest
+
+from fpd.coupling.build import build
+from fpd.coupling.run import simulate
+from fpd.loading.ground_motion import harmonic_ground_motion
+from fpd.mechanics import flat_kernel as K
+from fpd.mechanics.flat import FlatGeometry, FlatStepper
+from fpd.schema import scene as scn
+
+GEOM = FlatGeometry(pad_height=0.10, pad_diameter=0.25, pad_mass=400.0, mass=1.0e4)
+V0, D1, D2, KRIM = 0.4, 0.05, 0.2, 1.0e7
+DTS = (2e-4, 1e-4, 5e-5)          # 99, 199 and 397 steps over the pad's contact pi sqrt(m / k)
+
+
+def _impact(dt, zeta, upper):
+    """Frictionless faces, the ground at rest. Lower rim (upper False): pad and
+    superstructure launched together at V0, the pad meets the lower rim's
+    spring alone (the superstructure slides on over it): the mass it sees is
+    m. Upper rim: the superstructure launched over the pad at rest, the
+    spring between them: the reduced mass m M / (m + M). Returns (mass,
+    contact time (crossings interpolated), rebound rate / V0, peak spring
+    force k o, peak |F_N|, rim loss, kinetic energy lost, worst |E_kin +
+    E_pot + E_rim - K0| / K0 over the run, contacts counted, peak |J_rim_Ns|)."""
+    m, M = GEOM.pad_mass, GEOM.mass
+    gx = harmonic_ground_motion(0.0, 1.0, 1, dt)
+    s = FlatStepper(GEOM, gx, rim=(D1, D2, 0.0, KRIM, zeta))
+    iq, iv, cap, mass = (K.S_Q2, K.S_V2, D2, m * M / (m + M)) if upper else (K.S_Q1, K.S_V1, D1, m)
+    s.S[iv] = V0
+    s.S[iq] = cap - 0.01
+    K0 = s.E_kin
+    s.E_in = K0
+    t_in = t_out = None
+    o_pk = F_pk = worst = J_pk = 0.0
+    q0 = s.S[iq]
+    while t_out is None:
+        s.step(0.0, 0.0)
+        q = s.S[iq]
+        if t_in is None and q > cap:
+            t_in = s.t - s.dt * (q - cap) / (q - q0)
+        if t_in is not None and q <= cap:
+            t_out = s.t - s.dt * (q - cap) / (q - q0)
+        q0 = q
+        o_pk, F_pk, J_pk = max(o_pk, q - cap), max(F_pk, abs(s.F)), max(J_pk, s.S[K.S_JRIM])
+        worst = max(worst, abs(s.E_kin + s.E_pot + s.E_rim - K0) / K0, abs(s.ledger_residual()) / K0)
+    return (mass, t_out - t_in, -s.S[iv] / V0, KRIM * o_pk, F_pk, s.E_rim, K0 - s.E_kin - s.E_pot, worst,
+            s.S[K.S_NRIM2 if upper else K.S_NRIM1], J_pk)
+
+
+@pytest.mark.parametrize("upper", [False, True])
+def test_an_elastic_rim_hands_back_the_speed_in_the_closed_form_time_and_force(upper):
+    """No damping: the slip rebounds at V0 (energy conserved: E_kin + the
+    spring's energy = the launch energy at every step to 1e-11), the contact
+    lasts pi sqrt(m_eff / k) and the peak rim force is V0 sqrt(k m_eff), both
+    converging as dt shrinks. Measured at dt = 2e-4 / 1e-4 / 5e-5 s, the
+    contact time's error: lower rim 8.3e-5 / 2.1e-5 / 5.2e-6, upper 8.6e-5 /
+    2.2e-5 / 5.4e-6 (second order); the peak force k o's: 5.2e-5 / 1.5e-5 /
+    2.9e-6 and 4.3e-5 / 2.3e-5 / 8.9e-7 (the step's sample of an exact turn);
+    on the upper rim the force column F_N is the rim's force itself, its peak
+    1.5e-4 / 3.3e-5 / 1.2e-5 off. An impact counted, no impulse."""
+    err_t, err_f, err_col = [], [], []
+    for dt in DTS:
+        mass, T, ratio, F, Fcol, Erim, lost, worst, n, J = _impact(dt, 0.0, upper)
+        assert abs(ratio - 1.0) <= 1e-10 and worst <= 1e-11 and Erim == 0.0 and n == 1 and J == 0.0
+        err_t.append(abs(T / (math.pi * math.sqrt(mass / KRIM)) - 1.0))
+        err_f.append(abs(F / (V0 * math.sqrt(KRIM * mass)) - 1.0))
+        err_col.append(abs(Fcol / (V0 * math.sqrt(KRIM * mass)) - 1.0))
+        # the energy is conserved, so the peak overlap is exact at the turn: a step's sample
+        # of it is off by at most (omega dt / 2)^2 / 2
+        assert err_f[-1] <= (math.sqrt(KRIM / mass) * dt) ** 2 / 8.0, err_f
+    print("contact time", err_t, "peak force", err_f, "F_N", err_col)
+    assert err_t[-1] < 2e-5 and err_f[-1] < 1e-5, (err_t, err_f)
+    assert all(a > 2.5 * b for a, b in zip(err_t, err_t[1:])), err_t
+    if upper:
+        assert err_col[-1] < 1e-3 and all(a > b for a, b in zip(err_col, err_col[1:])), err_col
+    else:
+        assert all(abs(e - 1.0) < 1e-9 for e in err_col)    # frictionless top face: F_N stays 0
+
+
+@pytest.mark.parametrize("zeta", [0.1, 0.3])
+@pytest.mark.parametrize("upper", [False, True])
+def test_a_damped_rim_returns_the_kelvin_voigt_rebound_and_books_the_loss(zeta, upper):
+    """With the dashpot (acting while the slip is beyond its capacity, as the
+    DFP's) the rebound rate over the arrival rate is exp(-zeta pi / sqrt(1 -
+    zeta^2)) within 2e-5 at dt = 5e-5 s, converging at second order
+    (measured, lower rim: zeta 0.1 5.2e-5 / 1.3e-5 / 3.3e-6, zeta 0.3 1.6e-4
+    / 4.1e-5 / 1.0e-5 at dt = 2e-4 / 1e-4 / 5e-5 s; the upper rim's within
+    4 % of these); the dashpot's loss in
+    E_rim_J equals the kinetic energy lost to 1e-10 of the launch energy, and
+    the ledger closes at every step."""
+    closed = math.exp(-zeta * math.pi / math.sqrt(1.0 - zeta * zeta))
+    errs = []
+    for dt in DTS:
+        mass, T, ratio, F, Fcol, Erim, lost, worst, n, J = _impact(dt, zeta, upper)
+        errs.append(abs(ratio / closed - 1.0))
+        K0 = 0.5 * mass * V0 ** 2
+        assert abs(Erim - lost) <= 1e-10 * K0 and worst <= 1e-11 and Erim > 0.0
+        assert Erim == pytest.approx((1.0 - closed ** 2) * K0, rel=1e-3)
+    print("zeta", zeta, "upper", upper, "rebound ratio errors", errs)
+    assert errs[-1] < 2e-5 and all(a > 3.0 * b for a, b in zip(errs, errs[1:])), errs
+
+
+FLAT = """
+name = "flat-rim-spring"
+[device]
+kind = "flat"
+pad_height = 0.10
+pad_diameter = 0.25
+pad_mass = 400.0
+d2 = 0.04
+rim_stiffness_N_per_m = 1.0e8
+rim_damping_ratio = 0.2
+[superstructure]
+mass = 1.0e4
+[friction.lower]
+law = "constant"
+mu = 0.5
+[friction.upper]
+law = "constant"
+mu = 0.02
+[loading]
+kind = "record"
+record = "northridge-1994"
+scale = 3.0
+[thermal]
+model = "lumped"
+[solver]
+duration = 6.0
+"""
+
+
+def _scene(tmp_path, over=()):
+    p = tmp_path / "flat.toml"
+    p.write_text(FLAT)
+    return scn.load(str(p), list(over))
+
+
+def test_a_scene_with_a_rim_spring_reports_its_contacts_and_closes_the_ledger(tmp_path):
+    """Northridge x 3 drives the superstructure into its upper rim: the
+    summary reports the capacity ratio past 1 (the spring compressed), the
+    contacts counted, the dashpot's loss, no impulse (the rim's force is in
+    F_N), and the ledger closed to 1e-10 of the input."""
+    from fpd.frontends import api
+    _scene(tmp_path)
+    r = api.run(str(tmp_path / "flat.toml"), output={"plots": False})
+    s = r.summary
+    assert s["status"] == "ok", s["message"]
+    assert s["capacity"]["upper"]["ratio"] > 1.0 and s["rim_impacts"]["upper"] >= 1
+    assert s["rim_loss_J"] > 0.0 and s["rim_impulse_Ns"] == 0.0
+    assert s["energy_residual_rel"] < 1e-10
+
+
+def test_compiled_flat_bearing_with_a_rim_spring_equals_the_pure_path(monkeypatch, tmp_path):
+    pytest.importorskip("numba")
+    from fpd import kernels
+    if not kernels.available():
+        pytest.skip("FPD_NO_JIT")
+    a = simulate(build(_scene(tmp_path)))
+    monkeypatch.setenv("FPD_NO_JIT", "1")
+    b = simulate(build(_scene(tmp_path)))
+    assert a.status == b.status == "ok" and a.columns == b.columns
+    assert a["n_rim2"][-1] >= 1 and np.max(a["E_pot_J"]) > 0.0
+    np.testing.assert_array_equal(a.data, b.data)
+
+
+@pytest.mark.parametrize("over, needle", [
+    (["device.rim_restitution=0.5"], "device.rim_restitution = 0.5: is a key of the rigid rim"),
+    (["loading.vertical_scale=0.5"], "device.rim_stiffness_N_per_m = 1e+08: not yet with a vertical ground"),
+])
+def test_a_rim_spring_is_refused_in_one_line_where_it_does_not_apply(tmp_path, over, needle):
+    with pytest.raises(scn.SceneError) as e:
+        _scene(tmp_path, over)
+    assert needle in str(e.value) and "\n" not in str(e.value)
+
+
+def test_the_flat_bearings_test_machine_refuses_a_rim_spring():
+    with pytest.raises(scn.SceneError) as e:
+        scn.load("flat-lab", ["device.rim_stiffness_N_per_m=1e8"])
+    assert "test machine" in str(e.value) and "\n" not in str(e.value)
