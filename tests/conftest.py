@@ -18,3 +18,12 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
+
+# A suite started in the background of a non-interactive shell (`pytest ... &`)
+# inherits SIGINT ignored, and so would every `fpd` it starts: the tests of what
+# Ctrl-C does would then see a run that cannot be interrupted. Give the suite
+# the interpreter's own Ctrl-C (its children then start with the default).
+import signal  # noqa: E402
+
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    signal.signal(signal.SIGINT, signal.default_int_handler)
