@@ -13,7 +13,7 @@ import pytest
 
 from fpd import kernels
 from fpd.loading.ground_motion import GroundMotion, pulse_ground_motion
-from fpd.mechanics import tfp3d_kernel as K
+from fpd.mechanics import tfp3d, tfp3d_kernel as K
 from fpd.mechanics.tfp3d import TFP3DStepper
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -112,7 +112,11 @@ def test_a_pair_engaging_all_four_rims_converges_in_dt():
     assert max(abs(d / ref - 1) for d in D.values()) < 0.02, D
 
 
-def test_compiled_kernel_equals_pure_bit_for_bit_at_the_rims():
+@pytest.mark.slow
+def test_compiled_kernel_equals_pure_bit_for_bit_through_a_pair_at_all_four_rims():
+    """The record pair through all four rims (its inner rims' impacts cost
+    the pure path about a minute a step; the default run checks every rim
+    path from set states: test_compiled_kernel_equals_pure_bit_for_bit_at_the_rims)."""
     if not kernels.available():
         pytest.skip("numba not available")
     g = tfp()
@@ -123,6 +127,52 @@ def test_compiled_kernel_equals_pure_bit_for_bit_at_the_rims():
     assert all(a[f"n_rim{i}"][-1] >= 1 for i in range(1, 5))
     for c in a:
         assert np.array_equal(a[c], b[c]), c
+
+
+def _at_the_rims(kernel, stack, pad, steps):
+    """A stepper started a hair inside the rims with rates into them: stack
+    and pad each given as (angle of the tilt's direction deg or None, normal
+    rate, tangential rate); the ground moving under it; its rows over
+    ``steps`` steps."""
+    g = tfp()
+    pm, am = g.qmax
+    gx = pulse_ground_motion("sine", 0.8, 0.5, 0.0, steps * 1e-3, 1e-3)
+    gy = pulse_ground_motion("sine", -0.5, 0.4, 0.0, steps * 1e-3, 1e-3)
+    s = TFP3DStepper(g, gx, gy, kernel=kernel)
+    for given, qm, i in ((stack, pm, 0), (pad, am, 2)):
+        if given is None:
+            continue
+        ang, vn, vt = given
+        th = math.radians(ang)
+        n = np.array([math.cos(th), math.sin(th)])
+        t = np.array([-n[1], n[0]])
+        s.S[i:i + 2] = (qm - 1e-10) * n
+        s.S[4 + i:6 + i] = vn * n + vt * t
+    rows = [s.values()]
+    for _ in range(steps):
+        s.step(*MUS)
+        rows.append(s.values())
+    return np.array(rows)
+
+
+@pytest.mark.parametrize("stack,pad,steps,hit", [
+    ((20.0, 0.3, 0.1), None, 6, (1, 0, 0, 1)),                # the stack's rims (S1, S4) reached
+    (None, (40.0, 0.3, 0.2), 6, (0, 1, 1, 0)),                # the pad's (S2, S3), oblique
+    ((20.0, 0.3, 0.1), (-70.0, 0.3, -0.1), 6, (1, 1, 1, 1)),  # both at once, in two directions
+    ((200.0, 0.0, 0.0), (200.0, 0.0, 0.0), 2, (1, 1, 1, 1)),  # on all four, pressed by the ground
+], ids=["stack", "pad", "both", "resting"])
+def test_compiled_kernel_equals_pure_bit_for_bit_at_the_rims(stack, pad, steps, hit):
+    """Every rim path of the step (an arrival on the outer rims, on the inner
+    ones, on both in two directions, a stack held on both), compiled against
+    pure, bit for bit (the record pair through all four rims: the slow test
+    below)."""
+    if not kernels.available():
+        pytest.skip("numba not available")
+    a = _at_the_rims(None, stack, pad, steps)
+    b = _at_the_rims(_kernel(), stack, pad, steps)
+    cols = list(tfp3d.COLUMNS)
+    assert tuple(int(a[-1, cols.index(f"n_rim{i}")]) for i in range(1, 5)) == hit
+    assert np.array_equal(a, b)
 
 
 @pytest.mark.parametrize("e", [0.0, 0.5])
