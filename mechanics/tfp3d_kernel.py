@@ -56,7 +56,7 @@ N_OUT = 24
 
 FAIL_NONE, FAIL_FIXED_POINT, FAIL_RIM, FAIL_CAPACITY = 0, 2, 4, 1
 FAIL_LAND = 5           # a flight would land beyond the outer surfaces' reach (not modelled)
-IN_AIR = -1             # lift_off: the step ended in the air
+FLIGHT_SEATED, FLIGHT_LANDED, FLIGHT_AIR = 10, 11, 12     # flights(): how the step goes on
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
@@ -1925,20 +1925,20 @@ def rim_touch_impact(par, st, o0, o1, e_rest, sc):
 
 # -- the whole step of the stepper ---------------------------------------------------------
 def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
-    """One step on the state vector S (layout S_*): ``advance_with`` the
-    step with the rims, ``step_rims``. Returns the failure flag."""
-    return advance_with(step_rims, 1, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y,
-                        out, sc)
+    """One step on the state vector S (layout S_*): ``begin_advance``, the
+    step with its rims (``step_rims``), their account, ``finish_advance``.
+    Returns the failure flag."""
+    a1, a2, c_o, c_i, ux0, uy0 = begin_advance(par, S, agx, agy, az, mu1, mu2, mu3, mu4, machine, sc)
+    step_rims(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    rim_account(par, S, out)
+    return finish_advance(par, S, dt, agx, agy, machine, a1, a2, c_o, c_i, ux0, uy0, 1, out, sc)
 
 
-def advance_with(stepf, rims, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
-    """One step on the state vector S (layout S_*) with the step function
-    stepf (``step_rims``; the two-phase model's step, with ``step``'s
-    arguments but nobounds): normal forces at the start of the step, caps,
-    the step, its rims' account (rims = 1), the friction work of each
-    surface (a coordinate's shared by its two surfaces as their caps), the
-    bearing's force, phase, regime, sliding flags and speeds. Returns the
-    failure flag."""
+def begin_advance(par, S, agx, agy, az, mu1, mu2, mu3, mu4, machine, sc):
+    """Before a step on S (this TFP's and the two-phase one's): the normal
+    forces at its start, the caps. Returns (a1, a2, c_o, c_i, u'x, u'y at
+    the start): a1 = mu1 N1 R1, a2 = mu2 N2 R2, c_o = a1 + mu4 N4 R4, c_i =
+    a2 + mu3 N3 R3; sc[256:258] the machine's last force."""
     N = S[S_N:S_N + 4]
     # the machine's force (the last step's) enters the normal forces; a ground motion has none
     fx = S[S_F] if machine == 1 else 0.0
@@ -1946,22 +1946,24 @@ def advance_with(stepf, rims, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, mach
     normal_forces(par, S[0:4], S[4:8], agx, agy, az, fx, fy, N, sc[200:220])
     # a coordinate at rest (did not slide in the step before) holds with the static coefficient
     mu1, mu2, mu3, mu4 = tk.holding_caps(par, S[S_SLIDE], S[S_SLIDE + 1], mu1, mu2, mu3, mu4)
-    R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
-    a1 = mu1 * N[0] * R1
-    a4 = mu4 * N[3] * R4
-    a2 = mu2 * N[1] * R2
-    a3 = mu3 * N[2] * R3
-    c_o = a1 + a4
-    c_i = a2 + a3
+    a1 = mu1 * N[0] * par[tk.I_R1]
+    a4 = mu4 * N[3] * par[tk.I_R4]
+    a2 = mu2 * N[1] * par[tk.I_R2]
+    a3 = mu3 * N[2] * par[tk.I_R3]
     # the superstructure's velocity at the start
     u_dot(par, S[0:4], S[4:8], sc, 220)
-    ux0, uy0 = sc[220], sc[221]
     sc[256] = S[S_F]            # the machine's force: Newton starts from the last step's
     sc[257] = S[S_F + 1]
-    stepf(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    return a1, a2, a1 + a4, a2 + a3, sc[220], sc[221]
+
+
+def finish_advance(par, S, dt, agx, agy, machine, a1, a2, c_o, c_i, ux0, uy0, rims, out, sc):
+    """After a step on S (``begin_advance``'s values): the friction work of
+    each surface (a coordinate's shared by its two surfaces as their caps),
+    the bearing's force, phase, regime (rims = 1: 5 with the stack on its
+    rim), sliding flags and speeds. Returns the step's failure flag."""
     fail = int(out[O_FAIL])
-    if rims == 1:
-        rim_account(par, S, out)
+    R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
     S[S_ITER] = out[O_ITER]
     S[S_KKT] = out[O_KKT]
     wo = out[O_WO]
@@ -2310,22 +2312,26 @@ def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x,
     """``advance`` under a vertical ground motion that may lift the TFP off
     (docs/model.md 10): while g + az >= 0 and the unit is seated, ``advance``
     itself. When the step's g + az < 0 the stack and the superstructure leave
-    the lower plate and fly (``_flight``) until they land; a step that lands
+    the lower plate and fly (``flights``) until they land; a step that lands
     finishes seated (``advance`` over the rest, its force spread over dt).
     In the air: no contact, no friction, no heat, no force on the ground."""
-    fail = lift_off(advance, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
-    return FAIL_NONE if fail == IN_AIR else fail
+    rem, how = flights(par, S, dt, par[tk.I_G] + az, agx, agy, sc)
+    if how != FLIGHT_SEATED and how != FLIGHT_LANDED:
+        return FAIL_NONE if how == FLIGHT_AIR else how
+    fail = advance(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    if how == FLIGHT_LANDED:
+        landed_share(S, rem, dt)
+    return fail
 
 
-def lift_off(adv, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
-    """``advance_vertical`` with the seated step adv (``advance``'s arguments):
-    adv over the step while seated, else the flights (``_flight``) and adv
-    over what is left after a landing. Returns adv's failure flag, a
-    landing's, or IN_AIR for a step that ends in the air (its contact
-    columns cleared)."""
-    gv = par[tk.I_G] + az
-    if S[S_FLY] == 0.0 and not gv < 0.0:
-        return adv(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+def flights(par, S, dt, gv, agx, agy, sc):
+    """The flights (``_flight``) in a step of dt under gv = g + az, in the air
+    or seated with gv < 0 (this TFP's and the two-phase one's). Returns (what
+    is left of the step, how it goes on): FLIGHT_SEATED (it never left
+    the seat, or g + az >= 0 seated: seated over all of it), FLIGHT_LANDED (landed with time
+    left: seated over that, then ``landed_share``), FLIGHT_AIR (in the
+    air at its end, or landed with nothing left: the contact columns
+    cleared), or a landing's failure flag."""
     rem = dt
     flown = False
     for _ in range(tk.FLIGHTS_MAX):
@@ -2333,7 +2339,7 @@ def lift_off(adv, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1
             break
         tau = _flight(par, S, agx, agy, gv, rem, sc)
         if tau <= -2.0:
-            return int(-2.0 - tau)
+            return rem, int(-2.0 - tau)
         if tau < 0.0:              # the seat's curvature keeps it down over the step: seated
             break
         flown = True
@@ -2341,20 +2347,23 @@ def lift_off(adv, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1
         if S[S_FLY] != 0.0 or not rem > tk.FLIGHT_REST * dt:
             break
     if not flown:
-        return adv(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+        return dt, FLIGHT_SEATED
     if S[S_FLY] == 0.0 and rem > tk.FLIGHT_REST * dt:
-        fail = adv(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
-        # the force over the whole step: the bearing carries nothing in the air
-        S[S_F] = S[S_F] * (rem / dt)
-        S[S_F + 1] = S[S_F + 1] * (rem / dt)
-        for i in range(4):
-            S[S_SV + i] = S[S_SV + i] * (rem / dt)
-        return fail
+        return rem, FLIGHT_LANDED
     for i in range(4):
         S[S_N + i] = S[S_SV + i] = S[S_DW + i] = S[S_SLIDE + i] = 0.0
     S[S_F] = S[S_F + 1] = S[S_REG] = S[S_ITER] = S[S_KKT] = 0.0
     S[S_PHASE] = tk.PHASE_STICK
-    return IN_AIR
+    return rem, FLIGHT_AIR
+
+
+def landed_share(S, rem, dt):
+    """A step that landed with rem of dt left: its force and slip speeds over
+    the whole step (the bearing carries nothing in the air)."""
+    S[S_F] = S[S_F] * (rem / dt)
+    S[S_F + 1] = S[S_F + 1] * (rem / dt)
+    for i in range(4):
+        S[S_SV + i] = S[S_SV + i] * (rem / dt)
 
 
 def energies_vertical(par, S, o, sc):

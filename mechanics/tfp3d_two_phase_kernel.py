@@ -266,16 +266,17 @@ def pivots(par, S, q0, dq, sc):
 def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
     """tfp3d_kernel.advance with the two-phase step (machine = 1: the test
     machine along an orbit, u(t_n+1) = (u1x, u1y), u'(t_n+1) = (ud1x, ud1y),
-    its force the last step's in the normal forces): tfp3d_kernel.advance_with
-    ``step`` and no rims (normal forces at the start of the step, caps, the
-    friction work of each surface, the bearing's force, phase, regime,
-    sliding flags and speeds), then the re-seating loss, the phases and the
-    rocking check. Returns the failure flag (tfp3d_kernel.FAIL_*, FAIL_ROCKING)."""
+    its force the last step's in the normal forces): tfp3d_kernel.begin_advance
+    (normal forces at the start of the step, caps), ``step``,
+    tfp3d_kernel.finish_advance without rims (the friction work of each
+    surface, the bearing's force, phase, regime, sliding flags and speeds),
+    then the re-seating loss, the phases and the rocking check. Returns the failure flag (tfp3d_kernel.FAIL_*, FAIL_ROCKING)."""
     for i in range(4):
         sc[228 + i] = S[i]
     rest0 = S[4] == 0.0 and S[5] == 0.0 and S[6] == 0.0 and S[7] == 0.0
-    fail = k3.advance_with(step, 0, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y,
-                           out, sc)
+    a1, a2, c_o, c_i, ux0, uy0 = k3.begin_advance(par, S, agx, agy, az, mu1, mu2, mu3, mu4, machine, sc)
+    step(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    fail = k3.finish_advance(par, S, dt, agx, agy, machine, a1, a2, c_o, c_i, ux0, uy0, 0, out, sc)
     S[S_ERS] += out[O_RESEAT]
     # the phases (Figs. 6-7): 2 with one pair sliding, 3 with both
     n = pivots(par, S, sc[228:232], out[k3.O_DQ:k3.O_DQ + 4], sc[232:240])
@@ -298,20 +299,23 @@ def row_values(par, S, t, xg, yg, row, sc):
 
 def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
     """``advance`` under a vertical ground motion that may lift the TFP off
-    (docs/model.md 10): the seated 3D TFP's lift-off (tfp3d_kernel.lift_off)
+    (docs/model.md 10): the seated 3D TFP's lift-off (tfp3d_kernel.flights)
     around the two-phase step. While g + az >= 0 and the unit is seated,
     ``advance`` itself; when the step's g + az < 0 the stack and the
     superstructure fly (tfp3d_kernel._flight: take-off, ballistic flight,
     plastic landing) until they land, and a step that lands finishes seated
     with ``advance`` over the rest. In the air: no contact, no friction, no
     heat, no phases."""
-    fail = k3.lift_off(advance, par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
-    if fail != k3.IN_AIR:
-        return fail
-    for i in range(8):
-        S[S_B1 + i] = 0.0
-    S[S_NPH] = 0.0
-    return k3.FAIL_NONE
+    rem, how = k3.flights(par, S, dt, par[tk.I_G] + az, agx, agy, sc)
+    if how == k3.FLIGHT_AIR:
+        for i in range(9):
+            S[S_B1 + i] = 0.0           # the pivots, rotations and phases (S_NPH)
+    if how != k3.FLIGHT_SEATED and how != k3.FLIGHT_LANDED:
+        return k3.FAIL_NONE if how == k3.FLIGHT_AIR else how
+    fail = advance(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    if how == k3.FLIGHT_LANDED:
+        k3.landed_share(S, rem, dt)
+    return fail
 
 
 def vertical_row(par, S, az, row, sc):
