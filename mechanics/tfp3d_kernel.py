@@ -1250,23 +1250,31 @@ def _rim_inner(H, r, c1, c2, y, nua, sc):
     for k in range(200):
         if fhi == 0.0 or hi - lo <= 2e-16 * hi:
             break
-        x = lo + (hi - lo) * flo / (flo - fhi)
-        if not (lo < x < hi):
-            x = 0.5 * (lo + hi)
+        x = _falsi_point(lo, flo, hi, fhi)
         its += _rim_eval(H, r, c1, c2, y, nua, x, sc)
-        fx = _rim_gap(1, y, sc)
-        if fx > 0.0:
-            lo, flo = x, fx
-            if side == 1:
-                fhi *= 0.5
-            side = 1
-        else:
-            hi, fhi = x, fx
-            if side == -1:
-                flo *= 0.5
-            side = -1
+        lo, flo, hi, fhi, side = _falsi(lo, flo, hi, fhi, side, x, _rim_gap(1, y, sc))
     its += _rim_eval(H, r, c1, c2, y, nua, hi, sc)
     return hi
+
+
+def _falsi_point(lo, flo, hi, fhi):
+    """The regula falsi's next point in [lo, hi] (the gaps flo > 0 >= fhi), its middle past round-off."""
+    x = lo + (hi - lo) * flo / (flo - fhi)
+    if not (lo < x < hi):
+        x = 0.5 * (lo + hi)
+    return x
+
+
+def _falsi(lo, flo, hi, fhi, side, x, fx):
+    """The bracket after the gap fx at x (Illinois: the end kept twice in a
+    row has its gap halved). Returns (lo, flo, hi, fhi, side)."""
+    if fx > 0.0:
+        if side == 1:
+            fhi *= 0.5
+        return x, fx, hi, fhi, 1
+    if side == -1:
+        flo *= 0.5
+    return lo, flo, x, fx, -1
 
 
 def rim_socp(H, r, c1, c2, y, sc):
@@ -1298,21 +1306,9 @@ def rim_socp(H, r, c1, c2, y, sc):
             for k in range(200):
                 if fhi == 0.0 or hi - lo <= 2e-16 * hi:
                     break
-                x = lo + (hi - lo) * flo / (flo - fhi)
-                if not (lo < x < hi):
-                    x = 0.5 * (lo + hi)
+                x = _falsi_point(lo, flo, hi, fhi)
                 nub = _rim_inner(H, r, c1, c2, y, x, sc)
-                fx = _rim_gap(0, y, sc)
-                if fx > 0.0:
-                    lo, flo = x, fx
-                    if side == 1:
-                        fhi *= 0.5
-                    side = 1
-                else:
-                    hi, fhi = x, fx
-                    if side == -1:
-                        flo *= 0.5
-                    side = -1
+                lo, flo, hi, fhi, side = _falsi(lo, flo, hi, fhi, side, x, _rim_gap(0, y, sc))
             nua = hi
             nub = _rim_inner(H, r, c1, c2, y, nua, sc)
     sc[R_NU] = nua
