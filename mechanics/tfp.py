@@ -209,7 +209,46 @@ class TFPFailure(MechanicsFailure):
     pass
 
 
-class TFPStepper:
+class TFPState:
+    """The accessors of a TFP stepper's state vector S that the loop and
+    outputs use, at the indices of its kernel module, ``state_layout``
+    (tfp_kernel, tfp3d_kernel: S_W, S_EIN, S_ERIM, S_SV, S_ELAND)."""
+
+    state_layout = K
+
+    @property
+    def W(self) -> list:
+        k = self.state_layout.S_W
+        return [float(x) for x in self.S[k:k + 4]]
+
+    @property
+    def E_in(self) -> float:
+        return float(self.S[self.state_layout.S_EIN])
+
+    @property
+    def E_rim(self) -> float:
+        """The kinetic energy the rim impacts took (J)."""
+        return float(self.S[self.state_layout.S_ERIM])
+
+    @property
+    def slip_v(self) -> list:
+        k = self.state_layout.S_SV
+        return [float(x) for x in self.S[k:k + 4]]
+
+    @property
+    def E_land(self) -> float:
+        """Energy taken by the lift-offs and landings (docs/model.md 10)."""
+        return float(self.S[self.state_layout.S_ELAND])
+
+    def save(self):
+        return (self.n, self.t, self.S.copy())
+
+    def restore(self, snap) -> None:
+        self.n, self.t, S = snap
+        self.S[:] = S
+
+
+class TFPStepper(TFPState):
     """The rigid TFP under a ground motion (GroundMotion) or in the test
     machine (DisplacementProgramme: the superstructure's relative displacement
     imposed, its weight carried). ``step(mu1, mu2, mu3, mu4)`` advances one
@@ -304,22 +343,6 @@ class TFPStepper:
     def F(self) -> float:
         return float(self.S[K.S_F])
 
-    @property
-    def W(self) -> list:
-        return [float(x) for x in self.S[K.S_W:K.S_W + 4]]
-
-    @property
-    def E_in(self) -> float:
-        return float(self.S[K.S_EIN])
-
-    @property
-    def E_rim(self) -> float:
-        return float(self.S[K.S_ERIM])
-
-    @property
-    def slip_v(self) -> list:
-        return [float(x) for x in self.S[K.S_SV:K.S_SV + 4]]
-
     def slides(self) -> tuple:
         """Arc slid on S1..S4 (signed, m)."""
         g = self.geom
@@ -353,11 +376,6 @@ class TFPStepper:
         return K.potential(self.par, self.phi, self.alpha)
 
     @property
-    def E_land(self) -> float:
-        """Energy taken by the lift-offs and landings (docs/model.md 10)."""
-        return float(self.S[K.S_ELAND])
-
-    @property
     def E_reseat(self) -> float:
         """Kinetic energy removed by the re-seating of phases 2 and 3 (two-phase; 0 seated)."""
         return float(self.S[K.S_ERS])
@@ -369,13 +387,6 @@ class TFPStepper:
         g = self.geom
         K.row_values(self.par, self.S, self.t, self.xg(), g.d1, g.d2, g.d3, g.d4, self._row)
         return tuple(self._row.tolist())
-
-    def save(self):
-        return (self.n, self.t, self.S.copy())
-
-    def restore(self, snap) -> None:
-        self.n, self.t, S = snap
-        self.S[:] = S
 
     # -- the compiled engine (coupling/engine_kernel.py) ---------------------------
     engine_device = "fpd.mechanics.dev_tfp"

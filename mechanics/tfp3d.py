@@ -20,7 +20,7 @@ from . import tfp3d_kernel as K
 from . import tfp_kernel as tk
 from fpd.loading.ground_motion import float_array
 from .phases import MechanicsFailure
-from .tfp import TFPGeometry, TFPStepper
+from .tfp import TFPGeometry, TFPState, TFPStepper
 
 COLUMNS = (
     "t_s", "xg_m", "yg_m", "ux_m", "uy_m", "u_m", "vx_mps", "vy_mps", "v_mps", "Fx_N", "Fy_N", "F_N", "z_m",
@@ -41,13 +41,14 @@ class TFP3DFailure(MechanicsFailure):
     pass
 
 
-class TFP3DStepper:
+class TFP3DStepper(TFPState):
     """The rigid TFP under a two-component ground motion (gx, gy: GroundMotion
     on the same grid; gy None: the y component absent; az: the vertical ground
     acceleration per step, up, or None). ``step(mu1..mu4)``
     advances one step and returns the friction work of S1..S4 in it; the
     state is one float64 vector (tfp3d_kernel.S_*)."""
 
+    state_layout = K
     n_interfaces = 4
     two_d = True
     drawing = "tfp3d"         # the VTK drawing (outputs/device_drawings.py)
@@ -119,19 +120,7 @@ class TFP3DStepper:
         self.S[6:8] = np.linalg.solve(Ca, [vx, vy])
         self.S[K.S_EIN] = self.E_kin() + self.E_pot()
 
-    # -- accessors the loop and outputs use ------------------------------------------------
-    @property
-    def W(self) -> list:
-        return [float(x) for x in self.S[K.S_W:K.S_W + 4]]
-
-    @property
-    def E_in(self) -> float:
-        return float(self.S[K.S_EIN])
-
-    @property
-    def slip_v(self) -> list:
-        return [float(x) for x in self.S[K.S_SV:K.S_SV + 4]]
-
+    # -- accessors the loop and outputs use (and TFPState's) -------------------------------
     @property
     def q(self) -> np.ndarray:
         """(phi_x, phi_y, alpha_x, alpha_y)."""
@@ -157,16 +146,6 @@ class TFP3DStepper:
             return float(self._ev[1])
         return K.potential(self.par, self.S[0:4])
 
-    @property
-    def E_rim(self) -> float:
-        """The kinetic energy the rim impacts took (J)."""
-        return float(self.S[K.S_ERIM])
-
-    @property
-    def E_land(self) -> float:
-        """Energy taken by the lift-offs and landings (docs/model.md 10)."""
-        return float(self.S[K.S_ELAND])
-
     def ledger_residual(self) -> float:
         return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim + self.E_land)
 
@@ -175,13 +154,6 @@ class TFP3DStepper:
         K.row_values(self.par, self.S, self.t, self._xg[n], self._yg[n], self._row, self._sc)
         K.vertical_row(self.par, self.S, self._az[n - 1] if n > 0 else 0.0, self._row, self._sc)
         return tuple(self._row.tolist())
-
-    def save(self):
-        return (self.n, self.t, self.S.copy())
-
-    def restore(self, snap) -> None:
-        self.n, self.t, S = snap
-        self.S[:] = S
 
     # -- the compiled engine (coupling/engine_kernel.py with mechanics/dev_tfp3d.py) ----------
     engine_device = "fpd.mechanics.dev_tfp3d"

@@ -56,6 +56,7 @@ N_OUT = 24
 
 FAIL_NONE, FAIL_FIXED_POINT, FAIL_RIM, FAIL_CAPACITY = 0, 2, 4, 1
 FAIL_LAND = 5           # a flight would land beyond the outer surfaces' reach (not modelled)
+FLIGHT_SEATED, FLIGHT_LANDED, FLIGHT_AIR = 10, 11, 12     # flights(): how the step goes on
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
@@ -649,18 +650,7 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     1: unbounded (the increment ``step_rims`` splits a step with)."""
     for i in range(N_OUT):
         out[i] = 0.0
-    q0 = sc[100:104]
-    q1 = sc[104:108]
-    p0 = sc[108:112]
-    x = sc[112:116]
-    G = sc[116:120]
-    H = sc[120:136]
-    r = sc[136:140]
-    Hy = sc[140:156]
-    ry = sc[156:160]
-    y = sc[160:164]
-    Lm = sc[164:172]
-    tmp = sc[180:200]
+    q0, q1, p0, x, G, H, r, Hy, ry, y, Lm, tmp, D, Dy, Fm = step_scratch(sc)
     for i in range(4):
         q0[i] = st[i]
     rb = 1 if (nobounds != 0 or machine == 1) else 0
@@ -678,21 +668,12 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     for i in range(4):
         x[i] = dt * st[4 + i]
         y[i] = 0.0
-    D = sc[240:248]
-    Dy = sc[248:256]
-    Fm = sc[256:258]
-    ex = 0.0
-    ey = 0.0
+    ex, ey = machine_gap(par, q0, machine, u1x, u1y, tmp)
     mfail = False
-    if machine == 1:
-        u_rel(par, q0, tmp)
-        ex = u1x - tmp[0]
-        ey = u1y - tmp[1]
     it = 0
     converged = False
     nit = 0
     ch = 0.0
-    qm = par[tk.I_QMAX_PHI]
     while it < FIXED_POINT_ITERS:
         it += 1
         for i in range(4):
@@ -709,15 +690,7 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         if machine == 1:
             # D: the discrete gradient of u (D^T dq = u(q1) - u(q0)); in y, L^-1 D
             dgrad_u(par, q0, q1, D, sc)
-            for blk in range(2):
-                k0 = 4 * blk
-                l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-                i0 = 2 * blk
-                for c in range(2):
-                    a0 = D[2 * i0 + c]
-                    a1 = D[2 * (i0 + 1) + c]
-                    Dy[2 * i0 + c] = (l22 * a0 - l12 * a1) / det
-                    Dy[2 * (i0 + 1) + c] = (l11 * a1 - l12 * a0) / det
+            to_y(Lm, D, Dy)
             if machine_force(Hy, ry, Dy, c_o, c_i, ex, ey, y, Fm, sc) != 0:
                 mfail = True
         else:
@@ -726,12 +699,7 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
                 nit += rim_constrain(par, q0, x, Lm, Hy, ry, c_o, c_i, y, rb, sc)
         # dq = L^-1 y
         for blk in range(2):
-            k0 = 4 * blk
-            l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-            a0 = (l22 * y[2 * blk] - l12 * y[2 * blk + 1]) / det
-            a1 = (l11 * y[2 * blk + 1] - l12 * y[2 * blk]) / det
-            tmp[2 * blk] = a0
-            tmp[2 * blk + 1] = a1
+            tmp[2 * blk], tmp[2 * blk + 1] = linv(Lm, blk, y[2 * blk], y[2 * blk + 1])
         if rb == 0 and it > 6 and rim_involved(sc):
             rim_relax(x, tmp, sc)
         ch = 0.0
@@ -741,17 +709,10 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         if ch <= FIXED_POINT_TOL:
             converged = True
             break
-    if not converged and ch > 1e-12 * (1.0 + abs(x[0]) + abs(x[1]) + abs(x[2]) + abs(x[3])):
-        out[O_FAIL] = FAIL_FIXED_POINT
-    if mfail:
-        out[O_FAIL] = FAIL_CAPACITY
+    fixed_point_end(converged, ch, x, mfail, out)
     if rb == 0:
         rim_snap(par, q0, x, y, ry, Lm, rb, sc)
-    if machine == 1:
-        # the cone program the machine's force makes: r' + Dy F
-        for i in range(4):
-            ry[i] += Dy[2 * i] * Fm[0] + Dy[2 * i + 1] * Fm[1]
-    out[O_KKT] = kkt_residual(Hy, ry, c_o, c_i, y)
+    machine_kkt(Hy, ry, Dy, Fm, c_o, c_i, y, machine, out)
     # the generalised force of friction Phi = r - H dq; p1 = p0 + dt (G - Phi)
     for i in range(4):
         q1[i] = q0[i] + x[i]
@@ -767,19 +728,7 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         st[4 + i] = tmp[4 + i]
     for i in range(4):
         st[i] = q1[i]
-    wo = c_o * math.sqrt(y[0] * y[0] + y[1] * y[1])
-    wi = c_i * math.sqrt(y[2] * y[2] + y[3] * y[3])
-    # the work of the ground (horizontal and vertical) on the relative motion
-    moments(par, q0, tmp, )
-    b0x, b0y, b0z = tmp[0], tmp[1], tmp[2]
-    moments(par, q1, tmp)
-    ein = -agx * (tmp[0] - b0x) - agy * (tmp[1] - b0y) - az * (tmp[2] - b0z)
-    if machine == 1:
-        # the machine's work: F . (D^T dq)
-        for i in range(4):
-            ein += (D[2 * i] * Fm[0] + D[2 * i + 1] * Fm[1]) * x[i]
-        out[O_FX] = Fm[0]
-        out[O_FY] = Fm[1]
+    wo, wi, ein = step_work(par, q0, q1, x, y, D, Fm, agx, agy, az, c_o, c_i, machine, out, tmp)
     # a block that stuck ends at rest: an impulse on it alone (the other keeps its momentum)
     z1 = x[0] == 0.0 and x[1] == 0.0
     z2 = x[2] == 0.0 and x[3] == 0.0
@@ -797,43 +746,122 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         if sc[R_OUT + 5] != 0.0 or sc[R_OUT + 6] != 0.0:
             out[O_ARRIVE] = 1.0
     elif z1 or z2:
-        K0 = kinetic(par, q1, st[4:8], tmp[8:20])
         # p = M(q1) v
         for i in range(4):
             s = 0.0
             for j in range(4):
                 s += H[4 * i + j] * st[4 + j]
             tmp[i] = s
-        if z1:
-            # alpha's rates from p_alpha alone (M_aa w = p_a)
-            m11, m12, m22 = H[10], H[11], H[15]
-            det = m11 * m22 - m12 * m12
-            wa0 = (m22 * tmp[2] - m12 * tmp[3]) / det
-            wa1 = (m11 * tmp[3] - m12 * tmp[2]) / det
-            st[4] = 0.0
-            st[5] = 0.0
-            st[6] = wa0
-            st[7] = wa1
-            Ka = kinetic(par, q1, st[4:8], tmp[8:20])
-            arr_o = K0 - Ka
-            if z2:
-                st[6] = 0.0
-                st[7] = 0.0
-                arr_i = Ka
-        else:
-            m11, m12, m22 = H[0], H[1], H[5]
-            det = m11 * m22 - m12 * m12
-            wa0 = (m22 * tmp[0] - m12 * tmp[1]) / det
-            wa1 = (m11 * tmp[1] - m12 * tmp[0]) / det
-            st[4] = wa0
-            st[5] = wa1
-            st[6] = 0.0
-            st[7] = 0.0
-            arr_i = K0 - kinetic(par, q1, st[4:8], tmp[8:20])
+        arr_o, arr_i = arrest(par, q1, H, st[4:8], z1, z2, tmp)
     if machine == 1:
         # the machine imposes u'(t_n+1) through the blocks still sliding: the
         # kinetic-metric projection (an impulse along C^T), its energy input
         ein += machine_velocity(par, st, H, z1, z2, ud1x, ud1y, sc)
+    step_out(out, x, ein, wo, wi, arr_o, arr_i, it)
+    # the test machine runs without rims: one reached stops it
+    if machine == 1 and past_rims(par, st):
+        out[O_FAIL] = FAIL_RIM
+
+
+def step_scratch(sc):
+    """The step's arrays in its scratch sc: q0, q1, p0, the increment x, G, H,
+    r, Hy, ry, y, the arc metric Lm, tmp and the machine's D, Dy, F."""
+    return (sc[100:104], sc[104:108], sc[108:112], sc[112:116], sc[116:120], sc[120:136], sc[136:140],
+            sc[140:156], sc[156:160], sc[160:164], sc[164:172], sc[180:200], sc[240:248], sc[248:256],
+            sc[256:258])
+
+
+def machine_gap(par, q0, machine, u1x, u1y, tmp):
+    """What the test machine (machine = 1) still imposes on u over the step,
+    u(t_n+1) - u(q0) (0, 0 without it). tmp: scratch >= 3."""
+    if machine != 1:
+        return 0.0, 0.0
+    u_rel(par, q0, tmp)
+    return u1x - tmp[0], u1y - tmp[1]
+
+
+def linv(Lm, blk, a0, a1):
+    """L^-1 (a0, a1) for the block blk of the arc metric Lm (``metric_root``)."""
+    k = 4 * blk
+    return (Lm[k + 2] * a0 - Lm[k + 1] * a1) / Lm[k + 3], (Lm[k] * a1 - Lm[k + 1] * a0) / Lm[k + 3]
+
+
+def to_y(Lm, D, Dy):
+    """Dy = L^-1 D, the machine's discrete gradient D (4 x 2, row-major) in y = L dq."""
+    for blk in range(2):
+        i0 = 2 * blk
+        for c in range(2):
+            Dy[2 * i0 + c], Dy[2 * i0 + 2 + c] = linv(Lm, blk, D[2 * i0 + c], D[2 * i0 + 2 + c])
+
+
+def fixed_point_end(converged, ch, x, mfail, out):
+    """The fixed point's failure flags: not converged beyond round-off, the machine's force not found."""
+    if not converged and ch > 1e-12 * (1.0 + abs(x[0]) + abs(x[1]) + abs(x[2]) + abs(x[3])):
+        out[O_FAIL] = FAIL_FIXED_POINT
+    if mfail:
+        out[O_FAIL] = FAIL_CAPACITY
+
+
+def machine_kkt(Hy, ry, Dy, Fm, c_o, c_i, y, machine, out):
+    """The step's KKT residual into out; under the machine, of the cone program
+    its force makes (r' + Dy F: Phi = r - H dq is then friction less the
+    machine's force)."""
+    if machine == 1:
+        for i in range(4):
+            ry[i] += Dy[2 * i] * Fm[0] + Dy[2 * i + 1] * Fm[1]
+    out[O_KKT] = kkt_residual(Hy, ry, c_o, c_i, y)
+
+
+def step_work(par, q0, q1, x, y, D, Fm, agx, agy, az, c_o, c_i, machine, out, tmp):
+    """The step's friction work on each pair of surfaces before the arrests
+    (c |L dq|) and its input: the ground's (horizontal and vertical) work on
+    the relative motion and the machine's, F . (D^T dq) (its force into out).
+    Returns (wo, wi, ein). tmp: scratch >= 3."""
+    wo = c_o * math.sqrt(y[0] * y[0] + y[1] * y[1])
+    wi = c_i * math.sqrt(y[2] * y[2] + y[3] * y[3])
+    moments(par, q0, tmp)
+    b0x, b0y, b0z = tmp[0], tmp[1], tmp[2]
+    moments(par, q1, tmp)
+    ein = -agx * (tmp[0] - b0x) - agy * (tmp[1] - b0y) - az * (tmp[2] - b0z)
+    if machine == 1:
+        for i in range(4):
+            ein += (D[2 * i] * Fm[0] + D[2 * i + 1] * Fm[1]) * x[i]
+        out[O_FX] = Fm[0]
+        out[O_FY] = Fm[1]
+    return wo, wi, ein
+
+
+def stop_block(M, v, blk, p):
+    """An impulse on block blk alone brings it to rest: the other block keeps
+    its momentum p = M v (given), its rates M_oo^-1 p_o."""
+    o = 2 - 2 * blk
+    m11, m12, m22 = M[5 * o], M[5 * o + 1], M[5 * o + 5]
+    det = m11 * m22 - m12 * m12
+    v[2 * blk] = 0.0
+    v[2 * blk + 1] = 0.0
+    v[o] = (m22 * p[o] - m12 * p[o + 1]) / det
+    v[o + 1] = (m11 * p[o + 1] - m12 * p[o]) / det
+
+
+def arrest(par, q, M, v, z1, z2, tmp):
+    """The blocks that stuck (z1: phi's, z2: alpha's) end at rest in the
+    metric M at q: an impulse on one alone, the other keeping its momentum
+    (tmp[0:4] = M v, given); both: all of it. Returns the kinetic energy
+    taken from each, (arr_o, arr_i). tmp: scratch >= 20."""
+    K0 = kinetic(par, q, v, tmp[8:20])
+    stop_block(M, v, 0 if z1 else 1, tmp)
+    Ka = kinetic(par, q, v, tmp[8:20])
+    if not z1:
+        return 0.0, K0 - Ka
+    if z2:
+        v[2] = 0.0
+        v[3] = 0.0
+        return K0 - Ka, Ka
+    return K0 - Ka, 0.0
+
+
+def step_out(out, x, ein, wo, wi, arr_o, arr_i, it):
+    """The step's increment, input, friction work (arrests included) and iterations into out."""
     for i in range(4):
         out[O_DQ + i] = x[i]
     out[O_EIN] = ein
@@ -842,11 +870,14 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     out[O_ARR_O] = arr_o
     out[O_ARR_I] = arr_i
     out[O_ITER] = it
-    # the test machine runs without rims: one reached stops it
+
+
+def past_rims(par, st):
+    """The end tilts past a rim circle: |phi| > qmax_phi or |alpha| > qmax_alpha."""
     tp = st[0] * st[0] + st[1] * st[1]
     ta = st[2] * st[2] + st[3] * st[3]
-    if machine == 1 and (tp > qm * qm or ta > par[tk.I_QMAX_ALPHA] * par[tk.I_QMAX_ALPHA]):
-        out[O_FAIL] = FAIL_RIM
+    qm, qa = par[tk.I_QMAX_PHI], par[tk.I_QMAX_ALPHA]
+    return tp > qm * qm or ta > qa * qa
 
 
 def grad_u(par, q, o):
@@ -1219,23 +1250,31 @@ def _rim_inner(H, r, c1, c2, y, nua, sc):
     for k in range(200):
         if fhi == 0.0 or hi - lo <= 2e-16 * hi or not lo < 0.5 * (lo + hi) < hi:
             break
-        x = lo + (hi - lo) * flo / (flo - fhi)
-        if not (lo < x < hi):
-            x = 0.5 * (lo + hi)
+        x = _falsi_point(lo, flo, hi, fhi)
         its += _rim_eval(H, r, c1, c2, y, nua, x, sc)
-        fx = _rim_gap(1, y, sc)
-        if fx > 0.0:
-            lo, flo = x, fx
-            if side == 1:
-                fhi *= 0.5
-            side = 1
-        else:
-            hi, fhi = x, fx
-            if side == -1:
-                flo *= 0.5
-            side = -1
+        lo, flo, hi, fhi, side = _falsi(lo, flo, hi, fhi, side, x, _rim_gap(1, y, sc))
     its += _rim_eval(H, r, c1, c2, y, nua, hi, sc)
     return hi
+
+
+def _falsi_point(lo, flo, hi, fhi):
+    """The regula falsi's next point in [lo, hi] (the gaps flo > 0 >= fhi), its middle past round-off."""
+    x = lo + (hi - lo) * flo / (flo - fhi)
+    if not (lo < x < hi):
+        x = 0.5 * (lo + hi)
+    return x
+
+
+def _falsi(lo, flo, hi, fhi, side, x, fx):
+    """The bracket after the gap fx at x (Illinois: the end kept twice in a
+    row has its gap halved). Returns (lo, flo, hi, fhi, side)."""
+    if fx > 0.0:
+        if side == 1:
+            fhi *= 0.5
+        return x, fx, hi, fhi, 1
+    if side == -1:
+        flo *= 0.5
+    return lo, flo, x, fx, -1
 
 
 def rim_socp(H, r, c1, c2, y, sc):
@@ -1267,21 +1306,9 @@ def rim_socp(H, r, c1, c2, y, sc):
             for k in range(200):
                 if fhi == 0.0 or hi - lo <= 2e-16 * hi or not lo < 0.5 * (lo + hi) < hi:
                     break
-                x = lo + (hi - lo) * flo / (flo - fhi)
-                if not (lo < x < hi):
-                    x = 0.5 * (lo + hi)
+                x = _falsi_point(lo, flo, hi, fhi)
                 nub = _rim_inner(H, r, c1, c2, y, x, sc)
-                fx = _rim_gap(0, y, sc)
-                if fx > 0.0:
-                    lo, flo = x, fx
-                    if side == 1:
-                        fhi *= 0.5
-                    side = 1
-                else:
-                    hi, fhi = x, fx
-                    if side == -1:
-                        flo *= 0.5
-                    side = -1
+                lo, flo, hi, fhi, side = _falsi(lo, flo, hi, fhi, side, x, _rim_gap(0, y, sc))
             nua = hi
             nub = _rim_inner(H, r, c1, c2, y, nua, sc)
     sc[R_NU] = nua
@@ -1894,10 +1921,20 @@ def rim_touch_impact(par, st, o0, o1, e_rest, sc):
 
 # -- the whole step of the stepper ---------------------------------------------------------
 def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
-    """One step on the state vector S (layout S_*): normal forces at the start
-    of the step, caps, ``step``, the friction work of each surface (a
-    coordinate's shared by its two surfaces as their caps), the bearing's
-    force, phase, regime, sliding flags and speeds. Returns the failure flag."""
+    """One step on the state vector S (layout S_*): ``begin_advance``, the
+    step with its rims (``step_rims``), their account, ``finish_advance``.
+    Returns the failure flag."""
+    a1, a2, c_o, c_i, ux0, uy0 = begin_advance(par, S, agx, agy, az, mu1, mu2, mu3, mu4, machine, sc)
+    step_rims(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    rim_account(par, S, out)
+    return finish_advance(par, S, dt, agx, agy, machine, a1, a2, c_o, c_i, ux0, uy0, 1, out, sc)
+
+
+def begin_advance(par, S, agx, agy, az, mu1, mu2, mu3, mu4, machine, sc):
+    """Before a step on S (this TFP's and the two-phase one's): the normal
+    forces at its start, the caps. Returns (a1, a2, c_o, c_i, u'x, u'y at
+    the start): a1 = mu1 N1 R1, a2 = mu2 N2 R2, c_o = a1 + mu4 N4 R4, c_i =
+    a2 + mu3 N3 R3; sc[256:258] the machine's last force."""
     N = S[S_N:S_N + 4]
     # the machine's force (the last step's) enters the normal forces; a ground motion has none
     fx = S[S_F] if machine == 1 else 0.0
@@ -1905,21 +1942,24 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     normal_forces(par, S[0:4], S[4:8], agx, agy, az, fx, fy, N, sc[200:220])
     # a coordinate at rest (did not slide in the step before) holds with the static coefficient
     mu1, mu2, mu3, mu4 = tk.holding_caps(par, S[S_SLIDE], S[S_SLIDE + 1], mu1, mu2, mu3, mu4)
-    R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
-    a1 = mu1 * N[0] * R1
-    a4 = mu4 * N[3] * R4
-    a2 = mu2 * N[1] * R2
-    a3 = mu3 * N[2] * R3
-    c_o = a1 + a4
-    c_i = a2 + a3
+    a1 = mu1 * N[0] * par[tk.I_R1]
+    a4 = mu4 * N[3] * par[tk.I_R4]
+    a2 = mu2 * N[1] * par[tk.I_R2]
+    a3 = mu3 * N[2] * par[tk.I_R3]
     # the superstructure's velocity at the start
     u_dot(par, S[0:4], S[4:8], sc, 220)
-    ux0, uy0 = sc[220], sc[221]
     sc[256] = S[S_F]            # the machine's force: Newton starts from the last step's
     sc[257] = S[S_F + 1]
-    step_rims(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    return a1, a2, a1 + a4, a2 + a3, sc[220], sc[221]
+
+
+def finish_advance(par, S, dt, agx, agy, machine, a1, a2, c_o, c_i, ux0, uy0, rims, out, sc):
+    """After a step on S (``begin_advance``'s values): the friction work of
+    each surface (a coordinate's shared by its two surfaces as their caps),
+    the bearing's force, phase, regime (rims = 1: 5 with the stack on its
+    rim), sliding flags and speeds. Returns the step's failure flag."""
     fail = int(out[O_FAIL])
-    rim_account(par, S, out)
+    R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
     S[S_ITER] = out[O_ITER]
     S[S_KKT] = out[O_KKT]
     wo = out[O_WO]
@@ -1958,7 +1998,8 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
         S[S_REG] = 3.0
     elif si != 0.0:
         S[S_PHASE] = tk.PHASE_INNER
-        S[S_REG] = 5.0 if S[0] * S[0] + S[1] * S[1] >= (par[tk.I_QMAX_PHI] * (1.0 - 1e-12)) ** 2 else 1.0
+        on_rim = rims == 1 and S[0] * S[0] + S[1] * S[1] >= (par[tk.I_QMAX_PHI] * (1.0 - 1e-12)) ** 2
+        S[S_REG] = 5.0 if on_rim else 1.0
     else:
         S[S_PHASE] = tk.PHASE_STICK
         S[S_REG] = 0.0
@@ -2267,12 +2308,26 @@ def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x,
     """``advance`` under a vertical ground motion that may lift the TFP off
     (docs/model.md 10): while g + az >= 0 and the unit is seated, ``advance``
     itself. When the step's g + az < 0 the stack and the superstructure leave
-    the lower plate and fly (``_flight``) until they land; a step that lands
+    the lower plate and fly (``flights``) until they land; a step that lands
     finishes seated (``advance`` over the rest, its force spread over dt).
     In the air: no contact, no friction, no heat, no force on the ground."""
-    gv = par[tk.I_G] + az
-    if S[S_FLY] == 0.0 and not gv < 0.0:
-        return advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    rem, how = flights(par, S, dt, par[tk.I_G] + az, agx, agy, sc)
+    if how != FLIGHT_SEATED and how != FLIGHT_LANDED:
+        return FAIL_NONE if how == FLIGHT_AIR else how
+    fail = advance(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    if how == FLIGHT_LANDED:
+        landed_share(S, rem, dt)
+    return fail
+
+
+def flights(par, S, dt, gv, agx, agy, sc):
+    """The flights (``_flight``) in a step of dt under gv = g + az, in the air
+    or seated with gv < 0 (this TFP's and the two-phase one's). Returns (what
+    is left of the step, how it goes on): FLIGHT_SEATED (it never left
+    the seat, or g + az >= 0 seated: seated over all of it), FLIGHT_LANDED (landed with time
+    left: seated over that, then ``landed_share``), FLIGHT_AIR (in the
+    air at its end, or landed with nothing left: the contact columns
+    cleared), or a landing's failure flag."""
     rem = dt
     flown = False
     for _ in range(tk.FLIGHTS_MAX):
@@ -2280,7 +2335,7 @@ def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x,
             break
         tau = _flight(par, S, agx, agy, gv, rem, sc)
         if tau <= -2.0:
-            return int(-2.0 - tau)
+            return rem, int(-2.0 - tau)
         if tau < 0.0:              # the seat's curvature keeps it down over the step: seated
             break
         flown = True
@@ -2288,20 +2343,23 @@ def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x,
         if S[S_FLY] != 0.0 or not rem > tk.FLIGHT_REST * dt:
             break
     if not flown:
-        return advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+        return dt, FLIGHT_SEATED
     if S[S_FLY] == 0.0 and rem > tk.FLIGHT_REST * dt:
-        fail = advance(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
-        # the force over the whole step: the bearing carries nothing in the air
-        S[S_F] = S[S_F] * (rem / dt)
-        S[S_F + 1] = S[S_F + 1] * (rem / dt)
-        for i in range(4):
-            S[S_SV + i] = S[S_SV + i] * (rem / dt)
-        return fail
+        return rem, FLIGHT_LANDED
     for i in range(4):
         S[S_N + i] = S[S_SV + i] = S[S_DW + i] = S[S_SLIDE + i] = 0.0
     S[S_F] = S[S_F + 1] = S[S_REG] = S[S_ITER] = S[S_KKT] = 0.0
     S[S_PHASE] = tk.PHASE_STICK
-    return FAIL_NONE
+    return rem, FLIGHT_AIR
+
+
+def landed_share(S, rem, dt):
+    """A step that landed with rem of dt left: its force and slip speeds over
+    the whole step (the bearing carries nothing in the air)."""
+    S[S_F] = S[S_F] * (rem / dt)
+    S[S_F + 1] = S[S_F + 1] * (rem / dt)
+    for i in range(4):
+        S[S_SV + i] = S[S_SV + i] * (rem / dt)
 
 
 def energies_vertical(par, S, o, sc):

@@ -64,29 +64,10 @@ def _dot(o, a, b):
     return o[a] * o[b] + o[a + 1] * o[b + 1] + o[a + 2] * o[b + 2]
 
 
-def linv(Lm, blk, a0, a1):
-    """L^-1 (a0, a1) for the block blk of the arc metric Lm (tfp3d_kernel.metric_root)."""
-    k = 4 * blk
-    return (Lm[k + 2] * a0 - Lm[k + 1] * a1) / Lm[k + 3], (Lm[k] * a1 - Lm[k + 1] * a0) / Lm[k + 3]
-
-
 def matvec(A, x, o):
     """o = A x, A 4x4 row-major."""
     for i in range(4):
         o[i] = A[4 * i] * x[0] + A[4 * i + 1] * x[1] + A[4 * i + 2] * x[2] + A[4 * i + 3] * x[3]
-
-
-def stop_block(M, v, blk, p):
-    """An impulse on block blk alone brings it to rest: the other block keeps
-    its momentum p = M v (into p), its rates M_oo^-1 p_o."""
-    matvec(M, v, p)
-    o = 2 - 2 * blk
-    m11, m12, m22 = M[5 * o], M[5 * o + 1], M[5 * o + 5]
-    det = m11 * m22 - m12 * m12
-    v[2 * blk] = 0.0
-    v[2 * blk + 1] = 0.0
-    v[o] = (m22 * p[o] - m12 * p[o + 1]) / det
-    v[o + 1] = (m11 * p[o + 1] - m12 * p[o]) / det
 
 
 def reseat(par, q0, q1, v, w, sc):
@@ -152,19 +133,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     sc: scratch of length tfp3d_kernel.N_SC."""
     for i in range(N_OUT):
         out[i] = 0.0
-    q0 = sc[100:104]
-    q1 = sc[104:108]
-    p0 = sc[108:112]
-    x = sc[112:116]
-    G = sc[116:120]
-    H = sc[120:136]
-    r = sc[136:140]
-    Hy = sc[140:156]
-    ry = sc[156:160]
-    y = sc[160:164]
-    Lm = sc[164:172]
+    q0, q1, p0, x, G, H, r, Hy, ry, y, Lm, tmp, D, Dy, Fm = k3.step_scratch(sc)
     z4 = sc[172:176]
-    tmp = sc[180:200]
     M0 = sc[260:276]
     v = sc[276:280]
     w = sc[280:284]
@@ -185,16 +155,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     for i in range(4):
         x[i] = dt * st[4 + i]
         y[i] = 0.0
-    D = sc[240:248]
-    Dy = sc[248:256]
-    Fm = sc[256:258]
-    ex = 0.0
-    ey = 0.0
+    ex, ey = k3.machine_gap(par, q0, machine, u1x, u1y, tmp)
     mfail = False
-    if machine == 1:
-        k3.u_rel(par, q0, tmp)
-        ex = u1x - tmp[0]
-        ey = u1y - tmp[1]
     it = 0
     converged = False
     ch = 0.0
@@ -206,35 +168,25 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         for i in range(4):
             r[i] = 2.0 * p0[i] / dt + G[i]
         for blk in range(2):
-            ry[2 * blk], ry[2 * blk + 1] = linv(Lm, blk, r[2 * blk], r[2 * blk + 1])
+            ry[2 * blk], ry[2 * blk + 1] = k3.linv(Lm, blk, r[2 * blk], r[2 * blk + 1])
         if machine == 1:
             # D: the discrete gradient of u (D^T dq = u(q1) - u(q0)); in y, L^-1 D
             k3.dgrad_u(par, q0, q1, D, sc)
-            for i0 in range(0, 4, 2):
-                for c in range(2):
-                    Dy[2 * i0 + c], Dy[2 * i0 + 2 + c] = linv(Lm, i0 // 2, D[2 * i0 + c], D[2 * i0 + 2 + c])
+            k3.to_y(Lm, D, Dy)
             mfail = k3.machine_force(Hy, ry, Dy, c_o, c_i, ex, ey, y, Fm, sc) != 0
         else:
             k3.socp(Hy, ry, c_o, c_i, y, sc)
         ch = 0.0
         for blk in range(2):
-            a0, a1 = linv(Lm, blk, y[2 * blk], y[2 * blk + 1])
+            a0, a1 = k3.linv(Lm, blk, y[2 * blk], y[2 * blk + 1])
             ch += abs(a0 - x[2 * blk]) + abs(a1 - x[2 * blk + 1])
             x[2 * blk] = a0
             x[2 * blk + 1] = a1
         if ch <= k3.FIXED_POINT_TOL:
             converged = True
             break
-    if not converged and ch > 1e-12 * (1.0 + abs(x[0]) + abs(x[1]) + abs(x[2]) + abs(x[3])):
-        out[k3.O_FAIL] = k3.FAIL_FIXED_POINT
-    if mfail:
-        out[k3.O_FAIL] = k3.FAIL_CAPACITY
-    if machine == 1:
-        # the cone program the machine's force makes: r' + Dy F (Phi = r - H dq
-        # below is friction less the machine's force: p1 takes both)
-        for i in range(4):
-            ry[i] += Dy[2 * i] * Fm[0] + Dy[2 * i + 1] * Fm[1]
-    out[k3.O_KKT] = k3.kkt_residual(Hy, ry, c_o, c_i, y)
+    k3.fixed_point_end(converged, ch, x, mfail, out)
+    k3.machine_kkt(Hy, ry, Dy, Fm, c_o, c_i, y, machine, out)
     # Phi = r - H dq; p1 = p0 + dt (G - Phi); the phase-1 rates v = M(q0)^-1 p1
     for i in range(4):
         q1[i] = q0[i] + x[i]
@@ -242,18 +194,7 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     for i in range(4):
         tmp[i] = p0[i] + dt * (G[i] - (r[i] - tmp[4 + i]))
     k3.chol_solve(M0, tmp[0:4], v, sc[200:216])
-    wo = c_o * math.sqrt(y[0] * y[0] + y[1] * y[1])
-    wi = c_i * math.sqrt(y[2] * y[2] + y[3] * y[3])
-    k3.moments(par, q0, tmp)
-    b0x, b0y, b0z = tmp[0], tmp[1], tmp[2]
-    k3.moments(par, q1, tmp)
-    ein = -agx * (tmp[0] - b0x) - agy * (tmp[1] - b0y) - az * (tmp[2] - b0z)
-    if machine == 1:
-        # the machine's work: F . (D^T dq)
-        for i in range(4):
-            ein += (D[2 * i] * Fm[0] + D[2 * i + 1] * Fm[1]) * x[i]
-        out[k3.O_FX] = Fm[0]
-        out[k3.O_FY] = Fm[1]
+    wo, wi, ein = k3.step_work(par, q0, q1, x, y, D, Fm, agx, agy, az, c_o, c_i, machine, out, tmp)
     # a block that stuck ends at rest in the phase-1 field (metric M(q0)): an
     # impulse on it alone, the other block keeping its momentum
     z1 = x[0] == 0.0 and x[1] == 0.0
@@ -261,17 +202,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     arr_o = 0.0
     arr_i = 0.0
     if z1 or z2:
-        K0 = k3.kinetic(par, q0, v, tmp[8:20])
-        stop_block(M0, v, 0 if z1 else 1, tmp)
-        Ka = k3.kinetic(par, q0, v, tmp[8:20])
-        if z1:
-            arr_o = K0 - Ka
-            if z2:
-                v[2] = 0.0
-                v[3] = 0.0
-                arr_i = Ka
-        else:
-            arr_i = K0 - Ka
+        matvec(M0, v, tmp)
+        arr_o, arr_i = k3.arrest(par, q0, M0, v, z1, z2, tmp)
     # phases 2 and 3: re-seated at q1 (what the projection leaves on a block
     # that stuck is the next step's to hold or not, against its cap)
     out[O_RESEAT] = reseat(par, q0, q1, v, w, sc)
@@ -282,18 +214,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         # the machine imposes u'(t_n+1) through the blocks still sliding, in M(q1)
         k3.mass_matrix(par, q1, H, tmp)
         ein += k3.machine_velocity(par, st, H, z1, z2, ud1x, ud1y, sc)
-    for i in range(4):
-        out[k3.O_DQ + i] = x[i]
-    out[k3.O_EIN] = ein
-    out[k3.O_WO] = wo + arr_o
-    out[k3.O_WI] = wi + arr_i
-    out[k3.O_ARR_O] = arr_o
-    out[k3.O_ARR_I] = arr_i
-    out[k3.O_ITER] = it
-    tp = st[0] * st[0] + st[1] * st[1]
-    ta = st[2] * st[2] + st[3] * st[3]
-    qa = par[tk.I_QMAX_ALPHA]
-    if tp > par[tk.I_QMAX_PHI] * par[tk.I_QMAX_PHI] or ta > qa * qa:
+    k3.step_out(out, x, ein, wo, wi, arr_o, arr_i, it)
+    if k3.past_rims(par, st):
         out[k3.O_FAIL] = k3.FAIL_RIM
 
 
@@ -344,78 +266,18 @@ def pivots(par, S, q0, dq, sc):
 def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
     """tfp3d_kernel.advance with the two-phase step (machine = 1: the test
     machine along an orbit, u(t_n+1) = (u1x, u1y), u'(t_n+1) = (ud1x, ud1y),
-    its force the last step's in the normal forces): normal forces at the start of the
-    step, caps, ``step``, the friction work of each surface, the bearing's
-    force, phase, regime, sliding flags and speeds, then the phases and the
-    rocking check. Returns the failure flag (tfp3d_kernel.FAIL_*, FAIL_ROCKING)."""
-    N = S[k3.S_N:k3.S_N + 4]
-    fx = S[k3.S_F] if machine == 1 else 0.0
-    fy = S[k3.S_F + 1] if machine == 1 else 0.0
-    k3.normal_forces(par, S[0:4], S[4:8], agx, agy, az, fx, fy, N, sc[200:220])
-    # a coordinate at rest (did not slide in the step before) holds with the static coefficient
-    mu1, mu2, mu3, mu4 = tk.holding_caps(par, S[k3.S_SLIDE], S[k3.S_SLIDE + 1], mu1, mu2, mu3, mu4)
-    R1, R2, R3, R4 = par[tk.I_R1], par[tk.I_R2], par[tk.I_R3], par[tk.I_R4]
-    a1 = mu1 * N[0] * R1
-    a4 = mu4 * N[3] * R4
-    a2 = mu2 * N[1] * R2
-    a3 = mu3 * N[2] * R3
-    c_o = a1 + a4
-    c_i = a2 + a3
-    k3.u_dot(par, S[0:4], S[4:8], sc, 220)
-    ux0, uy0 = sc[220], sc[221]
+    its force the last step's in the normal forces): tfp3d_kernel.begin_advance
+    (normal forces at the start of the step, caps), ``step``,
+    tfp3d_kernel.finish_advance without rims (the friction work of each
+    surface, the bearing's force, phase, regime, sliding flags and speeds),
+    then the re-seating loss, the phases and the rocking check. Returns the failure flag (tfp3d_kernel.FAIL_*, FAIL_ROCKING)."""
     for i in range(4):
         sc[228 + i] = S[i]
     rest0 = S[4] == 0.0 and S[5] == 0.0 and S[6] == 0.0 and S[7] == 0.0
-    sc[256] = S[k3.S_F]         # the machine's force: Newton starts from the last step's
-    sc[257] = S[k3.S_F + 1]
+    a1, a2, c_o, c_i, ux0, uy0 = k3.begin_advance(par, S, agx, agy, az, mu1, mu2, mu3, mu4, machine, sc)
     step(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
-    fail = int(out[k3.O_FAIL])
-    S[k3.S_ITER] = out[k3.O_ITER]
-    S[k3.S_KKT] = out[k3.O_KKT]
-    wo = out[k3.O_WO]
-    wi = out[k3.O_WI]
-    fo = a1 / c_o if c_o > 0.0 else 0.5
-    fi = a2 / c_i if c_i > 0.0 else 0.5
-    S[k3.S_DW] = fo * wo
-    S[k3.S_DW + 1] = fi * wi
-    S[k3.S_DW + 2] = (1.0 - fi) * wi
-    S[k3.S_DW + 3] = (1.0 - fo) * wo
-    for i in range(4):
-        S[k3.S_W + i] += S[k3.S_DW + i]
-    S[k3.S_EIN] += out[k3.O_EIN]
+    fail = k3.finish_advance(par, S, dt, agx, agy, machine, a1, a2, c_o, c_i, ux0, uy0, 0, out, sc)
     S[S_ERS] += out[O_RESEAT]
-    k3.u_dot(par, S[0:4], S[4:8], sc, 220)
-    Ms = par[tk.I_MSUP]
-    if machine == 1:
-        S[k3.S_F] = out[k3.O_FX]
-        S[k3.S_F + 1] = out[k3.O_FY]
-    else:
-        S[k3.S_F] = -Ms * (agx + (sc[220] - ux0) / dt)
-        S[k3.S_F + 1] = -Ms * (agy + (sc[221] - uy0) / dt)
-    dp = math.sqrt(out[k3.O_DQ] * out[k3.O_DQ] + out[k3.O_DQ + 1] * out[k3.O_DQ + 1])
-    da = math.sqrt(out[k3.O_DQ + 2] * out[k3.O_DQ + 2] + out[k3.O_DQ + 3] * out[k3.O_DQ + 3])
-    so = 1.0 if dp != 0.0 else 0.0
-    si = 1.0 if da != 0.0 else 0.0
-    for i in range(4):
-        S[k3.S_SLIDE + i] = so if i == 0 or i == 3 else si
-    if so != 0.0 and si != 0.0:
-        S[k3.S_PHASE] = tk.PHASE_BOTH
-        S[k3.S_REG] = 6.0
-    elif so != 0.0:
-        S[k3.S_PHASE] = tk.PHASE_OUTER
-        S[k3.S_REG] = 3.0
-    elif si != 0.0:
-        S[k3.S_PHASE] = tk.PHASE_INNER
-        S[k3.S_REG] = 1.0
-    else:
-        S[k3.S_PHASE] = tk.PHASE_STICK
-        S[k3.S_REG] = 0.0
-    ao = (wo - out[k3.O_ARR_O]) / c_o if c_o > 0.0 else dp     # the arcs slid
-    ai = (wi - out[k3.O_ARR_I]) / c_i if c_i > 0.0 else da
-    S[k3.S_SV] = R1 * ao / dt
-    S[k3.S_SV + 1] = R2 * ai / dt
-    S[k3.S_SV + 2] = R3 * ai / dt
-    S[k3.S_SV + 3] = R4 * ao / dt
     # the phases (Figs. 6-7): 2 with one pair sliding, 3 with both
     n = pivots(par, S, sc[228:232], out[k3.O_DQ:k3.O_DQ + 4], sc[232:240])
     S[S_NPH] = 0.0 if n == 0 else n + 1.0
@@ -437,48 +299,23 @@ def row_values(par, S, t, xg, yg, row, sc):
 
 def advance_vertical(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc):
     """``advance`` under a vertical ground motion that may lift the TFP off
-    (docs/model.md 10): the seated 3D TFP's lift-off (tfp3d_kernel.advance_vertical)
+    (docs/model.md 10): the seated 3D TFP's lift-off (tfp3d_kernel.flights)
     around the two-phase step. While g + az >= 0 and the unit is seated,
     ``advance`` itself; when the step's g + az < 0 the stack and the
     superstructure fly (tfp3d_kernel._flight: take-off, ballistic flight,
     plastic landing) until they land, and a step that lands finishes seated
     with ``advance`` over the rest. In the air: no contact, no friction, no
     heat, no phases."""
-    gv = par[tk.I_G] + az
-    if S[k3.S_FLY] == 0.0 and not gv < 0.0:
-        return advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
-    rem = dt
-    flown = False
-    for _ in range(tk.FLIGHTS_MAX):
-        if S[k3.S_FLY] == 0.0 and not gv < 0.0:
-            break
-        tau = k3._flight(par, S, agx, agy, gv, rem, sc)
-        if tau <= -2.0:
-            return int(-2.0 - tau)
-        if tau < 0.0:              # the seat's curvature keeps it down over the step: seated
-            break
-        flown = True
-        rem = rem - tau
-        if S[k3.S_FLY] != 0.0 or not rem > tk.FLIGHT_REST * dt:
-            break
-    if not flown:
-        return advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
-    if S[k3.S_FLY] == 0.0 and rem > tk.FLIGHT_REST * dt:
-        fail = advance(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
-        # the force over the whole step: the bearing carries nothing in the air
-        S[k3.S_F] = S[k3.S_F] * (rem / dt)
-        S[k3.S_F + 1] = S[k3.S_F + 1] * (rem / dt)
-        for i in range(4):
-            S[k3.S_SV + i] = S[k3.S_SV + i] * (rem / dt)
-        return fail
-    for i in range(4):
-        S[k3.S_N + i] = S[k3.S_SV + i] = S[k3.S_DW + i] = S[k3.S_SLIDE + i] = 0.0
-    S[k3.S_F] = S[k3.S_F + 1] = S[k3.S_REG] = S[k3.S_ITER] = S[k3.S_KKT] = 0.0
-    S[k3.S_PHASE] = tk.PHASE_STICK
-    for i in range(8):
-        S[S_B1 + i] = 0.0
-    S[S_NPH] = 0.0
-    return k3.FAIL_NONE
+    rem, how = k3.flights(par, S, dt, par[tk.I_G] + az, agx, agy, sc)
+    if how == k3.FLIGHT_AIR:
+        for i in range(9):
+            S[S_B1 + i] = 0.0           # the pivots, rotations and phases (S_NPH)
+    if how != k3.FLIGHT_SEATED and how != k3.FLIGHT_LANDED:
+        return k3.FAIL_NONE if how == k3.FLIGHT_AIR else how
+    fail = advance(par, S, rem, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    if how == k3.FLIGHT_LANDED:
+        k3.landed_share(S, rem, dt)
+    return fail
 
 
 def vertical_row(par, S, az, row, sc):
