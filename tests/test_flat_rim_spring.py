@@ -3,6 +3,8 @@ on each slip beyond its capacity and its dashpot 2 zeta sqrt(k m_eff), the
 DFP's law (mechanics/rim_law.py), against the closed forms of a mass on a
 linear spring (and dashpot) while in contact."""
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,6 +15,9 @@ from fpd.loading.ground_motion import harmonic_ground_motion
 from fpd.mechanics import flat_kernel as K
 from fpd.mechanics.flat import FlatGeometry, FlatStepper
 from fpd.schema import scene as scn
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from test_flat_rims import FLAT as RIGID, _scene as rigid_scene  # noqa: E402
 
 GEOM = FlatGeometry(pad_height=0.10, pad_diameter=0.25, pad_mass=400.0, mass=1.0e4)
 V0, D1, D2, KRIM = 0.4, 0.05, 0.2, 1.0e7
@@ -106,39 +111,24 @@ def test_a_damped_rim_returns_the_kelvin_voigt_rebound_and_books_the_loss(zeta, 
     assert errs[-1] < 2e-5 and all(a > 3.0 * b for a, b in zip(errs, errs[1:])), errs
 
 
-FLAT = """
-name = "flat-rim-spring"
-[device]
-kind = "flat"
-pad_height = 0.10
-pad_diameter = 0.25
-pad_mass = 400.0
-d2 = 0.04
-rim_stiffness_N_per_m = 1.0e8
-rim_damping_ratio = 0.2
-[superstructure]
-mass = 1.0e4
-[friction.lower]
-law = "constant"
-mu = 0.5
-[friction.upper]
-law = "constant"
-mu = 0.02
-[loading]
-kind = "record"
-record = "northridge-1994"
-scale = 3.0
-[thermal]
-model = "lumped"
-[solver]
-duration = 6.0
-"""
+
+def _spring(text: str) -> str:
+    """The rigid-rim scene of test_flat_rims with a damped rim spring, upper mu 0.02, Northridge x 3."""
+    out = text
+    for a, b in (('name = "flat-rim"', 'name = "flat-rim-spring"'),
+                 ("d2 = 0.04\n", "d2 = 0.04\nrim_stiffness_N_per_m = 1.0e8\nrim_damping_ratio = 0.2\n"),
+                 ("mu = 0.05\n", "mu = 0.02\n"),
+                 ('record = "northridge-1994"\n', 'record = "northridge-1994"\nscale = 3.0\n')):
+        assert out.count(a) == 1, a
+        out = out.replace(a, b)
+    return out
+
+
+FLAT = _spring(RIGID)
 
 
 def _scene(tmp_path, over=()):
-    p = tmp_path / "flat.toml"
-    p.write_text(FLAT)
-    return scn.load(str(p), list(over))
+    return rigid_scene(tmp_path, over, FLAT)
 
 
 def test_a_scene_with_a_rim_spring_reports_its_contacts_and_closes_the_ledger(tmp_path):

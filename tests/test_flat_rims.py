@@ -113,9 +113,9 @@ duration = 6.0
 """
 
 
-def _scene(tmp_path, over=()):
+def _scene(tmp_path, over=(), text=None):
     p = tmp_path / "flat.toml"
-    p.write_text(FLAT)
+    p.write_text(FLAT if text is None else text)
     return scn.load(str(p), list(over))
 
 
