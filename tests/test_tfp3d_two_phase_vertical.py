@@ -24,7 +24,7 @@ from fpd.schema import scene as scn
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_tfp import tfp  # noqa: E402
-from tfp3d_helpers import stepped  # noqa: E402
+from tfp3d_helpers import flies_as_planar, stepped  # noqa: E402
 from test_tfp3d import turned  # noqa: E402
 from test_tfp3d_vertical import _pulse  # noqa: E402
 
@@ -112,19 +112,9 @@ def test_a_turned_record_flies_and_lands_as_the_planar_two_phase_tfp(deg):
     ang = math.radians(deg)
     s = TFP3DTwoPhaseStepper(g, *turned(gx, ang), kernel=_kernel(), az=gz.a_step)
     d, res = stepped(s, gx.n_steps)
-    assert not any(np.isnan(v).any() for v in d.values())
-    assert d["n_lift"][-1] == p["n_lift"][-1] == 1.0
-    assert d["t_flight_s"][-1] == pytest.approx(p["t_flight_s"][-1], rel=1e-9)
-    assert np.max(np.abs(d["lift_m"] - p["lift_m"])) <= 1e-9 * np.max(p["lift_m"])
-    um = np.max(np.abs(p["u_m"]))
-    assert np.max(np.abs(d["u_m"] - np.abs(p["u_m"]))) <= 1e-9 * um
-    assert np.max(np.abs(d["z_m"] - p["z_m"])) <= 1e-9 * np.max(p["z_m"])
-    wt = sum(p[f"W{i}_J"][-1] for i in range(1, 5))
-    for c in ("W1_J", "W2_J", "W3_J", "W4_J", "E_input_J", "E_kin_J", "E_pot_J", "E_land_J", "E_reseat_J"):
-        assert np.max(np.abs(d[c] - p[c])) <= 1e-9 * wt, c
+    air = flies_as_planar(d, p, ("W1_J", "W2_J", "W3_J", "W4_J", "E_input_J", "E_kin_J", "E_pot_J", "E_land_J",
+                                 "E_reseat_J"))
     assert d["E_land_J"][-1] > 0.0
-    air = d["lift_m"] > 0.0
-    assert air.sum() > 200 and np.all(d["N1_N"][air] == 0.0) and np.all(d["F_N"][air] == 0.0)
     assert np.all(d["phases"][air] == 0.0)
     assert _closes(d, res)
 

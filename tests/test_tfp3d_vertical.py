@@ -24,8 +24,9 @@ from fpd.schema import scene as scn
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from test_tfp import tfp  # noqa: E402
-from tfp3d_helpers import stepped  # noqa: E402
+from tfp3d_helpers import flies_as_planar, stepped  # noqa: E402
 from test_tfp3d import _kernel, turned  # noqa: E402
+from test_tfp_vertical import zero_vertical_is_the_run  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 V2 = ROOT / "scenes" / "records" / "FERNDALE2022_CE89486.v2"
@@ -41,15 +42,7 @@ def _ledger(r):
 def test_a_zero_vertical_record_reproduces_the_run_bit_for_bit(tmp_path):
     """A pair with file_z of zeros on another time grid: the same rows bit for
     bit (the acceptance asks 1e-12 relative), plus the vertical columns (all 0)."""
-    z = tmp_path / "zero.txt"
-    z.write_text("# [g]\n" + "".join(f"{0.004 * k:.3f} 0.0\n" for k in range(1500)))
-    over = PAIR + ["solver.duration=3", "solver.dt=2e-3", "loading.scale=0.5"]
-    a = simulate(build(scn.load("tfp-elcentro", over)))
-    b = simulate(build(scn.load("tfp-elcentro", over + [f'loading.file_z="{z}"'])))
-    assert a.status == b.status == "ok"
-    assert list(b.columns) == list(a.columns) + ["az_mps2", "lift_m", "n_lift", "t_flight_s", "E_land_J"]
-    np.testing.assert_array_equal(b.data[:, :len(a.columns)], a.data)
-    assert np.all(b.data[:, len(a.columns):] == 0.0)
+    zero_vertical_is_the_run(tmp_path, PAIR + ["solver.duration=3", "solver.dt=2e-3", "loading.scale=0.5"], 1500)
 
 
 @pytest.mark.parametrize("deg", [0.0, 30.0, 135.0])
@@ -156,18 +149,7 @@ def test_a_turned_record_flies_and_lands_as_the_planar_tfp(deg):
     ang = math.radians(deg)
     s = TFP3DStepper(g, *turned(gx, ang), kernel=_kernel(), az=gz.a_step)
     d, res = stepped(s, gx.n_steps)
-    assert not any(np.isnan(v).any() for v in d.values())
-    assert d["n_lift"][-1] == p["n_lift"][-1] == 1.0
-    assert d["t_flight_s"][-1] == pytest.approx(p["t_flight_s"][-1], rel=1e-9)
-    assert np.max(np.abs(d["lift_m"] - p["lift_m"])) <= 1e-9 * np.max(p["lift_m"])
-    um = np.max(np.abs(p["u_m"]))
-    assert np.max(np.abs(d["u_m"] - np.abs(p["u_m"]))) <= 1e-9 * um
-    assert np.max(np.abs(d["z_m"] - p["z_m"])) <= 1e-9 * np.max(p["z_m"])
-    wt = sum(p[f"W{i}_J"][-1] for i in range(1, 5))
-    for c in ("W1_J", "W2_J", "W3_J", "W4_J", "E_input_J", "E_kin_J", "E_pot_J", "E_land_J"):
-        assert np.max(np.abs(d[c] - p[c])) <= 1e-9 * wt, c
-    air = d["lift_m"] > 0.0
-    assert air.sum() > 200 and np.all(d["N1_N"][air] == 0.0) and np.all(d["F_N"][air] == 0.0)
+    flies_as_planar(d, p, ("W1_J", "W2_J", "W3_J", "W4_J", "E_input_J", "E_kin_J", "E_pot_J", "E_land_J"))
     e_in = np.maximum.accumulate(np.abs(d["E_input_J"]))
     assert np.all(np.abs(res) <= 1e-9 * np.maximum(e_in, 1e-300))
 

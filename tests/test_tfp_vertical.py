@@ -39,9 +39,16 @@ def _ledger(r):
 def test_a_zero_vertical_record_reproduces_the_tfp_run_bit_for_bit(tmp_path, model):
     """file_z of zeros on another time grid: the same rows bit for bit, one more
     column (az_mps2, all 0)."""
+    zero_vertical_is_the_run(tmp_path, ["solver.duration=4", f"mechanics.model={model}", "thermal.model=lumped"],
+                             2000)
+
+
+def zero_vertical_is_the_run(tmp_path, over, n):
+    """tfp-elcentro with ``over`` and a file_z of n zero samples 4 ms apart
+    (another time grid): the rows of the run without it bit for bit, then the
+    vertical columns, all 0."""
     z = tmp_path / "zero.txt"
-    z.write_text("# [g]\n" + "".join(f"{0.004 * k:.3f} 0.0\n" for k in range(2000)))
-    over = ["solver.duration=4", f"mechanics.model={model}", "thermal.model=lumped"]
+    z.write_text("# [g]\n" + "".join(f"{0.004 * k:.3f} 0.0\n" for k in range(n)))
     a = simulate(build(scn.load("tfp-elcentro", over)))
     b = simulate(build(scn.load("tfp-elcentro", over + [f'loading.file_z="{z}"'])))
     assert a.status == b.status == "ok"

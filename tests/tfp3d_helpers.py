@@ -29,3 +29,25 @@ def stepped(s, n_steps, mus=MUS):
 def run_planar(g, gm, mus=MUS, model="seated"):
     """The planar TFP (model: "seated" or "two-phase") under a ground motion: its columns."""
     return stepped(TFPStepper(g, gm, model=model), gm.n_steps, mus)[0]
+
+
+def flies_as_planar(d, p, energies, tol=1e-9):
+    """The TFP in both directions (columns d) under a turned record and a
+    vertical pulse against the planar TFP's (p) under its two components:
+    no NaN; one lift-off; the flight's time, height above the seat, |u|, z
+    and the columns ``energies`` within tol (the work's scale for these);
+    in the air no normal force and no force (at least 200 rows of it).
+    Returns the rows in the air."""
+    assert not any(np.isnan(v).any() for v in d.values())
+    assert d["n_lift"][-1] == p["n_lift"][-1] == 1.0
+    assert abs(d["t_flight_s"][-1] / p["t_flight_s"][-1] - 1.0) <= tol
+    assert np.max(np.abs(d["lift_m"] - p["lift_m"])) <= tol * np.max(p["lift_m"])
+    um = np.max(np.abs(p["u_m"]))
+    assert np.max(np.abs(d["u_m"] - np.abs(p["u_m"]))) <= tol * um
+    assert np.max(np.abs(d["z_m"] - p["z_m"])) <= tol * np.max(p["z_m"])
+    wt = sum(p[f"W{i}_J"][-1] for i in range(1, 5))
+    for c in energies:
+        assert np.max(np.abs(d[c] - p[c])) <= tol * wt, c
+    air = d["lift_m"] > 0.0
+    assert air.sum() > 200 and np.all(d["N1_N"][air] == 0.0) and np.all(d["F_N"][air] == 0.0)
+    return air

@@ -139,3 +139,17 @@ class Reference:
         opts = dict(method="DOP853", rtol=1e-9, atol=1e-11, dense_output=True)
         opts.update(kw)
         return solve_ivp(self.rhs, (0.0, t_end), np.concatenate([y0, [0.0]]), **opts)
+
+
+def circle_second_revolution(g, mus, A, f, y0):
+    """The reference's dissipation over the second revolution of the test
+    machine's circle of radius A at f Hz, from the machine's placement y0
+    (the stepper's first 8 state entries at u(0), u'(0)); LSODA at rtol
+    1e-9."""
+    w = 2.0 * math.pi * f
+    ref = Reference(g, mus, lambda t: A * np.array([math.cos(w * t), math.sin(w * t)]),
+                    lambda t: A * w * np.array([-math.sin(w * t), math.cos(w * t)]),
+                    lambda t: -A * w * w * np.array([math.cos(w * t), math.sin(w * t)]))
+    sol = ref.run(y0, 2.0 / f, method="LSODA", rtol=1e-9, atol=1e-11)
+    assert sol.status == 0
+    return sol.sol(2.0 / f)[8] - sol.sol(1.0 / f)[8]
