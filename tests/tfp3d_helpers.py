@@ -51,3 +51,23 @@ def flies_as_planar(d, p, energies, tol=1e-9):
     air = d["lift_m"] > 0.0
     assert air.sum() > 200 and np.all(d["N1_N"][air] == 0.0) and np.all(d["F_N"][air] == 0.0)
     return air
+
+
+def turned_as_planar(d, p, ang, energies, tol=1e-9):
+    """The TFP in both directions (columns d) under a record turned by ang
+    (rad) against the planar TFP's (p) under it along x: |u| and F, the
+    motion along the record's line, the normal forces, W1..W4 and the
+    columns ``energies`` within tol (of the peak, the peak N1, the total
+    work). Returns the total work, the scale of the energies."""
+    um = np.max(np.abs(p["u_m"]))
+    assert np.max(np.abs(d["u_m"] - np.abs(p["u_m"]))) <= tol * um
+    assert np.max(np.abs(d["uy_m"] * np.cos(ang) - d["ux_m"] * np.sin(ang))) <= tol * um
+    assert np.max(np.abs(d["F_N"] - np.abs(p["F_N"]))) <= tol * np.max(np.abs(p["F_N"]))
+    nm = np.max(p["N1_N"])
+    wt = sum(p[f"W{i}_J"][-1] for i in range(1, 5))
+    for i in range(1, 5):
+        assert np.max(np.abs(d[f"N{i}_N"] - p[f"N{i}_N"])) <= tol * nm
+        assert np.max(np.abs(d[f"W{i}_J"] - p[f"W{i}_J"])) <= tol * wt
+    for c in energies:
+        assert np.max(np.abs(d[c] - p[c])) <= tol * wt, c
+    return wt
