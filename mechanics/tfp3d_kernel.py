@@ -1248,13 +1248,20 @@ def _rim_inner(H, r, c1, c2, y, nua, sc):
         hi *= 4.0
     side = 0
     for k in range(200):
-        if fhi == 0.0 or hi - lo <= 2e-16 * hi or not lo < 0.5 * (lo + hi) < hi:
+        if _falsi_done(lo, hi, fhi):
             break
         x = _falsi_point(lo, flo, hi, fhi)
         its += _rim_eval(H, r, c1, c2, y, nua, x, sc)
         lo, flo, hi, fhi, side = _falsi(lo, flo, hi, fhi, side, x, _rim_gap(1, y, sc))
     its += _rim_eval(H, r, c1, c2, y, nua, hi, sc)
     return hi
+
+
+def _falsi_done(lo, hi, fhi):
+    """The bracket [lo, hi] has its root: a zero gap at hi, a width of 2e-16
+    of hi, or two adjacent floats (just above a power of two their spacing is
+    2.2e-16 of the value, so the width alone cannot always be met)."""
+    return fhi == 0.0 or hi - lo <= 2e-16 * hi or not lo < 0.5 * (lo + hi) < hi
 
 
 def _falsi_point(lo, flo, hi, fhi):
@@ -1304,7 +1311,7 @@ def rim_socp(H, r, c1, c2, y, sc):
                 hi *= 4.0
             side = 0
             for k in range(200):
-                if fhi == 0.0 or hi - lo <= 2e-16 * hi or not lo < 0.5 * (lo + hi) < hi:
+                if _falsi_done(lo, hi, fhi):
                     break
                 x = _falsi_point(lo, flo, hi, fhi)
                 nub = _rim_inner(H, r, c1, c2, y, x, sc)
