@@ -191,16 +191,21 @@ def ground(C, U, XG, n):
     return XG[n]
 
 
-def flight(C, S, ag, gv, h, out):
+def flight(C, S, ag, gv, h, out, w):
     """Free flight of the moving assembly (pad and superstructure) over at most
-    h (model.md 10): no contact, so no friction, no heat, no force. Relative
-    to the ground both bodies feel -ag horizontally (q1' = -ag, q2' = 0:
-    exact for the step's constant ag; the d'Alembert force's work is input)
-    and -gv vertically: the height z above the seat obeys z'' = -gv, its work
-    -(M + m)(gv - g) dz is input and (M + m) g z potential. Takes off (z = z'
-    = 0) when not flying; lands when z returns to 0 inside h, with a plastic
-    vertical impact ((M + m) z'^2 / 2 into E_land; the horizontal motion goes
-    on). Returns the time flown (h, or the landing time)."""
+    h (model.md 10): no contact with the faces, so no friction, no heat, no
+    normal force. Relative to the ground both bodies feel -ag horizontally
+    (q1'' = -ag, q2'' = 0: exact for the step's constant ag; the d'Alembert
+    force's work is input) and -gv vertically: the height z above the seat
+    obeys z'' = -gv, its work -(M + m)(gv - g) dz is input and (M + m) g z
+    potential. Takes off (z = z' = 0) when not flying; lands when z returns
+    to 0 inside h, with a plastic vertical impact ((M + m) z'^2 / 2 into
+    E_land; the horizontal motion goes on). Rims of finite stiffness act in
+    the air as on the seat (the lift is far below a rim's height): the
+    horizontal motion is then ``step`` without friction over the time
+    flown, their springs' force and dashpots in it (out[O_FTOP]: the upper
+    rim's force on the superstructure). Returns the time flown (h, or the
+    landing time)."""
     m, M = C[I_MPAD], C[I_MSUP]
     Mt = m + M
     for i in range(N_OUT):
@@ -220,16 +225,24 @@ def flight(C, S, ag, gv, h, out):
     if landed:
         z1 = 0.0
     S[S_EIN] -= Mt * (gv - C[I_G]) * (z1 - z0)
-    v1, v2 = S[S_V1], S[S_V2]
-    dq1 = tau * (v1 - 0.5 * ag * tau)
-    dq2 = tau * v2
-    S[S_Q1] += dq1
-    S[S_Q2] += dq2
-    S[S_V1] = v1 - ag * tau
-    S[S_EIN] += -ag * (Mt * dq1 + M * dq2)
-    out[O_DQ1] = dq1
-    out[O_DQ2] = dq2
-    out[O_APAD] = 0.0
+    if C[I_KRIM] != 0.0:
+        big = 1e30
+        step(C, S, tau, ag, 0.0, 0.0, 0, 0.0, 0.0, out, w, -big, big, -big, big)
+        S[S_EIN] += out[O_EIN]
+        S[S_ERIM] += out[O_RLOSS]
+        S[S_W1] += out[O_W1]        # (0 without friction: an arrest needs a cap)
+        S[S_W2] += out[O_W2]
+    else:
+        v1, v2 = S[S_V1], S[S_V2]
+        dq1 = tau * (v1 - 0.5 * ag * tau)
+        dq2 = tau * v2
+        S[S_Q1] += dq1
+        S[S_Q2] += dq2
+        S[S_V1] = v1 - ag * tau
+        S[S_EIN] += -ag * (Mt * dq1 + M * dq2)
+        out[O_DQ1] = dq1
+        out[O_DQ2] = dq2
+        out[O_APAD] = 0.0
     S[S_TFLY] += tau
     S[S_ZF] = z1
     S[S_ZFD] = vz1
@@ -370,6 +383,7 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
     gv = C[I_G] + az
     h = dt
     seated = True
+    f_air = 0.0                 # the upper rim spring's force on the superstructure in the air, x its share of dt
     if C[I_VERT] == 2.0:
         # the machine's vertical actuator holds N on the superstructure; the pad keeps its weight
         S[S_N2] = AZ[n]
@@ -379,11 +393,13 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
             S[S_N2] = C[I_MSUP] * gv
             S[S_N1] = C[I_MSUP] * gv + C[I_MPAD] * gv
         else:
-            h = dt - flight(C, S, ag, gv, dt, out)
+            tf = flight(C, S, ag, gv, dt, out, w)
+            f_air = out[O_FTOP] * (tf / dt)
+            h = dt - tf
             if S[S_FLY] != 0.0 or not h > FLIGHT_REST * dt:
                 seated = False
             elif gv < 0.0:             # landed while the field still lifts: off again
-                flight(C, S, ag, gv, h, out)
+                f_air += out[O_FTOP] * (flight(C, S, ag, gv, h, out, w) / dt)
                 seated = False
     if seated:
         # a face at rest at the step's start holds with the holding coefficient (the
@@ -417,8 +433,10 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
             step(C, S, h, ag, c1, c2, 0, 0.0, 0.0, out, w, lo1, hi1, lo2, hi2)
             # the bearing's force on the superstructure, against u: the top face's friction
             S[S_F] = out[O_FTOP]
-            if h != dt:                # landed: the bearing carried nothing before
+            if h != dt:                # landed: the bearing carried nothing before (but a rim spring)
                 S[S_F] = out[O_FTOP] * (h / dt)
+                if C[I_KRIM] != 0.0:
+                    S[S_F] += f_air
         S[S_W1] += out[O_W1]
         S[S_W2] += out[O_W2]
         S[S_EIN] += out[O_EIN]
@@ -428,7 +446,7 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
         S[S_TIP] = demand / resisting_moment(C, S[S_N2], gv)
         S[S_DEM] = demand
     else:
-        S[S_F] = 0.0
+        S[S_F] = f_air
         S[S_TIP] = 0.0
         S[S_DEM] = 0.0
     if C[I_MACH] == 0.0 and (C[I_CAP1] > 0.0 or C[I_CAP2] > 0.0):

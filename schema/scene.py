@@ -1524,10 +1524,6 @@ def rigid_rim_only(ctx, data, device: str) -> None:
 def flat_cross_checks(ctx, data) -> None:
     planar_only(ctx, data, "flat bearing")
     rim_stiffness_keys(ctx, data["device"], data["loading"])
-    if data["device"].get("rim_stiffness_N_per_m") is not None and (
-            data["loading"].get("path_z") or data["loading"].get("vertical_scale") is not None):
-        ctx.fail("device.rim_stiffness_N_per_m", data["device"]["rim_stiffness_N_per_m"], "not yet with a vertical "
-                 "ground motion for the flat bearing (its rims are then rigid: leave the stiffness out)")
 
     ld, sol, dev = data["loading"], data["solver"], data["device"]
     if data["output"]["vtk_every"] > 0:
