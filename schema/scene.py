@@ -462,12 +462,15 @@ def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
     """A liner preset (tribology.friction.LINERS) under the keys the scene gives:
     the preset's law and values, each overridable key by key (a law given in the
     scene replaces the preset's law and its keys)."""
-    from fpd.tribology.friction import LINERS
+    from fpd.tribology.friction import LINERS, NOT_PACKAGED
 
     name = merged["liner"]
     owner = where if "liner" in over else "friction"
     if not isinstance(name, str) or name not in LINERS:
-        ctx.fail(f"{owner}.liner", name, "must be one of " + ", ".join(f'"{k}"' for k in LINERS))
+        known = "must be one of " + ", ".join(f'"{k}"' for k in LINERS)
+        if isinstance(name, str) and name.lower() in NOT_PACKAGED:
+            known = NOT_PACKAGED[name.lower()] + "; the presets: " + ", ".join(f'"{k}"' for k in LINERS)
+        ctx.fail(f"{owner}.liner", name, known)
     preset = {k: v for k, v in LINERS[name]["values"].items()}
     if "law" in merged and merged["law"] != preset["law"]:
         preset = {k: v for k, v in preset.items() if k in SURFACE_KEYS}

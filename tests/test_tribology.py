@@ -513,17 +513,23 @@ def test_liner_presets_apply_and_override_key_by_key():
         for key, value in preset["values"].items():
             assert f[key] == value, (name, key)
     # key by key: the scene's mu_fast wins, the rest stays the preset's; per surface
-    sc = fpd.load_scene(lab(friction={"liner": "ptfe", "mu_fast": 0.12, "upper": {"liner": "uhmwpe"}}))
+    sc = fpd.load_scene(lab(friction={"liner": "ptfe", "mu_fast": 0.12, "upper": {"liner": "ptfe-composite"}}))
     lo, up = sc.friction("lower"), sc.friction("upper")
     assert (lo["mu_fast"], lo["mu_slow"], lo["wear_k_mm3_per_Nm"]) == (0.12, 0.04, 3e-4)
-    assert (up["mu_fast"], up["mu_slow"]) == (0.12, 0.03)          # the base table's key applies to both
+    assert (up["mu_fast"], up["mu_slow"], up["wear_k_mm3_per_Nm"]) == (0.12, 0.03, 1e-6)   # the base key: both
     # a law of its own replaces the preset's law and coefficients, keeps mu_static and the wear
     f = fpd.load_scene(lab(friction={"liner": "ptfe", "law": "constant", "mu": 0.05})).friction("lower")
     assert (f["law"], f["mu"], f["mu_static"], f["wear_k_mm3_per_Nm"]) == ("constant", 0.05, 0.10, 3e-4)
     assert "mu_slow" not in f
     with pytest.raises(SceneError, match=r'friction.liner = \'teflon\': must be one of "ptfe", '
-                                         r'"ptfe-lubricated", "ptfe-composite", "uhmwpe"'):
+                                         r'"ptfe-lubricated", "ptfe-composite"$'):
         fpd.load_scene(lab(friction={"liner": "teflon"}))
+    # a liner with no published friction to preset says so, and what to give instead
+    with pytest.raises(SceneError) as e:
+        fpd.load_scene(lab(friction={"liner": "ptfe", "upper": {"liner": "UHMWPE"}}))
+    msg = str(e.value)
+    assert "\n" not in msg and "friction.upper.liner = 'UHMWPE': no preset: no published friction" in msg
+    assert 'give its law and coefficients' in msg and msg.endswith('"ptfe-composite"')
     # the TFP models breakaway as the DFP does: a preset's mu_static applies there, and
     # is checked against the scene's own law at rest (kumar2015, mu_ref 0.10: 0.100096 > 0.10)
     f = fpd.load_scene("tfp-elcentro", friction={"liner": "ptfe", "mu_ref": 0.09}).friction("S1")
@@ -590,7 +596,7 @@ def test_compare_liners_tabulates_each_preset(tmp_path):
         assert abs(float(r["residual_u_m"])) < 1e-9
         assert float(r["peak_T_C"]) > 20.0
     work = {k: float(r["friction_work_J"]) for k, r in rows.items()}
-    assert work["ptfe-lubricated"] < work["uhmwpe"] < work["ptfe-composite"] < work["ptfe"]
+    assert work["ptfe-lubricated"] < work["ptfe-composite"] < work["ptfe"]
     assert rows["ptfe-lubricated"]["max_wear_m"] in ("", "nan")      # no wear coefficient
     assert float(rows["ptfe"]["max_wear_m"]) > 100 * float(rows["ptfe-composite"]["max_wear_m"]) > 0.0
     s = json.loads((out / "summary.json").read_text())

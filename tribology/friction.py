@@ -137,8 +137,6 @@ LINER_SOURCES = {
                  'velocity factor k_v = 1 - 0.5 exp(-a v).',
     "blanchet1992": 'Blanchet, T. A., Kennedy, F. E. (1992). "Sliding wear mechanism of polytetrafluoroethylene '
                     '(PTFE) and PTFE composites." Wear 153(1), 229-243.',
-    "kurtz2016": 'Kurtz, S. M. (ed.) (2016). UHMWPE Biomaterials Handbook, 3rd ed. Academic Press / William '
-                 'Andrew, Oxford.',
 }
 
 
@@ -203,23 +201,14 @@ LINERS: dict = {
                                       "reduction (a proprietary liner's own coefficient is not published)"),
         },
     },
-    "uhmwpe": {
-        "values": {"law": "constantinou", "mu_slow": 0.03, "mu_fast": 0.06, "a_s_per_m": 100.0,
-                   "mu_static": 0.06, "wear_k_mm3_per_Nm": 1e-6},
-        "sources": {
-            "law": _src("constantinou1990", False, "the PTFE velocity law applied to UHMWPE: no fit of a UHMWPE "
-                        "isolator liner is cited here"),
-            "mu_slow": _src(None, False, "no published value found for UHMWPE isolator liners (their friction is "
-                            "given in proprietary European Technical Assessments); basis: a low-friction dry "
-                            "polymer liner, set at ptfe-composite's low-speed value"),
-            "mu_fast": _src(None, False, "no published value found (as mu_slow); basis: between ptfe-lubricated "
-                            "and ptfe-composite, a smaller rise with speed than PTFE's"),
-            "a_s_per_m": _src(None, False, "no published value found; basis: the PTFE presets' rate"),
-            "mu_static": _src(None, False, "no published value found; basis: equal to mu_fast, as ptfe-composite"),
-            "wear_k_mm3_per_Nm": _src("kurtz2016", False, "pin-on-disc wear factors of UHMWPE against polished "
-                                      "metal counterfaces of the order of 1e-6 mm3/(N m); taken at that order"),
-        },
-    },
+}
+
+
+# liners asked for by name that have no preset, and why (the scene loader says so in one line)
+NOT_PACKAGED: dict = {
+    "uhmwpe": "no preset: no published friction of UHMWPE isolator liners was found (it is given in proprietary "
+              "European Technical Assessments); give its law and coefficients from the product's tests "
+              "(docs/liners.md)",
 }
 
 
