@@ -123,12 +123,77 @@ def _lean_drawing() -> None:
     place = getattr(_AxesBase, "_update_title_position", None)
     if params(place) == ("self", "renderer") and not getattr(place, "_fpd", False):
         _AxesBase._update_title_position = _place_titles(place)
+    measure = RendererAgg.__dict__.get("get_text_width_height_descent")
+    if params(measure) == ("self", "s", "prop", "ismath") and not getattr(measure, "_fpd", False):
+        RendererAgg.get_text_width_height_descent = _measure_once(measure)
+    write = RendererAgg.__dict__.get("draw_text")
+    if params(write) == ("self", "gc", "x", "y", "s", "prop", "angle", "ismath", "mtext") and hasattr(
+            RendererAgg, "_draw_text_glyphs_and_boxes") and not getattr(write, "_fpd", False):
+        RendererAgg.draw_text = _lay_out_once(write)
     from matplotlib.markers import MarkerStyle
     setm = MarkerStyle.__dict__.get("_set_marker")
     if params(setm) == ("self", "marker") and not getattr(setm, "_fpd", False) and all(
             hasattr(MarkerStyle("o"), a) for a in ("_marker", "_fillstyle", "_user_transform", "_user_capstyle",
                                                   "_user_joinstyle")):
         MarkerStyle._set_marker = _copy_markers(setm)
+
+
+def _text_key(renderer, s, prop):
+    """What a plain string's extent and glyph layout depend on: the string,
+    the font properties (their hash: family, style, variant, weight,
+    stretch, size, file), the resolution and the hinting."""
+    from matplotlib.backends.backend_agg import get_hinting_flag
+    return s, hash(prop), renderer.dpi, get_hinting_flag()
+
+
+def _measure_once(measure):
+    """matplotlib's ``RendererAgg.get_text_width_height_descent`` remembered
+    per plain string, font and resolution for the process (matplotlib keeps
+    it per renderer, that is per figure: the tick labels 0, 10, 20 ... of
+    every figure are measured again); mathematical text and TeX go through
+    matplotlib's own."""
+    known = {}
+
+    def get_text_width_height_descent(self, s, prop, ismath):
+        if ismath:
+            return measure(self, s, prop, ismath)
+        key = _text_key(self, s, prop)
+        out = known.get(key)
+        if out is None:
+            out = known[key] = measure(self, s, prop, ismath)
+        return out
+
+    get_text_width_height_descent._fpd = True
+    return get_text_width_height_descent
+
+
+def _lay_out_once(write):
+    """matplotlib's ``RendererAgg.draw_text`` with the glyphs' layout (the
+    font's ``_layout``: which glyph of which font where, relative to the
+    string's origin) remembered per plain string, font and resolution for
+    the process; the glyphs are then placed and drawn as matplotlib draws
+    them (the same loop, the same calls). Mathematical text, text with
+    font features or a language, go through matplotlib's own."""
+    from matplotlib.backends.backend_agg import get_hinting_flag
+    known = {}
+
+    def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
+        if ismath or (mtext is not None and (mtext.get_fontfeatures() is not None
+                                             or mtext.get_language() is not None)):
+            return write(self, gc, x, y, s, prop, angle, ismath, mtext)
+        font = self._prepare_font(prop)
+        key = _text_key(self, s, prop)
+        glyphs = known.get(key)
+        if glyphs is None:
+            glyphs = known[key] = tuple((item.ft_object, item.glyph_index, item.x, item.y)
+                                        for item in font._layout(s, flags=get_hinting_flag(), features=None,
+                                                                 language=None))
+        size = prop.get_size_in_points()
+        self._draw_text_glyphs_and_boxes(gc, x, y, angle, ((f, size, g, 0, 1, gx, gy) for f, g, gx, gy in glyphs),
+                                         [])
+
+    draw_text._fpd = True
+    return draw_text
 
 
 def _copy_markers(setm):

@@ -336,8 +336,9 @@ def test_lean_title_placement_is_matplotlibs():
 
 def test_lean_process_draws_the_same_figures(tmp_path):
     """A process that imports matplotlib lean (fpd run's own: no set()
-    signatures, no 3-D axes, the glyph loop) writes the same pixels as one
-    importing it as usual."""
+    signatures, no 3-D axes, the glyph loop, text measured and laid out
+    once per string: the text figure drawn twice, the second from what the
+    first left) writes the same pixels as one importing it as usual."""
     import subprocess
     import sys
 
@@ -345,6 +346,7 @@ def test_lean_process_draws_the_same_figures(tmp_path):
     code = ("import sys; from fpd.outputs import drawing; drawing.LEAN = sys.argv[1] == 'lean'; "
             "sys.path.insert(0, sys.argv[3]); from test_plots import _text_figure, _title_figure; "
             "drawing.save(_text_figure(), sys.argv[2]); drawing.save(_title_figure(), sys.argv[2] + '.t.png'); "
+            "drawing.save(_text_figure(), sys.argv[2] + '.2.png'); "
             "import matplotlib.projections as p; print('3d' in p.get_projection_names())")
     here = str(Path(__file__).resolve().parent)
     out = {}
@@ -353,6 +355,6 @@ def test_lean_process_draws_the_same_figures(tmp_path):
                            capture_output=True, text=True, cwd=ROOT, check=True)
         out[mode] = r.stdout.split()[-1]
     assert out == {"lean": "False", "usual": "True"}     # the lean import left the 3-D axes out
-    for suffix in ("", ".t.png"):
+    for suffix in ("", ".t.png", ".2.png"):
         a, b = (np.asarray(Image.open(tmp_path / f"{m}.png{suffix}")) for m in ("lean", "usual"))
         assert np.array_equal(a, b)
