@@ -276,7 +276,7 @@ def _touch(S, q, cap, i_at, i_n):
         S[i_at] = 0.0
 
 
-def rim(C, S):
+def rim(C, S, w):
     """The rims after a (part-)step (model.md 7): a coordinate past its rim
     is put back on it, and the velocities get the impulses of a rigid,
     frictionless unilateral stop on each coordinate at its rim: the linear
@@ -310,45 +310,19 @@ def rim(C, S):
     if o2 != 0.0:
         S[S_Q2] = o2 * C[I_CAP2]
     m, M = C[I_MPAD], C[I_MSUP]
-    det = m * M
-    i11 = M / det
-    i22 = (m + M) / det
-    i12 = -M / det
     v1, v2 = S[S_V1], S[S_V2]
     e = C[I_REST]
-    w1 = o1 * v1
-    w2 = o2 * v2
-    b1 = w1 + e * max(w1, 0.0)
-    b2 = w2 + e * max(w2, 0.0)
-    a12 = o1 * o2 * i12
+    took = rl.impact_set(m + M, M, M, v1, v2, o1, o2, e)
+    S[S_ERIM] += rl.stop2(m + M, M, M, v1, v2, o1, o2, e, w)
+    S[S_V1], S[S_V2] = w[0], w[1]
+    # the impulses (each >= 0 away from its rim): M times the velocity change, on the
+    # coordinates that took one
     l1 = 0.0
     l2 = 0.0
-    need1 = o1 != 0.0 and b1 > 0.0
-    need2 = o2 != 0.0 and b2 > 0.0
-    if need1 or need2:
-        done = False
-        if need1:
-            l1 = b1 / i11
-            if o2 == 0.0 or b2 - a12 * l1 <= 0.0:
-                done = True
-            else:
-                l1 = 0.0
-        if not done and need2:
-            l2 = b2 / i22
-            if o1 == 0.0 or b1 - a12 * l2 <= 0.0:
-                done = True
-            else:
-                l2 = 0.0
-        if not done and o1 != 0.0 and o2 != 0.0:
-            da = i11 * i22 - a12 * a12
-            l1 = max((b1 * i22 - b2 * a12) / da, 0.0)
-            l2 = max((i11 * b2 - a12 * b1) / da, 0.0)
-    K0 = kinetic(C, v1, v2)
-    P1 = -o1 * l1
-    P2 = -o2 * l2
-    S[S_V1] = v1 + i11 * P1 + i12 * P2
-    S[S_V2] = v2 + i12 * P1 + i22 * P2
-    S[S_ERIM] += K0 - kinetic(C, S[S_V1], S[S_V2])
+    if took == 1 or took == 3:
+        l1 = -o1 * ((m + M) * (w[0] - v1) + M * (w[1] - v2))
+    if took == 2 or took == 3:
+        l2 = -o2 * (M * (w[0] - v1) + M * (w[1] - v2))
     if o1 != 0.0:
         if l1 > 0.0 and S[S_AT1] == 0.0:
             S[S_NRIM1] += 1.0
@@ -450,7 +424,7 @@ def advance(C, S, A, AZ, U, UD, mu1, mu2, out, w):
         S[S_TIP] = 0.0
         S[S_DEM] = 0.0
     if C[I_MACH] == 0.0 and (C[I_CAP1] > 0.0 or C[I_CAP2] > 0.0):
-        rim(C, S)
+        rim(C, S, w)
     dq1, dq2 = out[O_DQ1], out[O_DQ2]
     S[S_PHASE] = SLIP if (dq1 != 0.0 or dq2 != 0.0) else STICK
     S[S_SV1] = 0.0

@@ -38,6 +38,7 @@ handful of candidates (2 coordinates); a fixed point handles q1 in H and G.
 import math
 
 from fpd.tribology.friction_kernel import holding_mu
+from . import rim_law as rl
 from .two_phase_kernel import _sinc as sinc, pivot_angle   # the planar stepper's, one source
 
 __kernel__ = True
@@ -454,37 +455,10 @@ def rim_lock(m11, m12, m22, v1, v2, o1, o2, w):
     The velocity after is the kinetic-metric projection of (v1, v2) onto that
     cone (a rigid, inelastic, frictionless impact: an impulse only on the
     coordinates on a rim, each pushing away from its rim, each of them then at
-    rest or leaving the rim): into w. Returns the kinetic energy removed, the
-    energy of the part stopped, 1/2 dv^T M dv."""
-    w[0] = v1
-    w[1] = v2
-    in1 = o1 * v1 > 0.0
-    in2 = o2 * v2 > 0.0
-    if not in1 and not in2:
-        return 0.0
-    p1 = m11 * v1 + m12 * v2
-    p2 = m12 * v1 + m22 * v2
-    # one rim: its coordinate stopped, the other keeps its momentum; the
-    # projection if the other is then not driven into its own rim
-    a1 = 0.0
-    a2 = p2 / m22
-    b1 = p1 / m11
-    b2 = 0.0
-    ok1 = in1 and not (o2 * a2 > 0.0) and o1 * (m12 * a2 - p1) <= 0.0
-    ok2 = in2 and not (o1 * b1 > 0.0) and o2 * (m12 * b1 - p2) <= 0.0
-    if ok1:
-        w[0] = a1
-        w[1] = a2
-    elif ok2:
-        w[0] = b1
-        w[1] = b2
-    else:
-        # the full lock: both on their rims, both at rest
-        w[0] = 0.0
-        w[1] = 0.0
-    d1 = v1 - w[0]
-    d2 = v2 - w[1]
-    return 0.5 * (m11 * d1 * d1 + 2.0 * m12 * d1 * d2 + m22 * d2 * d2)
+    rest or leaving the rim): into w, by the two-coordinate impact law the
+    flat bearing's rims share (rim_law.stop2, restitution 0). Returns the
+    kinetic energy removed, the energy of the part stopped, 1/2 dv^T M dv."""
+    return rl.stop2(m11, m12, m22, v1, v2, o1, o2, 0.0, w)
 
 
 def step(par, st, dt, ag, gv, dn, c_o, c_i, machine, u1, ud1, out, M, w, tmp, sc):
