@@ -235,7 +235,7 @@ class TFPState:
 
     @property
     def E_rim(self) -> float:
-        """The kinetic energy the rim impacts took (J)."""
+        """The kinetic energy the rim impacts took (J); with rims of finite stiffness their dashpots' work."""
         return float(self.S[self.state_layout.S_ERIM])
 
     @property

@@ -34,6 +34,12 @@ with H = 2 M(q1) / dt^2, r = 2 p0 / dt + G(q0, q1), G the discrete gradients
 (Itoh-Abe, evaluated in closed form without cancellation) of the kinetic,
 potential and ground-forcing terms. The minimiser is found exactly among a
 handful of candidates (2 coordinates); a fixed point handles q1 in H and G.
+
+A rim of finite stiffness (par[I_KRIM], docs/model.md 6.7) replaces the
+bounds by the springs (1/2) k (R_i |q_i| - d_i)_+^2 of S1..S4 (and their
+dashpots): their exact secant joins G, and the fixed point becomes Newton's
+iteration on the increment (``rim_coordinate``: rim_law.slide in each
+coordinate), each iterate the exact box problem.
 """
 import math
 
