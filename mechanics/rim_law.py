@@ -50,7 +50,11 @@ def slide(k, c, cap, q, x, h):
     s = 1.0 if q + 0.5 * x >= 0.0 else -1.0
     a = s * q - cap
     b = s * (q + x) - cap
-    if abs(x) > 1e-12 * cap:
+    if a > 0.0 and b > 0.0:
+        # both ends beyond: (k b^2 / 2 - k a^2 / 2) / x = s k (a + b) / 2, without the
+        # cancellation of the two energies (which a short increment would amplify)
+        f = s * 0.5 * k * (a + b)
+    elif abs(x) > 1e-12 * cap:
         f = -secant(spring_energy(k, overlap(abs(q) - cap)), spring_energy(k, overlap(abs(q + x) - cap)), x)
     else:
         f = s * k * overlap(a)

@@ -65,6 +65,8 @@ class TFPGeometry:
     g: float = G_ACC
     kind: str = "TFP"
     rim_restitution: float = 0.0   # Newton's e of a rim arrival (0: the inelastic stop)
+    rim_stiffness: float = 0.0     # k (N/m) of a rim of finite stiffness on each surface (0: rigid rims)
+    rim_damping: float = 0.0       # its dashpots' damping ratio zeta (docs/model.md 6.7)
 
     # -- lengths ---------------------------------------------------------------
     @property
@@ -161,6 +163,12 @@ class TFPGeometry:
         p[K.I_QMAX_PHI], p[K.I_QMAX_ALPHA] = self.qmax
         p[K.I_D1], p[K.I_D2], p[K.I_D3], p[K.I_D4] = self.d1, self.d2, self.d3, self.d4
         p[K.I_REST] = self.rim_restitution
+        p[K.I_KRIM], p[K.I_ZRIM] = self.rim_stiffness, self.rim_damping
+        # per surface: sum R_i^2 over its coordinate's surfaces that reach their rims with it
+        # (the dashpot's m_eff = generalised inertia / that sum, docs/model.md 6.7)
+        R, d = self.radii, (self.d1, self.d2, self.d3, self.d4)
+        for i, pair in ((0, (0, 3)), (3, (0, 3)), (1, (1, 2)), (2, (1, 2))):
+            p[K.I_SR + i] = sum(R[j] ** 2 for j in pair if abs(d[j] / R[j] - d[i] / R[i]) <= 1e-12 * d[i] / R[i])
         p[K.I_MS_LO] = p[K.I_MS_UP] = self.slider_mass
         p[K.I_MPAD] = self.pad_mass
         p[K.I_A_SL], p[K.I_A_PAD], p[K.I_B_PAD], p[K.I_A_SU] = b[0][1], b[1][1], b[1][2], b[2][1]
@@ -227,7 +235,7 @@ class TFPState:
 
     @property
     def E_rim(self) -> float:
-        """The kinetic energy the rim impacts took (J)."""
+        """The kinetic energy the rim impacts took (J); with rims of finite stiffness their dashpots' work."""
         return float(self.S[self.state_layout.S_ERIM])
 
     @property
@@ -285,6 +293,11 @@ class TFPStepper(TFPState):
         self.dt = loading.dt
         self.n_steps = loading.n_steps
         self.machine = hasattr(loading, "u")
+        if self.machine and geom.rim_stiffness:
+            raise ValueError("a rim of finite stiffness is for a ground motion: the test machine's programme "
+                             "stays within the capacity")
+        if gz is not None and geom.rim_stiffness:
+            raise ValueError("a rim of finite stiffness of the TFP is not yet with a vertical ground motion")
         if self.machine:
             self._u = float_array(loading.u)
             self._ud = float_array(loading.ud)
@@ -373,7 +386,7 @@ class TFPStepper(TFPState):
         if self.par[K.I_VERT] == 1.0:
             K.energies_vertical(self.par, self.S, self._ev)
             return float(self._ev[1])
-        return K.potential(self.par, self.phi, self.alpha)
+        return K.potential(self.par, self.phi, self.alpha) + K.rim_energy(self.par, self.phi, self.alpha)
 
     @property
     def E_reseat(self) -> float:
@@ -452,7 +465,8 @@ class TFPStepper(TFPState):
                              f"(ground acceleration {self._a[n] / gv:.3g} (g + a_z) beyond the restoring "
                              "moment of Eq. 7): rocking of the TFP's parts is not modelled (docs/model.md 6.6)")
         if fail == K.FAIL_FIXED_POINT:
-            raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
+            n = K.RIM_ITERS if self.par[K.I_KRIM] != 0.0 else K.FIXED_POINT_ITERS
+            raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {n} "
                              "iterations (lower solver.dt)")
         if fail == K.FAIL_LAND:
             raise TFPFailure("the TFP would land from its flight beyond the outer surfaces' reach: a landing on "

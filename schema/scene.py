@@ -1296,7 +1296,8 @@ def tfp_geometry(data):
     return TFPGeometry(d["R1"], d["R2"], d["R3"], d["R4"], d["pad_height"], d["pad_diameter"],
                        d["slider_height_lower"], d["slider_height_upper"], d["slider_diameter"],
                        d["d1"], d["d2"], d["d3"], d["d4"], d["pad_mass"], d["slider_mass"],
-                       data["superstructure"]["mass"], rim_restitution=d["rim_restitution"])
+                       data["superstructure"]["mass"], rim_restitution=d["rim_restitution"],
+                       rim_stiffness=d.get("rim_stiffness_N_per_m") or 0.0, rim_damping=d["rim_damping_ratio"])
 
 
 def tfp_device(ctx, data, raw) -> None:
@@ -1388,7 +1389,14 @@ def tfp_cross_checks(ctx, data) -> None:
         tfp3d_checks(ctx, data)
     else:
         planar_only(ctx, data, "TFP")
-    rigid_rim_only(ctx, data, "TFP")
+    if is_bidirectional(data):
+        rigid_rim_only(ctx, data, "TFP in both directions")
+    else:
+        rim_stiffness_keys(ctx, data["device"], data["loading"])
+        if data["device"].get("rim_stiffness_N_per_m") is not None and (
+                data["loading"].get("path_z") or data["loading"].get("vertical_scale") is not None):
+            ctx.fail("device.rim_stiffness_N_per_m", data["device"]["rim_stiffness_N_per_m"], "not yet with a "
+                     "vertical ground motion for the TFP (its rims are then rigid: leave the stiffness out)")
     from fpd.mechanics.tfp import tfp_geometry_errors
 
     geom = tfp_geometry(data)
@@ -1512,16 +1520,16 @@ def rim_stiffness_keys(ctx, dev: dict, ld: dict) -> None:
 
 
 def rigid_rim_only(ctx, data, device: str) -> None:
-    """A rim of finite stiffness (and its damping) is the DFP's, the SFP's and the flat bearing's."""
+    """A rim of finite stiffness (and its damping) is the DFP's, the SFP's, the planar TFP's and the flat
+    bearing's; ``device`` has rigid rims only."""
     k = data["device"].get("rim_stiffness_N_per_m")
     zeta = data["device"].get("rim_damping_ratio", 0.0)
     if k is None and zeta != 0.0:
-        ctx.fail("device.rim_damping_ratio", zeta, f"not yet for this device: the {device}'s rims are rigid "
-                 "(a DFP, an SFP or a flat bearing takes a finite rim stiffness and its damping)")
+        ctx.fail("device.rim_damping_ratio", zeta, f"not yet for this device: the {device} has rigid rims only "
+                 "(a DFP, an SFP, the planar TFP or a flat bearing takes a finite rim stiffness and its damping)")
     if k is not None:
-        what = f"the {device}'s rims are rigid"
-        ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: {what} "
-                 "(a DFP, an SFP or a flat bearing takes a finite rim stiffness)")
+        ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: the {device} has rigid rims only "
+                 "(a DFP, an SFP, the planar TFP or a flat bearing takes a finite rim stiffness)")
 
 
 def flat_cross_checks(ctx, data) -> None:
