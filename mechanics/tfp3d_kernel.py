@@ -710,6 +710,9 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             tmp[2 * blk], tmp[2 * blk + 1] = linv(Lm, blk, y[2 * blk], y[2 * blk + 1])
         if rb == 0 and it > 6 and rim_involved(sc):
             rim_relax(x, tmp, sc)
+        if springs and it > 6:
+            # (a block held by its springs, the other fast: the iteration may alternate)
+            rim_relax(x, tmp, sc)
         ch = 0.0
         for i in range(4):
             ch += abs(tmp[i] - x[i])
