@@ -83,23 +83,29 @@ KEYS: dict[str, tuple[str, str]] = {
                                    "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J). "
                                    "The TFP: at the arrival of phi or alpha at its rim (a coordinate stuck by "
                                    "friction at that instant, or both arriving together, stop inelastically)."),
-    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP / flat bearing under a ground motion: a rim of finite stiffness instead "
+    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP / planar TFP / flat bearing under a ground motion: a rim of finite "
+                                            "stiffness instead "
                                             "of the rigid one: a spring on the slide past the capacity of each "
                                             "surface that sets it (the flat bearing: on each slip, s1_m past "
-                                            "d1 and s2_m past d2), so the impact is a contact force (in F_N, "
+                                            "d1 and s2_m past d2; the TFP, seated or two-phase: on each of "
+                                            "S1..S4, s_i past d_i, docs/model.md 6.7), so the impact is a contact force (in F_N, "
                                             "converging as dt shrinks) and the slide passes the capacity by its "
                                             "compression; elastic unless rim_damping_ratio (no impulse: J_rim_Ns "
                                             "stays 0; without damping E_rim_J stays 0 too, the "
                                             "spring's energy is in E_pot_J); the rigid rim of rim_restitution = 1 "
                                             "is its stiff limit. dt must resolve the contact, about pi sqrt(m / k). "
-                                            "Refused on the TFP, the test machine, with rim_restitution and "
-                                            "on the flat bearing under a vertical ground motion."),
-    "device.rim_damping_ratio": ("", "DFP / SFP / flat bearing with rim_stiffness_N_per_m: damping ratio zeta in [0, 1) of the "
+                                            "Refused on the TFP in both directions (rigid rims only), the test "
+                                            "machine, with rim_restitution, and on the flat bearing and the "
+                                            "planar TFP under a vertical ground motion."),
+    "device.rim_damping_ratio": ("", "DFP / SFP / planar TFP / flat bearing with rim_stiffness_N_per_m: damping ratio zeta "
+                                     "in [0, 1) of the "
                                      "rim's contact: a linear dashpot 2 zeta sqrt(k m_eff) on the slide past the "
                                      "capacity, opposing its rate while the slider is beyond it, m_eff the "
                                      "pendulum's generalised inertia over the sum of R_i^2 of the surfaces that "
                                      "set the rim (the flat bearing: m on s1, m M / (m + M) on s2, the masses a "
-                                     "rigid rim's impulse sees). An impact's restitution is then exp(-zeta pi / sqrt(1 - "
+                                     "rigid rim's impulse sees; the TFP: its coordinate's generalised inertia "
+                                     "with the other coordinate free, 1 / (M^-1)_jj, over the sum of R_i^2 of "
+                                     "the coordinate's surfaces that reach their rims together). An impact's restitution is then exp(-zeta pi / sqrt(1 - "
                                      "zeta^2)); its loss is in E_rim_J. Refused without a rim stiffness."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),
@@ -526,7 +532,7 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "slide2": ("", "TFP: 1 when S2 slid in the step, else 0 (S2 and S3 slide together)."),
     "slide3": ("", "TFP: 1 when S3 slid in the step, else 0."),
     "slide4": ("", "TFP: 1 when S4 slid in the step, else 0."),
-    "rim1": ("", "TFP: 1 when S1 is at its rim (|s1_m| >= d1), else 0."),
+    "rim1": ("", "TFP: 1 when S1 is at its rim (|s1_m| >= d1; with a rim stiffness: at or past it), else 0."),
     "rim2": ("", "TFP: 1 when S2 is at its rim (|s2_m| >= d2), else 0."),
     "rim3": ("", "TFP: 1 when S3 is at its rim (|s3_m| >= d3), else 0."),
     "rim4": ("", "TFP: 1 when S4 is at its rim (|s4_m| >= d4), else 0."),
@@ -558,7 +564,8 @@ COLUMNS: dict[str, tuple[str, str]] = {
                          "force is in F_N). The TFP in both directions: the impulse's "
                          "magnitude."),
     "n_rim1": ("", "Rim impacts on the lower surface (TFP: S1) so far: arrivals at the rim (a DFP counts them on "
-                   "the surface that bounds the slide, or on both)."),
+                   "the surface that bounds the slide, or on both; a rim of finite stiffness: each time the "
+                   "slide passes the capacity)."),
     "n_rim2": ("", "Rim impacts on the upper surface of a DFP (TFP: S2) so far."),
     "n_rim3": ("", "TFP: rim impacts on S3 so far."),
     "n_rim4": ("", "TFP: rim impacts on S4 so far."),
@@ -573,7 +580,8 @@ COLUMNS: dict[str, tuple[str, str]] = {
     "E_reseat_J": ("J", "Cumulative kinetic energy lost when a rocking pad re-seats (two-phase); a TFP "
                         "(two-phase): lost by the re-seating of phases 2 and 3 (the velocity normal to the "
                         "seated configuration at t_n+1 is stopped; first order in dt)."),
-    "E_rim_J": ("J", "Cumulative energy taken by the rims: a TFP's inelastic impacts; a DFP / SFP's impacts "
+    "E_rim_J": ("J", "Cumulative energy taken by the rims: a TFP's inelastic impacts (a rim of finite stiffness: "
+                     "its dashpots' work); a DFP / SFP's impacts "
                      "((1 - e^2) of the kinetic energy normal to the rim) and contact; the flat bearing's "
                      "impacts (the lower rim stops the pad, mass m; the upper rim the slip between pad and "
                      "superstructure, mass m M / (m + M); both at once: the exact impact of the pair; a rim "

@@ -235,7 +235,7 @@ class TFPState:
 
     @property
     def E_rim(self) -> float:
-        """The kinetic energy the rim impacts took (J)."""
+        """The kinetic energy the rim impacts took (J); with rims of finite stiffness their dashpots' work."""
         return float(self.S[self.state_layout.S_ERIM])
 
     @property
@@ -465,7 +465,8 @@ class TFPStepper(TFPState):
                              f"(ground acceleration {self._a[n] / gv:.3g} (g + a_z) beyond the restoring "
                              "moment of Eq. 7): rocking of the TFP's parts is not modelled (docs/model.md 6.6)")
         if fail == K.FAIL_FIXED_POINT:
-            raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {K.FIXED_POINT_ITERS} "
+            n = K.RIM_ITERS if self.par[K.I_KRIM] != 0.0 else K.FIXED_POINT_ITERS
+            raise TFPFailure(f"the step's fixed point on q(t_n+1) did not converge in {n} "
                              "iterations (lower solver.dt)")
         if fail == K.FAIL_LAND:
             raise TFPFailure("the TFP would land from its flight beyond the outer surfaces' reach: a landing on "

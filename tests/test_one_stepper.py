@@ -124,6 +124,9 @@ def test_planar_columns_are_signed():
     ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9"]),
     ("impvall-bidirectional", ["solver.duration=8", "device.d1=0.04", "device.d2=0.04",
                                "device.rim_stiffness_N_per_m=1e9"]),
+    # the planar TFP's rim springs and dashpots (all four rims passed), two-phase, lumped heat
+    ("tfp-elcentro", ["solver.duration=8", "loading.scale=6", "device.rim_stiffness_N_per_m=1e8",
+                      "device.rim_damping_ratio=0.2", "thermal.model=lumped"]),
     # and its dashpot (planar seated, and the two-phase DFP in both directions)
     ("sfp-harmonic", ["solver.duration=6", "device.d1=0.15", "device.rim_stiffness_N_per_m=1e9",
                       "device.rim_damping_ratio=0.2"]),

@@ -97,25 +97,27 @@ def contact(dt, coord, k, v, zeta=0.0, model="seated"):
                 mq=mq, K=Kq, res=np.max(np.abs(res)) / E0, s=s)
 
 
-@pytest.mark.parametrize("coord, k, v", [(0, 1e6, 5e-5), (1, 1e7, 5e-5)], ids=["outer", "inner"])
-def test_an_undamped_rim_spring_is_the_linear_oscillator(coord, k, v):
+@pytest.mark.parametrize("coord, k, v, reversal", [(0, 1e6, 5e-5, 1e-7), (1, 1e7, 5e-5, 2e-6)], ids=["outer", "inner"])
+def test_an_undamped_rim_spring_is_the_linear_oscillator(coord, k, v, reversal):
     """The rim alone (no gravity, no friction), undamped: the energy (kinetic
     + spring) is constant every step to 1e-10 of the launch energy; the
     contact gives back the launch's kinetic energy to 1e-10 (the speed in
-    the kinetic metric) and the coordinate's rate reversed to 1e-6 (the
-    other coordinate's motion bends the mass matrix: measured 4e-8, 8e-7);
+    the kinetic metric) and the coordinate's rate reversed to 1e-7 (phi) and
+    2e-6 (alpha; the other coordinate's motion bends the mass matrix:
+    measured 4e-8, 8.7e-7);
     the contact time converges at second order to pi sqrt(m_q / K) (errors
     at dt = 1, 0.5, 0.25 ms each >= 3 times the next, the last < 1.5e-4 of
-    it: measured 1.09e-3, 2.7e-4, 6.9e-5 outer; 1.10e-3, 2.8e-4, 7.2e-5
-    inner) and the deepest overlap to v sqrt(m_q / K) within 1e-3: on the
-    surface i, a peak force R_i v sqrt(k m_eff). A contact on each of the
+    it: measured 1.09e-3, 2.7e-4, 6.8e-5 outer; 1.10e-3, 2.8e-4, 7.2e-5
+    inner) and the deepest overlap to v sqrt(m_q / K) within 1e-3 (measured
+    4.4e-5, 3.8e-6): on the surface i, a peak force R_i v sqrt(k m_eff). A
+    contact on each of the
     coordinate's surfaces, no impulse, no rim loss."""
     errs = []
     for dt in DTS:
         c = contact(dt, coord, k, v)
         assert c["res"] <= 1e-10
         assert abs(c["T1"] / c["T0"] - 1.0) <= 1e-10
-        assert abs(c["ratio"] + 1.0) <= 1e-6
+        assert abs(c["ratio"] + 1.0) <= reversal
         ref = math.pi * math.sqrt(c["mq"] / c["K"])
         errs.append(abs(c["tc"] / ref - 1.0))
         s = c["s"]
@@ -157,8 +159,10 @@ def _dissipation_near_rim(k, restitution, dt=2.5e-5, duration=0.03, v=0.5):
     n = int(round(duration / dt))
     s = TFPStepper(g, gmod.pulse_ground_motion("cosine", 0.0, 1.0, 0.0, n * dt, dt), model="seated")
     s.S[0], s.S[2] = g.qmax[0] - 2.37e-5 * v, v
+    s.S[K.S_EIN] = E0 = s.E_kin() + s.E_pot()
     for _ in range(n):
         s.step(0.05, 0.0, 0.0, 0.05)
+        assert abs(s.ledger_residual()) <= 1e-10 * E0      # with gravity and friction, every step
     return sum(s.W) + s.E_rim, s
 
 
@@ -169,7 +173,8 @@ def test_a_stiffer_rim_approaches_the_rigid_elastic_rim():
     elastic). Measured: 72.2, 91.3, 106.5, 108.1, 108.6 J at k = 1e7 .. 1e11
     against 108.9 J (the inelastic rigid rim: 95.4 J), the gap shrinking as
     1 / sqrt(k) (2.95, 2.88 per decade past 1e9), under 0.5 % at 1e11; one
-    contact on S1 and on S4."""
+    contact on S1 and on S4; the ledger closes every step to 1e-10 of the
+    launch energy."""
     rigid, _ = _dissipation_near_rim(0.0, 1.0)
     inelastic, _ = _dissipation_near_rim(0.0, 0.0)
     assert inelastic < 0.9 * rigid
