@@ -99,10 +99,11 @@ def contact(dt, block, k, vn, vt, zeta=0.0, model="seated", ang=0.7):
 def test_the_rim_alone_is_the_planar_tfps_along_x_and_turned(block, k, zeta, model):
     """The rim alone, launched along x: the tilts and rates are the planar
     TFP's rim-spring history (tests/test_tfp_rim_spring.py ``bounce``) to 1e-9
-    of their peaks (measured <= 1.3e-11), the y components exactly 0;
-    launched along a ray at 40 deg, the radial history is the same to 1e-9
-    (measured <= 3.1e-10) and nothing leaves the ray (1e-9); the dashpot's
-    loss and the contacts the planar model's."""
+    of their peaks (measured: the tilt 3e-15, the rate <= 3.6e-10), the y
+    components exactly 0; launched along a ray at 40 deg, the radial history
+    is the same to 1e-9 (measured <= 2.4e-10) and nothing leaves the ray
+    (measured <= 7e-12); the dashpot's loss (to 4e-12 of the launch energy)
+    and the contacts the planar model's."""
     dt, v = 2.5e-4, 5e-5
     p, ref, _, _ = bounce(dt, block, k, v, zeta, model)
     A = np.column_stack([ref[:, block], ref[:, 2 + block]])      # the planar coordinate and its rate
@@ -128,21 +129,22 @@ def test_the_rim_alone_is_the_planar_tfps_along_x_and_turned(block, k, zeta, mod
 def test_an_oblique_arrival_on_an_undamped_rim(block, k):
     """The rim alone, the block arriving obliquely (normal rate 5e-5 rad/s,
     tangential 3e-5 rad/s, along a ray at 40 deg): the energy (kinetic +
-    spring) is constant every step to 1e-10 of the launch energy; the radial
-    rate after the contact is minus the rate before to 1e-6 (measured
-    8.5e-9 outer, 4.2e-7 inner) and the tangential motion goes on (its rate
-    within 1e-2 of the rate before, measured 1.0e-5, 3.5e-3: the free
-    motion of the other block bends the metric); the contact time converges
-    at second order to pi sqrt(m_n / K) (errors at dt = 1, 0.5, 0.25 ms each
-    >= 3 times the next, the last < 1.5e-4 of it: measured 1.1e-3, 2.7e-4,
-    6.8e-5 outer, 1.1e-3, 2.8e-4, 7.1e-5 inner). No impulse, no rim loss,
-    a contact on each of the block's surfaces."""
+    spring) is constant every step to 1e-10 of the launch energy (measured
+    <= 4e-12); the radial rate after the contact is minus the rate before
+    to 1e-6 (measured 2.0e-7 .. 1.1e-7 outer, 3.6e-7 .. 1.1e-7 inner, at
+    the steps just outside the contact) and the tangential motion goes on
+    (its rate within 1e-4 of the rate before, measured <= 6e-6: the free
+    motion of the rest bends the metric); the contact time converges at
+    second order to pi sqrt(m_n / K) (errors at dt = 1, 0.5, 0.25 ms each
+    >= 3 times the next, the last < 1.5e-4 of it: measured 1.09e-3,
+    2.7e-4, 6.9e-5 outer, 1.10e-3, 2.7e-4, 6.7e-5 inner). No impulse, no
+    rim loss, a contact on each of the block's surfaces."""
     errs = []
     for dt in DTS:
         c = contact(dt, block, k, 5e-5, 3e-5)
         assert c["res"] <= 1e-10
         assert abs(c["rd"][1] / c["rd"][0] + 1.0) <= 1e-6, c["rd"]
-        assert abs(c["td"][1] / c["td"][0] - 1.0) <= 1e-2, c["td"]
+        assert abs(c["td"][1] / c["td"][0] - 1.0) <= 1e-4, c["td"]
         errs.append(abs(c["tc"] / (math.pi * math.sqrt(c["mn"] / c["K"])) - 1.0))
         s = c["s"]
         assert list(s.S[K.S_NHIT:K.S_NHIT + 4]) == ([1.0, 0.0, 0.0, 1.0] if block == 0 else [0.0, 1.0, 1.0, 0.0])
@@ -180,9 +182,10 @@ def test_a_damped_oblique_arrival_hands_back_the_oscillators_restitution(block, 
     """The dashpot 2 zeta sqrt(k m_eff) on each overlapping slide, m_eff =
     m_n / sum R_i^2: the block leaves its rim at exp(-zeta pi / sqrt(1 -
     zeta^2)) of its arrival's radial rate within 1e-3 (dt = 0.25 ms, an
-    oblique arrival; measured 5e-5 .. 3e-4), and E_rim_J (the dashpot's
-    loss) is the kinetic energy lost to 1e-10 of the launch energy (with the
-    two-phase model's re-seating); the ledger closes every step."""
+    oblique arrival; measured 4.5e-5 outer, 3.2e-5 inner, both models), and
+    E_rim_J (the dashpot's loss) is the kinetic energy lost to 1e-10 of the
+    launch energy (with the two-phase model's re-seating; measured <=
+    4.3e-12); the ledger closes every step."""
     c = contact(2.5e-4, block, k, 5e-5, 3e-5, zeta, model)
     e = math.exp(-zeta * math.pi / math.sqrt(1.0 - zeta * zeta))
     assert -c["rd"][1] / c["rd"][0] == pytest.approx(e, abs=1e-3)
