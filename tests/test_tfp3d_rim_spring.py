@@ -92,6 +92,10 @@ def contact(dt, block, k, vn, vt, zeta=0.0, model="seated", ang=0.7):
                 mn=mn, K=k * sum(R * R for R in Rs), res=np.max(np.abs(res)) / E0, s=s)
 
 
+def test_the_scratch_holds_the_springs():
+    assert K.N_SC >= K.N_SC_SPRING and K.SP_F >= K.N_SC_RIM
+
+
 # -- (a) the rim alone along x is the planar TFP's; turned, its resultant ------------------------
 
 @pytest.mark.parametrize("model", ["seated", "two-phase"])
