@@ -9,7 +9,9 @@ checks this pair compiled against pure). The compiled kernel stepped from
 Python, each step timed: the whole run, the median step, and the dearest
 steps with the rim counters that changed there (the impacts: each rim
 multiplier's bracketed search nested in the other's, inside the step's fixed
-point; docs/model.md 6.11). Best of N runs per step.
+point; docs/model.md 6.11). Best of N runs per step. `--rim-stiffness K`
+gives the rims a finite stiffness K (N/m; docs/model.md 6.12): no impact
+steps, the springs in every step.
 """
 from __future__ import annotations
 
@@ -39,6 +41,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--top", type=int, default=5, help="the dearest steps listed")
+    ap.add_argument("--rim-stiffness", type=float, default=0.0, help="N/m: rims of finite stiffness (0: rigid)")
     args = ap.parse_args(argv)
     if not kernels.available():
         print("numba is not installed: this measures the compiled kernel")
@@ -46,7 +49,8 @@ def main(argv=None) -> int:
     k = kernels.compiled("fpd.mechanics.tfp3d_kernel")
     g = TFPGeometry(R1=2.235, R2=0.405, R3=0.405, R4=2.235, pad_height=0.076, pad_diameter=0.10,
                     slider_height_lower=0.11, slider_height_upper=0.11, slider_diameter=0.30,
-                    d1=0.20, d2=0.05, d3=0.05, d4=0.20, pad_mass=20.0, slider_mass=80.0, mass=4.0e4)
+                    d1=0.20, d2=0.05, d3=0.05, d4=0.20, pad_mass=20.0, slider_mass=80.0, mass=4.0e4,
+                    rim_stiffness=args.rim_stiffness)
     gx = pulse_ground_motion("sine", 1.5, 1.5, 0.2, 1.6, 2e-3)
     gy = pulse_ground_motion("sine", 1.0, 1.1, 0.4, 1.6, 2e-3)
     cols = list(tfp3d.COLUMNS)

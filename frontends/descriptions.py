@@ -83,21 +83,22 @@ KEYS: dict[str, tuple[str, str]] = {
                                    "impact takes (1 - e^2) of the kinetic energy normal to the rim (E_rim_J). "
                                    "The TFP: at the arrival of phi or alpha at its rim (a coordinate stuck by "
                                    "friction at that instant, or both arriving together, stop inelastically)."),
-    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP / planar TFP / flat bearing under a ground motion: a rim of finite "
+    "device.rim_stiffness_N_per_m": ("N/m", "DFP / SFP / TFP / flat bearing under a ground motion: a rim of finite "
                                             "stiffness instead "
                                             "of the rigid one: a spring on the slide past the capacity of each "
                                             "surface that sets it (the flat bearing: on each slip, s1_m past "
-                                            "d1 and s2_m past d2; the TFP, seated or two-phase: on each of "
-                                            "S1..S4, s_i past d_i, docs/model.md 6.7), so the impact is a contact force (in F_N, "
+                                            "d1 and s2_m past d2; the TFP, planar or in both directions, seated or "
+                                            "two-phase: on each of S1..S4, s_i past d_i (in both directions the "
+                                            "slide's length R_i |phi| or R_i |alpha|, a spring on the rim circle), "
+                                            "docs/model.md 6.7, 6.12), so the impact is a contact force (in F_N, "
                                             "converging as dt shrinks) and the slide passes the capacity by its "
                                             "compression; elastic unless rim_damping_ratio (no impulse: J_rim_Ns "
                                             "stays 0; without damping E_rim_J stays 0 too, the "
                                             "spring's energy is in E_pot_J); the rigid rim of rim_restitution = 1 "
                                             "is its stiff limit. dt must resolve the contact, about pi sqrt(m / k). "
-                                            "Refused on the TFP in both directions (rigid rims only), the test "
-                                            "machine, with rim_restitution, and on the flat bearing and the "
-                                            "planar TFP under a vertical ground motion."),
-    "device.rim_damping_ratio": ("", "DFP / SFP / planar TFP / flat bearing with rim_stiffness_N_per_m: damping ratio zeta "
+                                            "Refused on the test machine, with rim_restitution, and on the flat "
+                                            "bearing and the TFP under a vertical ground motion."),
+    "device.rim_damping_ratio": ("", "DFP / SFP / TFP / flat bearing with rim_stiffness_N_per_m: damping ratio zeta "
                                      "in [0, 1) of the "
                                      "rim's contact: a linear dashpot 2 zeta sqrt(k m_eff) on the slide past the "
                                      "capacity, opposing its rate while the slider is beyond it, m_eff the "
@@ -105,7 +106,9 @@ KEYS: dict[str, tuple[str, str]] = {
                                      "set the rim (the flat bearing: m on s1, m M / (m + M) on s2, the masses a "
                                      "rigid rim's impulse sees; the TFP: its coordinate's generalised inertia "
                                      "with the other coordinate free, 1 / (M^-1)_jj, over the sum of R_i^2 of "
-                                     "the coordinate's surfaces that reach their rims together). An impact's restitution is then exp(-zeta pi / sqrt(1 - "
+                                     "the coordinate's surfaces that reach their rims together; in both "
+                                     "directions the inertia along the tilt's radial direction n, "
+                                     "1 / (n^T M^-1 n)). An impact's restitution is then exp(-zeta pi / sqrt(1 - "
                                      "zeta^2)); its loss is in E_rim_J. Refused without a rim stiffness."),
     "device.d3": ("m", "TFP: slide capacity of S3 before its rim (arc): |R3 alpha| <= d3."),
     "device.d4": ("m", "TFP: slide capacity of S4 before its rim (arc): |R4 phi| <= d4."),

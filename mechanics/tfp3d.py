@@ -81,6 +81,11 @@ class TFP3DStepper(TFPState):
                 self._yg = np.zeros_like(self._xg)
             self._ux = self._uy = self._udx = self._udy = np.zeros_like(self._xg)
         self.par = geom.pack()
+        if geom.rim_stiffness and self.machine:
+            raise ValueError("a rim of finite stiffness is for a ground motion: the test machine's orbit "
+                             "stays within the capacity")
+        if geom.rim_stiffness and az is not None:
+            raise ValueError("a rim of finite stiffness of the TFP is not yet with a vertical ground motion")
         self._ev = np.zeros(2)
         if az is None:
             self._az = np.zeros_like(self._ax)
@@ -144,7 +149,7 @@ class TFP3DStepper(TFPState):
         if self.par[tk.I_VERT] == 1.0:
             K.energies_vertical(self.par, self.S, self._ev, self._sc)
             return float(self._ev[1])
-        return K.potential(self.par, self.S[0:4])
+        return K.potential(self.par, self.S[0:4]) + K.rim_spring_energy(self.par, self.S[0:4])
 
     def ledger_residual(self) -> float:
         return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim + self.E_land)

@@ -32,6 +32,7 @@ the planar scheme.
 """
 import math
 
+from . import rim_law as rl
 from . import tfp_kernel as tk
 
 __kernel__ = True
@@ -60,7 +61,7 @@ FLIGHT_SEATED, FLIGHT_LANDED, FLIGHT_AIR = 10, 11, 12     # flights(): how the s
 
 FIXED_POINT_TOL = 1e-15
 FIXED_POINT_ITERS = 60
-N_SC = 616              # scratch length (the rims' from RB = 420 on: N_SC_RIM)
+N_SC = 684              # scratch length (the rims' from RB = 420 on: N_SC_RIM; the rim springs' from 616)
 
 # Gauss-Legendre, 4 points on [0, 1]
 GL_X0, GL_X1 = 0.5 - 0.5 * 0.8611363115940526, 0.5 - 0.5 * 0.3399810435848563
@@ -662,6 +663,11 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         for j in range(4):
             s += H[4 * i + j] * st[4 + j]
         p0[i] = s
+    # rims of finite stiffness (docs/model.md 6.12): no bound (nobounds = 1), their
+    # force linearised in the step's problem, Newton's iteration on the increment
+    springs = par[tk.I_KRIM] != 0.0
+    if springs:
+        rim_spring_mass(par, q0, H, sc)
     # the arc metric of each block at the start of the step, and its inverse
     metric_root(q0[0], q0[1], Lm, 0)
     metric_root(q0[2], q0[3], Lm, 4)
@@ -685,6 +691,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             H[i] *= k
         for i in range(4):
             r[i] = 2.0 * p0[i] / dt + G[i]
+        if springs:
+            sc[SP_LOSS] = rim_spring_linearise(par, q0, x, dt, G, r, H, H, r, sc)
         # in y = L dq: H' = L^-1 H L^-1, r' = L^-1 r (L block-diagonal, symmetric)
         _to_metric(H, r, Lm, Hy, ry, tmp)
         if machine == 1:
@@ -702,11 +710,18 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             tmp[2 * blk], tmp[2 * blk + 1] = linv(Lm, blk, y[2 * blk], y[2 * blk + 1])
         if rb == 0 and it > 6 and rim_involved(sc):
             rim_relax(x, tmp, sc)
+        if springs and it > 6:
+            # (a block held by its springs, the other fast: the iteration may alternate,
+            # or creep at a ratio near 0.65 deep past a rim at a large step)
+            rim_spring_relax(x, tmp, sc)
         ch = 0.0
         for i in range(4):
             ch += abs(tmp[i] - x[i])
             x[i] = tmp[i]
         if ch <= FIXED_POINT_TOL:
+            converged = True
+            break
+        if springs and rim_spring_settled(ch, x):
             converged = True
             break
     fixed_point_end(converged, ch, x, mfail, out)
@@ -758,6 +773,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         # kinetic-metric projection (an impulse along C^T), its energy input
         ein += machine_velocity(par, st, H, z1, z2, ud1x, ud1y, sc)
     step_out(out, x, ein, wo, wi, arr_o, arr_i, it)
+    if springs:
+        out[O_RIM] = sc[SP_LOSS]
     # the test machine runs without rims: one reached stops it
     if machine == 1 and past_rims(par, st):
         out[O_FAIL] = FAIL_RIM
@@ -874,6 +891,8 @@ def step_out(out, x, ein, wo, wi, arr_o, arr_i, it):
 
 def past_rims(par, st):
     """The end tilts past a rim circle: |phi| > qmax_phi or |alpha| > qmax_alpha."""
+    if par[tk.I_KRIM] != 0.0:
+        return False            # (rims of finite stiffness: a tilt may pass them)
     tp = st[0] * st[0] + st[1] * st[1]
     ta = st[2] * st[2] + st[3] * st[3]
     qm, qa = par[tk.I_QMAX_PHI], par[tk.I_QMAX_ALPHA]
@@ -1782,6 +1801,10 @@ def step_rims(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y
     impacts, each part's change up to its rim less its share of the free
     flight's smooth change. The test machine runs without rims (``step``'s
     capacity check stops it at one)."""
+    if par[tk.I_KRIM] != 0.0:
+        # rims of finite stiffness: no bound, their springs in the step (docs/model.md 6.12)
+        step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc, 1)
+        return
     for i in range(8):
         sc[R_SAVE + i] = st[i]
     step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc, 0)
@@ -1933,6 +1956,8 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     Returns the failure flag."""
     a1, a2, c_o, c_i, ux0, uy0 = begin_advance(par, S, agx, agy, az, mu1, mu2, mu3, mu4, machine, sc)
     step_rims(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    if par[tk.I_KRIM] != 0.0:
+        rim_spring_hits(par, S, sc)
     rim_account(par, S, out)
     return finish_advance(par, S, dt, agx, agy, machine, a1, a2, c_o, c_i, ux0, uy0, 1, out, sc)
 
@@ -2128,6 +2153,8 @@ def row_values(par, S, t, xg, yg, row, sc):
     row[41] = S[S_EIN]
     row[42] = kinetic(par, q, v, sc)
     row[43] = potential(par, q)
+    if par[tk.I_KRIM] != 0.0:
+        row[43] += rim_spring_energy(par, q)
     row[44] = S[S_ERIM]
     row[45] = S[S_REG]
     for i in range(4):
@@ -2379,3 +2406,162 @@ def energies_vertical(par, S, o, sc):
     else:
         o[0] = kinetic(par, S[0:4], S[4:8], sc)
         o[1] = potential(par, S[0:4])
+
+
+# -- rims of finite stiffness (docs/model.md 6.12) -------------------------------------------------
+# With par[I_KRIM] = k != 0 no circle bounds the tilts: each surface's slide beyond its capacity,
+# R_i |v| - d_i (v = phi for S1, S4; alpha for S2, S3: the slide's arc R_i |v|, the measure of the
+# footprint's distance from the centre, s1_m..s4_m), is a spring k and a dashpot (mechanics/rim_law.py).
+# Their scratch: the force (4), its Jacobian (16), each block's radial inertia (2), the dashpots'
+# loss, a solve's vectors (8) and factor (16), and the two-phase step's H + J (16) and r + J x (4).
+SP_F, SP_J, SP_M, SP_LOSS, SP_V, SP_LL, SP_H, SP_R = 616, 620, 636, 638, 640, 648, 664, 680
+N_SC_SPRING = 684
+
+
+def rim_spring_mass(par, q, M, sc):
+    """Each block's generalised inertia along its radial direction n (the
+    tilt's unit vector at q; x at q = 0) with every other direction free,
+    m_n = 1 / (n^T M^-1 n), M = M(q) given: the mass a rigid rim's impulse
+    along n sees (on the x axis the planar TFP's det M / M_jj), into
+    sc[SP_M:SP_M + 2]."""
+    for b in range(2):
+        vx, vy = q[2 * b], q[2 * b + 1]
+        rho = math.sqrt(vx * vx + vy * vy)
+        nx, ny = 1.0, 0.0
+        if rho > 0.0:
+            nx, ny = vx / rho, vy / rho
+        for i in range(4):
+            sc[SP_V + i] = 0.0
+        sc[SP_V + 2 * b] = nx
+        sc[SP_V + 2 * b + 1] = ny
+        chol_solve(M, sc[SP_V:SP_V + 4], sc[SP_V + 4:SP_V + 8], sc[SP_LL:SP_LL + 16])
+        sc[SP_M + b] = 1.0 / (nx * sc[SP_V + 4 + 2 * b] + ny * sc[SP_V + 5 + 2 * b])
+
+
+def rim_spring_force(par, q0, x, h, sc):
+    """The rims' generalised force over the increment x from q0 in the time h
+    into sc[SP_F:SP_F + 4], its Jacobian in x (symmetric, positive
+    semi-definite) into sc[SP_J:SP_J + 16]; returns the dashpots' loss.
+    Per block, from v0 to v1 = v0 + x: the radial law of each of its two
+    surfaces, rim_law.slide on rho = |v| from |v0| to |v1| (the spring k R^2
+    beyond d / R and its secant, the dashpot c R^2, c = 2 zeta sqrt(k m_eff),
+    m_eff = m_n / sum R^2, ``rim_spring_mass``), their sum f along
+    u = (v0 + v1) / (|v0| + |v1|). u . x = |v1| - |v0|, so the force's work
+    over x is the springs' energy change plus the loss: the discrete
+    gradient of the central potential (exact for any increment), on the x
+    axis the planar TFP's rim_coordinate. Jacobian: j u u^T + (f / (|v0| +
+    |v1|))_+ (I - u u^T) (j = df / d|v1|), the derivative's symmetric part
+    at a short increment."""
+    k = par[tk.I_KRIM]
+    z = par[tk.I_ZRIM]
+    loss = 0.0
+    for i in range(20):
+        sc[SP_F + i] = 0.0
+    for b in range(2):
+        ax, ay = q0[2 * b], q0[2 * b + 1]
+        bx, by = ax + x[2 * b], ay + x[2 * b + 1]
+        r0 = math.sqrt(ax * ax + ay * ay)
+        r1 = math.sqrt(bx * bx + by * by)
+        f = 0.0
+        j = 0.0
+        for n in range(2):
+            i = 3 * n if b == 0 else 1 + n       # phi: S1, S4; alpha: S2, S3
+            R = par[tk.I_R1 + i]
+            cap = par[tk.I_D1 + i] / R
+            if r0 <= cap and r1 <= cap:
+                continue
+            c = 0.0
+            if z != 0.0:
+                c = rl.dashpot_coefficient(z, k, sc[SP_M + b] / par[tk.I_SR + i]) * R * R
+            a, d, l = rl.slide(k * R * R, c, cap, r0, r1 - r0, h)
+            f += a
+            j += d
+            loss += l
+        if f == 0.0 and j == 0.0:
+            continue
+        s = r0 + r1
+        ux, uy = (ax + bx) / s, (ay + by) / s
+        sc[SP_F + 2 * b] = f * ux
+        sc[SP_F + 2 * b + 1] = f * uy
+        ft = f / s if f > 0.0 else 0.0
+        i0 = SP_J + 10 * b        # the block's diagonal 2x2 of the row-major 4x4
+        sc[i0] = j * ux * ux + ft * (1.0 - ux * ux)
+        sc[i0 + 1] = (j - ft) * ux * uy
+        sc[i0 + 4] = (j - ft) * ux * uy
+        sc[i0 + 5] = j * uy * uy + ft * (1.0 - uy * uy)
+    return loss
+
+
+def rim_spring_linearise(par, q0, x, h, G, r, H, Hn, rn, sc):
+    """The step's problem with the rims' force linearised about the iterate x
+    (Newton's iteration on the increment; at its fixed point the force is
+    exact): G and r less the force, Hn = H + J, rn = r + J x (Hn, rn may
+    be H, r). Returns the dashpots' loss over x."""
+    loss = rim_spring_force(par, q0, x, h, sc)
+    for i in range(4):
+        G[i] -= sc[SP_F + i]
+        r[i] -= sc[SP_F + i]
+    for i in range(4):
+        s = 0.0
+        for j in range(4):
+            Hn[4 * i + j] = H[4 * i + j] + sc[SP_J + 4 * i + j]
+            s += sc[SP_J + 4 * i + j] * x[j]
+        rn[i] = r[i] + s
+    return loss
+
+
+def rim_spring_settled(ch, x):
+    """Newton's iteration on the increment has settled to round-off of it (the
+    springs' force, large on a light block, leaves its last ulps to the iteration)."""
+    return ch <= 1e-13 * (abs(x[0]) + abs(x[1]) + abs(x[2]) + abs(x[3]))
+
+
+def rim_spring_energy(par, q):
+    """The rim springs' energy, sum over S1..S4 of k o_i^2 / 2, o_i = (R_i |v_i| - d_i)_+
+    (v_i = phi for S1, S4, alpha for S2, S3; 0: rigid rims)."""
+    k = par[tk.I_KRIM]
+    if k == 0.0:
+        return 0.0
+    e = 0.0
+    for i in range(4):
+        b = 0 if (i == 0 or i == 3) else 2
+        rho = math.sqrt(q[b] * q[b] + q[b + 1] * q[b + 1])
+        e += rl.spring_energy(k, rl.overlap(par[tk.I_R1 + i] * rho - par[tk.I_D1 + i]))
+    return e
+
+
+def rim_spring_hits(par, S, sc):
+    """A step's contacts with rims of finite stiffness: a surface's slide
+    passing its capacity from the step's start (step_scratch's q0) to S."""
+    for i in range(4):
+        b = 0 if (i == 0 or i == 3) else 2
+        r0 = math.sqrt(sc[100 + b] * sc[100 + b] + sc[101 + b] * sc[101 + b])
+        r1 = math.sqrt(S[b] * S[b] + S[b + 1] * S[b + 1])
+        R = par[tk.I_R1 + i]
+        if R * r0 <= par[tk.I_D1 + i] and R * r1 > par[tk.I_D1 + i]:
+            S[S_NHIT + i] += 1.0
+
+
+def rim_spring_relax(x, xn, sc):
+    """``rim_relax`` for the step with rim springs, past its first iterations:
+    the new iterate xn relaxed, x + w (xn - x), w = 1 / (1 - lambda) for the
+    factor lambda of the last two changes, alternating (lambda < 0) or
+    creeping (0 < lambda <= 0.9: a large increment deep past a rim slows the
+    fixed point on M(q1) to about 0.65; w <= 10). The fixed point is the same."""
+    dd = 0.0
+    dp = 0.0
+    for i in range(4):
+        d = xn[i] - x[i]
+        dd += d * sc[R_DXP + i]
+        dp += sc[R_DXP + i] * sc[R_DXP + i]
+    om = 1.0
+    if dp > 0.0:
+        lam = 1.0 + (dd / dp - 1.0) / sc[R_OM]
+        if lam < 0.0 or (lam > 0.0 and lam <= 0.9):
+            om = 1.0 / (1.0 - lam)
+            if om < 0.05:
+                om = 0.05
+    for i in range(4):
+        sc[R_DXP + i] = xn[i] - x[i]
+        xn[i] = x[i] + om * (xn[i] - x[i])
+    sc[R_OM] = om

@@ -59,7 +59,7 @@ class TFP3DTwoPhaseStepper(TFP3DStepper):
         return float(self.S[K.S_ERS])
 
     def ledger_residual(self) -> float:
-        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_reseat + self.E_land)
+        return self.E_in - (self.E_kin() + self.E_pot() + sum(self.W) + self.E_rim + self.E_reseat + self.E_land)
 
     def values(self) -> tuple:
         n = self.n

@@ -143,6 +143,11 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         z4[i] = 0.0
     k3.mass_matrix(par, q0, M0, tmp)
     matvec(M0, st[4:8], p0)
+    # rims of finite stiffness (docs/model.md 6.12): their force linearised about
+    # each iterate into H + J (the frozen H kept) and r + J x, Newton on the increment
+    springs = par[tk.I_KRIM] != 0.0
+    if springs:
+        k3.rim_spring_mass(par, q0, M0, sc)
     kk = 2.0 / (dt * dt)
     for i in range(16):
         H[i] = kk * M0[i]
@@ -169,6 +174,11 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             r[i] = 2.0 * p0[i] / dt + G[i]
         for blk in range(2):
             ry[2 * blk], ry[2 * blk + 1] = k3.linv(Lm, blk, r[2 * blk], r[2 * blk + 1])
+        if springs:
+            Hn = sc[k3.SP_H:k3.SP_H + 16]
+            rn = sc[k3.SP_R:k3.SP_R + 4]
+            sc[k3.SP_LOSS] = k3.rim_spring_linearise(par, q0, x, dt, G, r, H, Hn, rn, sc)
+            k3._to_metric(Hn, rn, Lm, Hy, ry, tmp)
         if machine == 1:
             # D: the discrete gradient of u (D^T dq = u(q1) - u(q0)); in y, L^-1 D
             k3.dgrad_u(par, q0, q1, D, sc)
@@ -183,6 +193,9 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             x[2 * blk] = a0
             x[2 * blk + 1] = a1
         if ch <= k3.FIXED_POINT_TOL:
+            converged = True
+            break
+        if springs and k3.rim_spring_settled(ch, x):
             converged = True
             break
     k3.fixed_point_end(converged, ch, x, mfail, out)
@@ -215,6 +228,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         k3.mass_matrix(par, q1, H, tmp)
         ein += k3.machine_velocity(par, st, H, z1, z2, ud1x, ud1y, sc)
     k3.step_out(out, x, ein, wo, wi, arr_o, arr_i, it)
+    if springs:
+        out[k3.O_RIM] = sc[k3.SP_LOSS]
     if k3.past_rims(par, st):
         out[k3.O_FAIL] = k3.FAIL_RIM
 
@@ -276,6 +291,10 @@ def advance(par, S, dt, agx, agy, az, mu1, mu2, mu3, mu4, machine, u1x, u1y, ud1
     rest0 = S[4] == 0.0 and S[5] == 0.0 and S[6] == 0.0 and S[7] == 0.0
     a1, a2, c_o, c_i, ux0, uy0 = k3.begin_advance(par, S, agx, agy, az, mu1, mu2, mu3, mu4, machine, sc)
     step(par, S[0:8], dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out, sc)
+    if par[tk.I_KRIM] != 0.0:
+        # rims of finite stiffness: the dashpots' loss and the contacts
+        S[k3.S_ERIM] += out[k3.O_RIM]
+        k3.rim_spring_hits(par, S, sc)
     fail = k3.finish_advance(par, S, dt, agx, agy, machine, a1, a2, c_o, c_i, ux0, uy0, 0, out, sc)
     S[S_ERS] += out[O_RESEAT]
     # the phases (Figs. 6-7): 2 with one pair sliding, 3 with both

@@ -1389,14 +1389,12 @@ def tfp_cross_checks(ctx, data) -> None:
         tfp3d_checks(ctx, data)
     else:
         planar_only(ctx, data, "TFP")
-    if is_bidirectional(data):
-        rigid_rim_only(ctx, data, "TFP in both directions")
-    else:
-        rim_stiffness_keys(ctx, data["device"], data["loading"])
-        if data["device"].get("rim_stiffness_N_per_m") is not None and (
-                data["loading"].get("path_z") or data["loading"].get("vertical_scale") is not None):
-            ctx.fail("device.rim_stiffness_N_per_m", data["device"]["rim_stiffness_N_per_m"], "not yet with a "
-                     "vertical ground motion for the TFP (its rims are then rigid: leave the stiffness out)")
+    # a rim of finite stiffness: the planar TFP's and the TFP's in both directions (seated and two-phase)
+    rim_stiffness_keys(ctx, data["device"], data["loading"])
+    if data["device"].get("rim_stiffness_N_per_m") is not None and (
+            data["loading"].get("path_z") or data["loading"].get("vertical_scale") is not None):
+        ctx.fail("device.rim_stiffness_N_per_m", data["device"]["rim_stiffness_N_per_m"], "not yet with a "
+                 "vertical ground motion for the TFP (its rims are then rigid: leave the stiffness out)")
     from fpd.mechanics.tfp import tfp_geometry_errors
 
     geom = tfp_geometry(data)
@@ -1517,19 +1515,6 @@ def rim_stiffness_keys(ctx, dev: dict, ld: dict) -> None:
         if ld["kind"] == "displacement":
             ctx.fail("device.rim_stiffness_N_per_m", k, "is for a ground motion: the test machine's programme "
                      "stays within the capacity")
-
-
-def rigid_rim_only(ctx, data, device: str) -> None:
-    """A rim of finite stiffness (and its damping) is the DFP's, the SFP's, the planar TFP's and the flat
-    bearing's; ``device`` has rigid rims only."""
-    k = data["device"].get("rim_stiffness_N_per_m")
-    zeta = data["device"].get("rim_damping_ratio", 0.0)
-    if k is None and zeta != 0.0:
-        ctx.fail("device.rim_damping_ratio", zeta, f"not yet for this device: the {device} has rigid rims only "
-                 "(a DFP, an SFP, the planar TFP or a flat bearing takes a finite rim stiffness and its damping)")
-    if k is not None:
-        ctx.fail("device.rim_stiffness_N_per_m", k, f"not yet for this device: the {device} has rigid rims only "
-                 "(a DFP, an SFP, the planar TFP or a flat bearing takes a finite rim stiffness)")
 
 
 def flat_cross_checks(ctx, data) -> None:

@@ -128,7 +128,7 @@ def test_the_rim_dashpot_is_booked_in_the_ledger(scene, over):
     ("sfp-harmonic", ["device.rim_stiffness_N_per_m=1e9", "device.rim_damping_ratio=-0.1"], "must be in [0, 1)"),
     ("tfp-elcentro", ["device.rim_damping_ratio=0.1"], "device.rim_damping_ratio = 0.1: damps a rim of finite"),
     ("tfp-elcentro", ['loading.record="impvall-1979-e11"', "device.rim_damping_ratio=0.1"],
-     "not yet for this device: the TFP in both directions has rigid rims only"),
+     "device.rim_damping_ratio = 0.1: damps a rim of finite"),
     ("flat-lab", ["device.rim_damping_ratio=0.1"], "device.rim_damping_ratio = 0.1: damps a rim of finite"),
 ])
 def test_rim_damping_is_refused_where_it_has_no_spring(scene, over, needle):
