@@ -709,11 +709,11 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         for blk in range(2):
             tmp[2 * blk], tmp[2 * blk + 1] = linv(Lm, blk, y[2 * blk], y[2 * blk + 1])
         if rb == 0 and it > 6 and rim_involved(sc):
-            rim_relax(x, tmp, sc)
+            rim_relax(x, tmp, sc, 0.0)
         if springs and it > 6:
             # (a block held by its springs, the other fast: the iteration may alternate,
             # or creep at a ratio near 0.65 deep past a rim at a large step)
-            rim_spring_relax(x, tmp, sc)
+            rim_relax(x, tmp, sc, 0.9)
         ch = 0.0
         for i in range(4):
             ch += abs(tmp[i] - x[i])
@@ -1475,14 +1475,16 @@ def rim_snap(par, q0, x, y, ry, Lm, nobounds, sc):
             ry[2 * k + 1] -= sc[R_NU + k] * sc[R_M + 2 * k + 1]
 
 
-def rim_relax(x, xn, sc):
+def rim_relax(x, xn, sc, creep):
     """The step's fixed point with a rim in it, past its first iterations: a
     block pressed into its rim along a turning normal can make the plain
     iteration alternate and converge slowly (or not); the new iterate xn is
     relaxed, x + w (xn - x), w = 1 / (1 - lambda) for an alternating factor
     lambda < 0 estimated from the last two changes (Irons and Tuck's secant
-    in one dimension; w = 1, the plain iteration, otherwise). The fixed point,
-    where xn = x, is the same."""
+    in one dimension; w = 1, the plain iteration, otherwise), and for a
+    creeping one, 0 < lambda <= creep (rim springs: 0.9, a large increment
+    deep past a rim slows the fixed point on M(q1) to about 0.65, w <= 10;
+    rigid rims: 0, none). The fixed point, where xn = x, is the same."""
     dd = 0.0
     dp = 0.0
     for i in range(4):
@@ -1493,7 +1495,7 @@ def rim_relax(x, xn, sc):
     if dp > 0.0:
         # the raw changes' ratio is the relaxed factor 1 + w0 (lambda - 1)
         lam = 1.0 + (dd / dp - 1.0) / sc[R_OM]
-        if lam < 0.0:
+        if lam < 0.0 or (lam > 0.0 and lam <= creep):
             om = 1.0 / (1.0 - lam)
             if om < 0.05:
                 om = 0.05
@@ -2540,28 +2542,3 @@ def rim_spring_hits(par, S, sc):
         R = par[tk.I_R1 + i]
         if R * r0 <= par[tk.I_D1 + i] and R * r1 > par[tk.I_D1 + i]:
             S[S_NHIT + i] += 1.0
-
-
-def rim_spring_relax(x, xn, sc):
-    """``rim_relax`` for the step with rim springs, past its first iterations:
-    the new iterate xn relaxed, x + w (xn - x), w = 1 / (1 - lambda) for the
-    factor lambda of the last two changes, alternating (lambda < 0) or
-    creeping (0 < lambda <= 0.9: a large increment deep past a rim slows the
-    fixed point on M(q1) to about 0.65; w <= 10). The fixed point is the same."""
-    dd = 0.0
-    dp = 0.0
-    for i in range(4):
-        d = xn[i] - x[i]
-        dd += d * sc[R_DXP + i]
-        dp += sc[R_DXP + i] * sc[R_DXP + i]
-    om = 1.0
-    if dp > 0.0:
-        lam = 1.0 + (dd / dp - 1.0) / sc[R_OM]
-        if lam < 0.0 or (lam > 0.0 and lam <= 0.9):
-            om = 1.0 / (1.0 - lam)
-            if om < 0.05:
-                om = 0.05
-    for i in range(4):
-        sc[R_DXP + i] = xn[i] - x[i]
-        xn[i] = x[i] + om * (xn[i] - x[i])
-    sc[R_OM] = om

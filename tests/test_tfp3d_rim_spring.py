@@ -29,7 +29,7 @@ from fpd.mechanics.tfp3d import TFP3DStepper
 from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
 from fpd.schema import scene as scn
 from tests.test_tfp import tfp
-from tests.test_tfp_rim_spring import bounce, crossing_times
+from tests.test_tfp_rim_spring import bounce, crossing_times, frictionless_states
 
 DTS = (1e-3, 5e-4, 2.5e-4)
 MUS = (0.08, 0.02, 0.02, 0.08)
@@ -55,12 +55,8 @@ def launch(dt, block, k, vn, vt=0.0, ang=0.0, zeta=0.0, model="seated", duration
     s.S[b], s.S[b + 1] = r0 * c, r0 * sn
     s.S[4 + b], s.S[5 + b] = vn * c - vt * sn, vn * sn + vt * c
     s.S[K.S_EIN] = E0 = s.E_kin() + s.E_pot()
-    states, res = [s.S[0:8].copy()], [0.0]
-    for _ in range(n):
-        s.step(0.0, 0.0, 0.0, 0.0)
-        states.append(s.S[0:8].copy())
-        res.append(s.ledger_residual())
-    return s, np.array(states), np.array(res), E0
+    states, res = frictionless_states(s, n, 8)
+    return s, states, res, E0
 
 
 def radial(st, block):

@@ -44,12 +44,19 @@ def bounce(dt, coord, k, v, zeta=0.0, model="seated", duration=0.05):
     s.S[coord] = g.qmax[coord] - 2.37e-3 * v
     s.S[2 + coord] = v
     s.S[K.S_EIN] = E0 = s.E_kin() + s.E_pot()
-    states, res = [s.S[0:4].copy()], [0.0]
+    states, res = frictionless_states(s, n, 4)
+    return s, states, res, E0
+
+
+def frictionless_states(s, n, width):
+    """Step s n times without friction: its first ``width`` state entries (the
+    coordinates and their rates) and its ledger residual, the start's first."""
+    states, res = [s.S[0:width].copy()], [0.0]
     for _ in range(n):
         s.step(0.0, 0.0, 0.0, 0.0)
-        states.append(s.S[0:4].copy())
+        states.append(s.S[0:width].copy())
         res.append(s.ledger_residual())
-    return s, np.array(states), np.array(res), E0
+    return np.array(states), np.array(res)
 
 
 def crossing_times(t, q, v, level):
