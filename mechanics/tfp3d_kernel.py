@@ -202,6 +202,36 @@ def chol_solve(A, b, x, L):
     return 0
 
 
+def solve4(A, b, x):
+    """x = A^-1 b for the symmetric positive definite 4x4 A (row-major) by
+    blocks of the x components (0, 2) and the y components (1, 3): the y
+    part from the Schur complement S = A_yy - A_yx A_xx^-1 A_xy, then
+    x_x = A_xx^-1 (b_x - A_xy x_y), each 2x2 solve by Cramer's rule. With no
+    coupling of the x and y components and no y load, x_y = 0 and x_x is
+    the 2x2 solve of the planar TFP (tfp_kernel.solve2) to the last bit."""
+    a11, a12, a22 = A[0], A[2], A[10]
+    det = a11 * a22 - a12 * a12
+    # A_xx^-1 b_x and A_xx^-1 A_xy (the columns y0 = 1, y1 = 3)
+    u0 = (a22 * b[0] - a12 * b[2]) / det
+    u1 = (a11 * b[2] - a12 * b[0]) / det
+    z00 = (a22 * A[1] - a12 * A[9]) / det
+    z10 = (a11 * A[9] - a12 * A[1]) / det
+    z01 = (a22 * A[3] - a12 * A[11]) / det
+    z11 = (a11 * A[11] - a12 * A[3]) / det
+    s11 = A[5] - (A[4] * z00 + A[6] * z10)
+    s12 = A[7] - (A[4] * z01 + A[6] * z11)
+    s22 = A[15] - (A[12] * z01 + A[14] * z11)
+    c0 = b[1] - (A[4] * u0 + A[6] * u1)
+    c1 = b[3] - (A[12] * u0 + A[14] * u1)
+    ds = s11 * s22 - s12 * s12
+    x[1] = (s22 * c0 - s12 * c1) / ds
+    x[3] = (s11 * c1 - s12 * c0) / ds
+    e0 = b[0] - (A[1] * x[1] + A[3] * x[3])
+    e1 = b[2] - (A[9] * x[1] + A[11] * x[3])
+    x[0] = (a22 * e0 - a12 * e1) / det
+    x[2] = (a11 * e1 - a12 * e0) / det
+
+
 def kinetic(par, q, v, sc):
     """T(q, v). sc: scratch >= 12."""
     aa = par[tk.I_AA] + par[tk.I_JPHI]
@@ -680,9 +710,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             q1[i] = q0[i] + x[i]
         dgrad(par, q0, q1, p0, agx, agy, az, G, sc)
         mass_matrix(par, q1, H, tmp)
-        k = 2.0 / (dt * dt)
         for i in range(16):
-            H[i] *= k
+            H[i] = 2.0 * H[i] / (dt * dt)
         for i in range(4):
             r[i] = 2.0 * p0[i] / dt + G[i]
         # in y = L dq: H' = L^-1 H L^-1, r' = L^-1 r (L block-diagonal, symmetric)
@@ -715,15 +744,19 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     machine_kkt(Hy, ry, Dy, Fm, c_o, c_i, y, machine, out)
     # the generalised force of friction Phi = r - H dq; p1 = p0 + dt (G - Phi)
     for i in range(4):
-        q1[i] = q0[i] + x[i]
-    for i in range(4):
-        s = r[i]
+        s = 0.0
         for j in range(4):
-            s -= H[4 * i + j] * x[j]
+            s += H[4 * i + j] * x[j]
+        s = r[i] - s
         tmp[i] = p0[i] + dt * (G[i] - s)          # p1
         sc[R_PHI + i] = s
+    # the rates in the metric the last iterate's program was built with (q1
+    # still holds that iterate's end, within the fixed point's tolerance of
+    # the final one: the planar TFP's order of operations)
     mass_matrix(par, q1, H, tmp[8:20])
-    chol_solve(H, tmp[0:4], tmp[4:8], sc[200:216])
+    for i in range(4):
+        q1[i] = q0[i] + x[i]
+    solve4(H, tmp[0:4], tmp[4:8])
     for i in range(4):
         st[4 + i] = tmp[4 + i]
     for i in range(4):
@@ -781,9 +814,16 @@ def machine_gap(par, q0, machine, u1x, u1y, tmp):
 
 
 def linv(Lm, blk, a0, a1):
-    """L^-1 (a0, a1) for the block blk of the arc metric Lm (``metric_root``)."""
+    """L^-1 (a0, a1) for the block blk of the arc metric Lm (``metric_root``),
+    through L^-1's entries (as ``_to_metric``): along a tilt on an axis the
+    entry along it is 1 exactly and the cross entry 0, so that component is
+    its a to the last bit (the planar TFP's increment)."""
     k = 4 * blk
-    return (Lm[k + 2] * a0 - Lm[k + 1] * a1) / Lm[k + 3], (Lm[k] * a1 - Lm[k + 1] * a0) / Lm[k + 3]
+    det = Lm[k + 3]
+    i11 = Lm[k + 2] / det
+    i12 = -Lm[k + 1] / det
+    i22 = Lm[k] / det
+    return i11 * a0 + i12 * a1, i12 * a0 + i22 * a1
 
 
 def to_y(Lm, D, Dy):
@@ -836,11 +876,13 @@ def stop_block(M, v, blk, p):
     its momentum p = M v (given), its rates M_oo^-1 p_o."""
     o = 2 - 2 * blk
     m11, m12, m22 = M[5 * o], M[5 * o + 1], M[5 * o + 5]
-    det = m11 * m22 - m12 * m12
     v[2 * blk] = 0.0
     v[2 * blk + 1] = 0.0
-    v[o] = (m22 * p[o] - m12 * p[o + 1]) / det
-    v[o + 1] = (m11 * p[o + 1] - m12 * p[o]) / det
+    # by elimination (the second component first): with m12 = 0 each rate is
+    # its momentum over its mass, the planar TFP's arrest to the last bit
+    k = m12 / m11
+    v[o + 1] = (p[o + 1] - k * p[o]) / (m22 - k * m12)
+    v[o] = (p[o] - m12 * v[o + 1]) / m11
 
 
 def arrest(par, q, M, v, z1, z2, tmp):
@@ -1362,10 +1404,7 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
         t1 = p0_ / npv
         off = -(t0 * q0[2 * k] + t1 * q0[2 * k + 1])      # t . (qb - q0), t . qb = 0
         kap = nu / rim_qmax(par, k, nobounds)
-        k0 = 4 * k
-        l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-        w0 = (l22 * t0 - l12 * t1) / det
-        w1 = (l11 * t1 - l12 * t0) / det
+        w0, w1 = linv(Lm, k, t0, t1)
         i0 = 2 * k
         H[4 * i0 + i0] += kap * w0 * w0
         H[4 * i0 + i0 + 1] += kap * w0 * w1
@@ -1382,10 +1421,7 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
             if sc[R_ACT + k] != 0.0:
                 continue
             qm = rim_qmax(par, k, nobounds)
-            k0 = 4 * k
-            l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-            d0 = (l22 * y[2 * k] - l12 * y[2 * k + 1]) / det
-            d1 = (l11 * y[2 * k + 1] - l12 * y[2 * k]) / det
+            d0, d1 = linv(Lm, k, y[2 * k], y[2 * k + 1])
             e0 = q0[2 * k] + d0
             e1 = q0[2 * k + 1] + d1
             ne = math.sqrt(e0 * e0 + e1 * e1)
@@ -1407,8 +1443,7 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
                     h = 0.0
                 if h < 0.0:
                     h = 0.0
-                m0 = (l22 * n0 - l12 * n1) / det
-                m1 = (l11 * n1 - l12 * n0) / det
+                m0, m1 = linv(Lm, k, n0, n1)
                 if m0 * y[2 * k] + m1 * y[2 * k + 1] > h or tr == 1:
                     break
             sc[R_N + 2 * k] = n0
