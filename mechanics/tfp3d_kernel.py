@@ -149,29 +149,62 @@ def d2e(vx, vy, wx, wy, ux, uy, o, k):
 
 
 # -- mass matrix (4x4, row-major into M[0:16]) -----------------------------------------
+def _ecols(vx, vy):
+    """The columns of E(v) = De(v): De(v)[e_x], De(v)[e_y] (3 components each)."""
+    t = vx * vx + vy * vy
+    s = sfun(t)
+    sd = _sder(t)
+    a = 2.0 * sd
+    return (-s - a * vx * vx, -a * vx * vy, -s * vx,
+            -a * vy * vx, -s - a * vy * vy, -s * vy)
+
+
+def _cross(px, py, sx, sy, o):
+    """C = E(phi)^T E(psi) (C_ij = De(phi)[e_i] . De(psi)[e_j]) into o[0:4] = (C_xx, C_xy, C_yx, C_yy)."""
+    a0, a1, a2, b0, b1, b2 = _ecols(px, py)
+    c0, c1, c2, d0, d1, d2 = _ecols(sx, sy)
+    o[0] = a0 * c0 + a1 * c1 + a2 * c2
+    o[1] = a0 * d0 + a1 * d1 + a2 * d2
+    o[2] = b0 * c0 + b1 * c1 + b2 * c2
+    o[3] = b0 * d0 + b1 * d1 + b2 * d2
+
+
 def mass_matrix(par, q, M, sc):
-    """M(q), q = (phi_x, phi_y, alpha_x, alpha_y). sc: scratch >= 12."""
-    aa = par[tk.I_AA] + par[tk.I_JPHI]
-    bb = par[tk.I_B] + par[tk.I_JPSI]
-    K = par[tk.I_K]
+    """M(q), q = (phi_x, phi_y, alpha_x, alpha_y). sc: scratch >= 8.
+
+    The Gram matrices E^T E = I - k m m^T (k = (1 - s^2) / t, m = (-v_y, v_x):
+    radial unit length, azimuthal s) in closed form; the cross one C =
+    E(phi)^T E(psi) from the columns, its xx entry as cos(alpha_x), its value
+    at the tilts' x components (phi and psi on the x axis: the angle between
+    the axes is alpha_x), plus its change from there, C_xx(q) - C_xx(x
+    components) (0 on the axis). The terms are summed in the planar TFP's
+    order (Aa, B, K, Jphi, Jpsi): on the axis M's x entries are its
+    mass_matrix to the last bit."""
+    Aa, B, K, Jphi, Jpsi = par[tk.I_AA], par[tk.I_B], par[tk.I_K], par[tk.I_JPHI], par[tk.I_JPSI]
     px, py = q[0], q[1]
     sx, sy = q[0] + q[2], q[1] + q[3]
-    # columns of E(phi) and E(psi)
-    de(px, py, 1.0, 0.0, sc, 0)
-    de(px, py, 0.0, 1.0, sc, 3)
-    de(sx, sy, 1.0, 0.0, sc, 6)
-    de(sx, sy, 0.0, 1.0, sc, 9)
+    tp = px * px + py * py
+    ts = sx * sx + sy * sy
+    kp = lfun(tp) * (1.0 + sfun(tp))
+    ks = lfun(ts) * (1.0 + sfun(ts))
+    _cross(px, 0.0, sx, 0.0, sc)
+    c_ax = sc[0]
+    _cross(px, py, sx, sy, sc)
+    sc[0] = math.cos(q[2]) + (sc[0] - c_ax)
     for i in range(2):
         for j in range(2):
-            gp = sc[3 * i] * sc[3 * j] + sc[3 * i + 1] * sc[3 * j + 1] + sc[3 * i + 2] * sc[3 * j + 2]
-            gs = sc[6 + 3 * i] * sc[6 + 3 * j] + sc[6 + 3 * i + 1] * sc[6 + 3 * j + 1] \
-                + sc[6 + 3 * i + 2] * sc[6 + 3 * j + 2]
-            cij = sc[3 * i] * sc[6 + 3 * j] + sc[3 * i + 1] * sc[6 + 3 * j + 1] + sc[3 * i + 2] * sc[6 + 3 * j + 2]
-            cji = sc[3 * j] * sc[6 + 3 * i] + sc[3 * j + 1] * sc[6 + 3 * i + 1] + sc[3 * j + 2] * sc[6 + 3 * i + 2]
-            M[4 * i + j] = aa * gp + bb * gs + K * (cij + cji)
-            M[4 * i + 2 + j] = bb * gs + K * cij
-            M[4 * (2 + j) + i] = bb * gs + K * cij
-            M[4 * (2 + i) + 2 + j] = bb * gs
+            if i == j:
+                gp = 1.0 - kp * (py * py if i == 0 else px * px)
+                gs = 1.0 - ks * (sy * sy if i == 0 else sx * sx)
+            else:
+                gp = kp * px * py
+                gs = ks * sx * sy
+            cij = sc[2 * i + j]
+            cji = sc[2 * j + i]
+            M[4 * i + j] = Aa * gp + B * gs + K * (cij + cji) + Jphi * gp + Jpsi * gs
+            M[4 * i + 2 + j] = B * gs + K * cij + Jpsi * gs
+            M[4 * (2 + j) + i] = M[4 * i + 2 + j]
+            M[4 * (2 + i) + 2 + j] = B * gs + Jpsi * gs
 
 
 def chol_solve(A, b, x, L):
