@@ -435,12 +435,27 @@ def block_min(a11, a12, a22, b1, b2, c, y):
     lo = c * lmin / (nb - c)
     hi = c * lmax / (nb - c)
     mu = 0.5 * (lo + hi)
+    on_axis = False
     if be2 == 0.0 and be1 != 0.0:
         mu = c * l1 / (nb - c)
         lo = hi = mu
+        on_axis = True
     elif be1 == 0.0 and be2 != 0.0:
         mu = c * l2 / (nb - c)
         lo = hi = mu
+        on_axis = True
+    if on_axis:
+        # b along an eigenvector: y there is (b - c b / |b|) / lambda, the
+        # planar TFP's candidate (tfp_kernel._qp_cands) to the last bit
+        y1 = 0.0
+        y2 = 0.0
+        if be2 == 0.0:
+            y1 = (be1 - (c if be1 > 0.0 else -c)) / l1
+        else:
+            y2 = (be2 - (c if be2 > 0.0 else -c)) / l2
+        y[0] = cs * y1 + sn * y2
+        y[1] = -sn * y1 + cs * y2
+        return
     for it in range(100):
         if lo == hi:
             break
@@ -580,7 +595,28 @@ def socp(H, r, c1, c2, y, sc):
         # with the other held) converge for any strictly convex H, slowly
         _sweeps(H, r, c1, c2, y, sc, 200000, 1e-32)
         its += 1000
+    _polish(H, r, c1, c2, y, sc)
     return its
+
+
+def _polish(H, r, c1, c2, y, sc):
+    """Both blocks sliding: the stationarity H y = r - c1 d_a - c2 d_b solved
+    once more with the directions d_k = y_k / |y_k| of the solution (its
+    fixed point there, a change of round-off; kept only if it leaves each
+    block's direction). On an axis it is the planar TFP's candidate of two
+    free coordinates to the last bit. sc: scratch (sc[12:20])."""
+    na = math.sqrt(y[0] * y[0] + y[1] * y[1])
+    nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
+    if na == 0.0 or nb == 0.0:
+        return
+    sc[12] = r[0] - c1 * (y[0] / na)
+    sc[13] = r[1] - c1 * (y[1] / na)
+    sc[14] = r[2] - c2 * (y[2] / nb)
+    sc[15] = r[3] - c2 * (y[3] / nb)
+    solve4(H, sc[12:16], sc[16:20])
+    if sc[16] * y[0] + sc[17] * y[1] > 0.0 and sc[18] * y[2] + sc[19] * y[3] > 0.0:
+        for i in range(4):
+            y[i] = sc[16 + i]
 
 
 def _sweeps(H, r, c1, c2, y, sc, n, tol):
