@@ -367,6 +367,51 @@ def grad_f(par, q, p, agx, agy, az, blk, g, sc):
 
 def dgrad(par, q0, q1, p, agx, agy, az, G, sc):
     """Minus the discrete gradient of f (grad_f) from q0 to q1 into G[0:4]:
+    phi first (alpha at alpha0), then alpha (phi at phi1), so that
+    G . (q1 - q0) = -(f(q1) - f(q0)) to round-off. Each block's gradient
+    averaged over its segment (``dgrad_gl``), with its part on the x axis in
+    closed form: the same average for the x components alone (q, p and ag
+    with their y components 0: the planar problem along x) is replaced by
+    the planar TFP's closed form of it (Itoh-Abe: cos a - cos b as a
+    product, the kinetic energy's change as -1/2 w1^T dM w0), exact in
+    exact arithmetic, so G = closed form + (average - its value on the axis);
+    on the axis that is the planar TFP's discrete gradient to the last bit.
+    sc: scratch >= 100 (sc[60:70] the averages', sc[70:100] the axis')."""
+    dgrad_gl(par, q0, q1, p, agx, agy, az, G, sc)
+    for i in range(4):
+        sc[70 + i] = q0[i] if i % 2 == 0 else 0.0
+        sc[74 + i] = q1[i] if i % 2 == 0 else 0.0
+        sc[78 + i] = p[i] if i % 2 == 0 else 0.0
+    dgrad_gl(par, sc[70:74], sc[74:78], sc[78:82], agx, 0.0, az, sc[82:86], sc)
+    for i in range(4):
+        G[i] -= sc[82 + i]
+    # the closed form on the axis (tfp_kernel.substep's G1, G2)
+    P1, P2, gz = par[tk.I_P1], par[tk.I_P2], par[tk.I_G] + az
+    ph0, al0, ph1, al1 = q0[0], q0[2], q1[0], q1[2]
+    dTa = 0.0
+    if p[0] != 0.0 or p[2] != 0.0:
+        # -1/2 w1^T dM w0 / dalpha, dM = K (cos al1 - cos al0) [[2, 1], [1, 0]]
+        tk.mass_matrix(par, al1, sc[86:89])
+        tk.solve2(sc[86], sc[87], sc[88], p[0], p[2], sc[89:91])
+        w11, w12 = sc[89], sc[90]
+        tk.mass_matrix(par, al0, sc[86:89])
+        tk.solve2(sc[86], sc[87], sc[88], p[0], p[2], sc[89:91])
+        w01, w02 = sc[89], sc[90]
+        K = par[tk.I_K]
+        dTa = 0.5 * (2.0 * K * w11 * w01 + K * (w11 * w02 + w12 * w01)) * math.sin(0.5 * (al0 + al1)) \
+            * tk.sinc(0.5 * (al1 - al0))
+    tk.dgrad_cos_sin(gz * P1, gz * P2, ph0, al0, ph1, al1, sc[91:93], 0)
+    g1 = -sc[91]
+    g2 = -dTa - sc[92]
+    tk.dgrad_cos_sin(P1, P2, ph0, al0, ph1, al1, sc[91:93], 1)
+    g1 -= agx * sc[91]
+    g2 -= agx * sc[92]
+    G[0] = g1 + G[0]
+    G[2] = g2 + G[2]
+
+
+def dgrad_gl(par, q0, q1, p, agx, agy, az, G, sc):
+    """Minus the discrete gradient of f (grad_f) from q0 to q1 into G[0:4]:
     phi first (alpha at alpha0), then alpha (phi at phi1), each block's
     gradient averaged over its segment (4-point Gauss-Legendre), so that
     G . (q1 - q0) = -(f(q1) - f(q0)) to round-off.
