@@ -1908,7 +1908,14 @@ def _rim_flags(q0, y, k, sc):
     on0 = sc[R_ON0 + k] != 0.0
     push = False
     if on0 and not sk:
-        push = q0[2 * k] * sc[R_V0 + 2 * k] + q0[2 * k + 1] * sc[R_V0 + 2 * k + 1] > 0.0
+        # (into the rim beyond round-off: the lock that put it there leaves its
+        # normal rate 0 only to round-off of the rates, whose sign is noise;
+        # the planar TFP's is 0 exactly)
+        nv = 0.0
+        for i in range(4):
+            nv += sc[R_V0 + i] * sc[R_V0 + i]
+        nq = math.sqrt(q0[2 * k] * q0[2 * k] + q0[2 * k + 1] * q0[2 * k + 1])
+        push = q0[2 * k] * sc[R_V0 + 2 * k] + q0[2 * k + 1] * sc[R_V0 + 2 * k + 1] > 1e-12 * nq * math.sqrt(nv)
     at = held and not on0
     return sk, at, at or push, held or (on0 and not sk)
 
