@@ -143,9 +143,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
         z4[i] = 0.0
     k3.mass_matrix(par, q0, M0, tmp)
     matvec(M0, st[4:8], p0)
-    kk = 2.0 / (dt * dt)
     for i in range(16):
-        H[i] = kk * M0[i]
+        H[i] = 2.0 * M0[i] / (dt * dt)
     k3.metric_root(q0[0], q0[1], Lm, 0)
     k3.metric_root(q0[2], q0[3], Lm, 4)
     # the frozen metric: H' once for the step
