@@ -70,35 +70,53 @@ N_ROW = 69          # len(mechanics.tfp3d.COLUMNS)
 
 
 # -- series in t = |v|^2 (every TFP tilt is well below 1 rad; exact to round-off for t < 4) --
+def _coefs(kind):
+    """The power series' coefficients in t (index: the power), each the
+    correctly rounded value of its exact rational: kind 0 s(t) = sum (-t)^n /
+    (2n+1)!, 1 its derivative, 2 its second derivative, 3 (1 - cos sqrt t) / t,
+    4 (1 - s(t)) / t. (Import time only.)"""
+    from fractions import Fraction
+    from math import factorial
+    c = []
+    for n in range(20):
+        if kind == 0:
+            c.append(Fraction((-1) ** n, factorial(2 * n + 1)))
+        elif kind == 1:
+            c.append(Fraction((n + 1) * (-1) ** (n + 1), factorial(2 * n + 3)))
+        elif kind == 2:
+            c.append(Fraction((n + 2) * (n + 1) * (-1) ** n, factorial(2 * n + 5)))
+        elif kind == 3:
+            c.append(Fraction((-1) ** n, factorial(2 * n + 2)))
+        else:
+            c.append(Fraction((-1) ** n, factorial(2 * n + 3)))
+    return tuple(float(x) for x in c)
+
+
+# Horner's rule on these: 18 terms (the last below 1e-16 of the first for t < 4)
+C_S, C_SD, C_SDD, C_OMC, C_L = _coefs(0), _coefs(1), _coefs(2), _coefs(3), _coefs(4)
+N_TERMS = 18
+
+
+def _horner(c, t):
+    r = c[N_TERMS - 1]
+    for n in range(N_TERMS - 2, -1, -1):
+        r = r * t + c[n]
+    return r
+
+
 def sfun(t):
     """s(t) = sin(sqrt t) / sqrt t."""
-    r = 0.0
-    for n in range(17, 0, -1):
-        r = 1.0 - t * r / ((2.0 * n) * (2.0 * n + 1.0))
-    return r
+    return _horner(C_S, t)
 
 
 def _sder(t):
-    r = 0.0
-    a = 1.0              # (-t)^(n-1) / (2n+1)! built step by step
-    for n in range(1, 19):
-        if n == 1:
-            a = -1.0 / 6.0
-        else:
-            a = a * (-t) / ((2.0 * n) * (2.0 * n + 1.0))
-        r += n * a
-    return r
+    """s'(t)."""
+    return _horner(C_SD, t)
 
 
 def sder2(t):
     """s''(t) = sum_{n>=2} n (n-1) (-1)^n t^(n-2) / (2n+1)!."""
-    r = 0.0
-    a = 1.0 / 120.0      # n = 2: t^0 / 5!
-    for n in range(2, 20):
-        if n > 2:
-            a = a * (-t) / ((2.0 * n) * (2.0 * n + 1.0))
-        r += n * (n - 1.0) * a
-    return r
+    return _horner(C_SDD, t)
 
 
 def omc(t):
@@ -108,26 +126,23 @@ def omc(t):
 
 def _omc_tail(t):
     """(1 - cos sqrt t) / t = sum_{n>=1} (-t)^(n-1) / (2n)!."""
-    r = 0.0
-    for n in range(17, 0, -1):
-        r = 1.0 / ((2.0 * n - 1.0) * (2.0 * n)) * (1.0 - t * r) if n < 17 else 1.0 / ((2.0 * n - 1.0) * (2.0 * n))
-    return r
+    return _horner(C_OMC, t)
 
 
 def lfun(t):
     """(1 - s(t)) / t = sum_{n>=1} (-1)^(n+1) t^(n-1) / (2n+1)!."""
-    r = 0.0
-    for n in range(17, 0, -1):
-        r = 1.0 / ((2.0 * n) * (2.0 * n + 1.0)) * (1.0 - t * r) if n < 17 else 1.0 / ((2.0 * n) * (2.0 * n + 1.0))
-    return r
+    return _horner(C_L, t)
 
 
 # -- kinematics of one tilt vector v = (vx, vy) ------------------------------------------
 def de(vx, vy, wx, wy, o, k):
     """De(v)[w] into o[k:k+3]."""
     t = vx * vx + vy * vy
-    s = sfun(t)
-    sd = _sder(t)
+    de_s(vx, vy, wx, wy, sfun(t), _sder(t), o, k)
+
+
+def de_s(vx, vy, wx, wy, s, sd, o, k):
+    """``de`` with s(|v|^2), s'(|v|^2) given."""
     vw = vx * wx + vy * wy
     o[k] = -s * wx - 2.0 * sd * vw * vx
     o[k + 1] = -s * wy - 2.0 * sd * vw * vy
@@ -137,9 +152,11 @@ def de(vx, vy, wx, wy, o, k):
 def d2e(vx, vy, wx, wy, ux, uy, o, k):
     """D^2 e(v)[w, u] into o[k:k+3]."""
     t = vx * vx + vy * vy
-    s = sfun(t)
-    sd = _sder(t)
-    sdd = sder2(t)
+    d2e_s(vx, vy, wx, wy, ux, uy, sfun(t), _sder(t), sder2(t), o, k)
+
+
+def d2e_s(vx, vy, wx, wy, ux, uy, s, sd, sdd, o, k):
+    """``d2e`` with s, s', s'' at |v|^2 given."""
     vw = vx * wx + vy * wy
     vu = vx * ux + vy * uy
     wu = wx * ux + wy * uy
@@ -152,8 +169,11 @@ def d2e(vx, vy, wx, wy, ux, uy, o, k):
 def _ecols(vx, vy):
     """The columns of E(v) = De(v): De(v)[e_x], De(v)[e_y] (3 components each)."""
     t = vx * vx + vy * vy
-    s = sfun(t)
-    sd = _sder(t)
+    return _ecols_s(vx, vy, sfun(t), _sder(t))
+
+
+def _ecols_s(vx, vy, s, sd):
+    """``_ecols`` with s, s' at |v|^2 given."""
     a = 2.0 * sd
     return (-s - a * vx * vx, -a * vx * vy, -s * vx,
             -a * vy * vx, -s - a * vy * vy, -s * vy)
@@ -161,8 +181,15 @@ def _ecols(vx, vy):
 
 def _cross(px, py, sx, sy, o):
     """C = E(phi)^T E(psi) (C_ij = De(phi)[e_i] . De(psi)[e_j]) into o[0:4] = (C_xx, C_xy, C_yx, C_yy)."""
-    a0, a1, a2, b0, b1, b2 = _ecols(px, py)
-    c0, c1, c2, d0, d1, d2 = _ecols(sx, sy)
+    tp = px * px + py * py
+    ts = sx * sx + sy * sy
+    _cross_s(px, py, sx, sy, sfun(tp), _sder(tp), sfun(ts), _sder(ts), o)
+
+
+def _cross_s(px, py, sx, sy, sp, dp, ss, ds, o):
+    """``_cross`` with s, s' of phi and psi given."""
+    a0, a1, a2, b0, b1, b2 = _ecols_s(px, py, sp, dp)
+    c0, c1, c2, d0, d1, d2 = _ecols_s(sx, sy, ss, ds)
     o[0] = a0 * c0 + a1 * c1 + a2 * c2
     o[1] = a0 * d0 + a1 * d1 + a2 * d2
     o[2] = b0 * c0 + b1 * c1 + b2 * c2
@@ -180,16 +207,23 @@ def mass_matrix(par, q, M, sc):
     components) (0 on the axis). The terms are summed in the planar TFP's
     order (Aa, B, K, Jphi, Jpsi): on the axis M's x entries are its
     mass_matrix to the last bit."""
-    Aa, B, K, Jphi, Jpsi = par[tk.I_AA], par[tk.I_B], par[tk.I_K], par[tk.I_JPHI], par[tk.I_JPSI]
     px, py = q[0], q[1]
     sx, sy = q[0] + q[2], q[1] + q[3]
     tp = px * px + py * py
     ts = sx * sx + sy * sy
-    kp = lfun(tp) * (1.0 + sfun(tp))
-    ks = lfun(ts) * (1.0 + sfun(ts))
+    mass_matrix_s(par, q, M, sc, sfun(tp), _sder(tp), lfun(tp), sfun(ts), _sder(ts), lfun(ts))
+
+
+def mass_matrix_s(par, q, M, sc, sp, dp, lp, ss, ds, ls):
+    """``mass_matrix`` with s, s' and l = (1 - s) / t of phi (sp, dp, lp) and psi (ss, ds, ls) given."""
+    Aa, B, K, Jphi, Jpsi = par[tk.I_AA], par[tk.I_B], par[tk.I_K], par[tk.I_JPHI], par[tk.I_JPSI]
+    px, py = q[0], q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    kp = lp * (1.0 + sp)
+    ks = ls * (1.0 + ss)
     _cross(px, 0.0, sx, 0.0, sc)
     c_ax = sc[0]
-    _cross(px, py, sx, sy, sc)
+    _cross_s(px, py, sx, sy, sp, dp, ss, ds, sc)
     sc[0] = math.cos(q[2]) + (sc[0] - c_ax)
     for i in range(2):
         for j in range(2):
@@ -327,42 +361,49 @@ def grad_f(par, q, p, agx, agy, az, blk, g, sc):
     """The gradient of f = V + ag . b + az b_z + T(., p) (p fixed) in the block
     blk (0: phi with alpha fixed, psi moving with it; 1: alpha) into g[0:2].
     sc: scratch >= 60 (M at sc[0:16], w at sc[16:20], L at sc[20:36])."""
-    w0, w1, w2, w3 = 0.0, 0.0, 0.0, 0.0
-    if p[0] != 0.0 or p[1] != 0.0 or p[2] != 0.0 or p[3] != 0.0:   # (p = 0: the two-phase model's)
-        mass_matrix(par, q, sc, sc[40:52])
-        chol_solve(sc, p, sc[16:20], sc[20:36])
-        w0, w1, w2, w3 = sc[16], sc[17], sc[18], sc[19]
     aa = par[tk.I_AA] + par[tk.I_JPHI]
     bb = par[tk.I_B] + par[tk.I_JPSI]
     K = par[tk.I_K]
     px, py = q[0], q[1]
     sx, sy = q[0] + q[2], q[1] + q[3]
-    wpx, wpy = w0, w1
-    wsx, wsy = w0 + w2, w1 + w3
-    de(px, py, wpx, wpy, sc, 36)        # X
-    de(sx, sy, wsx, wsy, sc, 39)        # Y
     tp = px * px + py * py
     ts = sx * sx + sy * sy
     P1, P2, gz = par[tk.I_P1], par[tk.I_P2], par[tk.I_G] + az
+    # each series once per tilt
     s_p, s_s = sfun(tp), sfun(ts)
     d_p, d_s = _sder(tp), _sder(ts)
+    moving = p[0] != 0.0 or p[1] != 0.0 or p[2] != 0.0 or p[3] != 0.0   # (p = 0: the two-phase model's)
+    dd_p = 0.0
+    dd_s = 0.0
+    wpx, wpy, wsx, wsy = 0.0, 0.0, 0.0, 0.0
+    if moving:
+        mass_matrix_s(par, q, sc, sc[40:52], s_p, d_p, lfun(tp), s_s, d_s, lfun(ts))
+        chol_solve(sc, p, sc[16:20], sc[20:36])
+        wpx, wpy = sc[16], sc[17]
+        wsx, wsy = sc[16] + sc[18], sc[17] + sc[19]
+        de_s(px, py, wpx, wpy, s_p, d_p, sc, 36)        # X
+        de_s(sx, sy, wsx, wsy, s_s, d_s, sc, 39)        # Y
+        dd_p, dd_s = sder2(tp), sder2(ts)
     for j in range(2):
         ux = 1.0 if j == 0 else 0.0
         uy = 1.0 - ux
-        # -1/2 dQ: dX, dY along u
-        d2e(sx, sy, wsx, wsy, ux, uy, sc, 45)
-        dQ = 2.0 * bb * (sc[39] * sc[45] + sc[40] * sc[46] + sc[41] * sc[47]) \
-            + 2.0 * K * (sc[36] * sc[45] + sc[37] * sc[46] + sc[38] * sc[47])
         # V, b, b_z of psi
         us = sx * ux + sy * uy
         gv = P2 * (gz * s_s * us + s_s * (agx * ux + agy * uy) + 2.0 * d_s * (sx * agx + sy * agy) * us)
         if blk == 0:
-            d2e(px, py, wpx, wpy, ux, uy, sc, 48)
-            dQ += 2.0 * aa * (sc[36] * sc[48] + sc[37] * sc[49] + sc[38] * sc[50]) \
-                + 2.0 * K * (sc[48] * sc[39] + sc[49] * sc[40] + sc[50] * sc[41])
             up = px * ux + py * uy
             gv += P1 * (gz * s_p * up + s_p * (agx * ux + agy * uy) + 2.0 * d_p * (px * agx + py * agy) * up)
-        g[j] = gv - 0.5 * dQ
+        if moving:
+            # -1/2 dQ: dX, dY along u (0 without momentum)
+            d2e_s(sx, sy, wsx, wsy, ux, uy, s_s, d_s, dd_s, sc, 45)
+            dQ = 2.0 * bb * (sc[39] * sc[45] + sc[40] * sc[46] + sc[41] * sc[47]) \
+                + 2.0 * K * (sc[36] * sc[45] + sc[37] * sc[46] + sc[38] * sc[47])
+            if blk == 0:
+                d2e_s(px, py, wpx, wpy, ux, uy, s_p, d_p, dd_p, sc, 48)
+                dQ += 2.0 * aa * (sc[36] * sc[48] + sc[37] * sc[49] + sc[38] * sc[50]) \
+                    + 2.0 * K * (sc[48] * sc[39] + sc[49] * sc[40] + sc[50] * sc[41])
+            gv = gv - 0.5 * dQ
+        g[j] = gv
 
 
 def dgrad(par, q0, q1, p, agx, agy, az, G, sc):
