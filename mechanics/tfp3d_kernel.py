@@ -1638,6 +1638,12 @@ def rim_snap(par, q0, x, y, ry, Lm, nobounds, sc):
         if (held or ne > qm) and ne > 0.0:
             x[2 * k] = qm * (e0 / ne) - q0[2 * k]
             x[2 * k + 1] = qm * (e1 / ne) - q0[2 * k + 1]
+            if sc[R_ON0 + k] != 0.0 and abs(x[2 * k]) + abs(x[2 * k + 1]) <= 1e-13 * qm:
+                # a block that starts on its rim and is held there does not
+                # move by the snap's round-off (it stuck; on an axis the snap
+                # gives 0 exactly, the planar box's x = hi = 0)
+                x[2 * k] = 0.0
+                x[2 * k + 1] = 0.0
             k0 = 4 * k
             y[2 * k] = Lm[k0] * x[2 * k] + Lm[k0 + 1] * x[2 * k + 1]
             y[2 * k + 1] = Lm[k0 + 1] * x[2 * k] + Lm[k0 + 2] * x[2 * k + 1]
