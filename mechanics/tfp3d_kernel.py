@@ -92,9 +92,9 @@ def _coefs(kind):
     return tuple(float(x) for x in c)
 
 
-# Horner's rule on these: 18 terms (the last below 1e-16 of the first for t < 4)
+# Horner's rule on these: 14 terms (the last below 1e-20 of the first for t < 4)
 C_S, C_SD, C_SDD, C_OMC, C_L = _coefs(0), _coefs(1), _coefs(2), _coefs(3), _coefs(4)
-N_TERMS = 18
+N_TERMS = 14
 
 
 def _horner(c, t):
