@@ -71,35 +71,53 @@ N_ROW = 69          # len(mechanics.tfp3d.COLUMNS)
 
 
 # -- series in t = |v|^2 (every TFP tilt is well below 1 rad; exact to round-off for t < 4) --
+def _coefs(kind):
+    """The power series' coefficients in t (index: the power), each the
+    correctly rounded value of its exact rational: kind 0 s(t) = sum (-t)^n /
+    (2n+1)!, 1 its derivative, 2 its second derivative, 3 (1 - cos sqrt t) / t,
+    4 (1 - s(t)) / t. (Import time only.)"""
+    from fractions import Fraction
+    from math import factorial
+    c = []
+    for n in range(20):
+        if kind == 0:
+            c.append(Fraction((-1) ** n, factorial(2 * n + 1)))
+        elif kind == 1:
+            c.append(Fraction((n + 1) * (-1) ** (n + 1), factorial(2 * n + 3)))
+        elif kind == 2:
+            c.append(Fraction((n + 2) * (n + 1) * (-1) ** n, factorial(2 * n + 5)))
+        elif kind == 3:
+            c.append(Fraction((-1) ** n, factorial(2 * n + 2)))
+        else:
+            c.append(Fraction((-1) ** n, factorial(2 * n + 3)))
+    return tuple(float(x) for x in c)
+
+
+# Horner's rule on these: 14 terms (the last below 1e-20 of the first for t < 4)
+C_S, C_SD, C_SDD, C_OMC, C_L = _coefs(0), _coefs(1), _coefs(2), _coefs(3), _coefs(4)
+N_TERMS = 14
+
+
+def _horner(c, t):
+    r = c[N_TERMS - 1]
+    for n in range(N_TERMS - 2, -1, -1):
+        r = r * t + c[n]
+    return r
+
+
 def sfun(t):
     """s(t) = sin(sqrt t) / sqrt t."""
-    r = 0.0
-    for n in range(17, 0, -1):
-        r = 1.0 - t * r / ((2.0 * n) * (2.0 * n + 1.0))
-    return r
+    return _horner(C_S, t)
 
 
 def _sder(t):
-    r = 0.0
-    a = 1.0              # (-t)^(n-1) / (2n+1)! built step by step
-    for n in range(1, 19):
-        if n == 1:
-            a = -1.0 / 6.0
-        else:
-            a = a * (-t) / ((2.0 * n) * (2.0 * n + 1.0))
-        r += n * a
-    return r
+    """s'(t)."""
+    return _horner(C_SD, t)
 
 
 def sder2(t):
     """s''(t) = sum_{n>=2} n (n-1) (-1)^n t^(n-2) / (2n+1)!."""
-    r = 0.0
-    a = 1.0 / 120.0      # n = 2: t^0 / 5!
-    for n in range(2, 20):
-        if n > 2:
-            a = a * (-t) / ((2.0 * n) * (2.0 * n + 1.0))
-        r += n * (n - 1.0) * a
-    return r
+    return _horner(C_SDD, t)
 
 
 def omc(t):
@@ -109,26 +127,23 @@ def omc(t):
 
 def _omc_tail(t):
     """(1 - cos sqrt t) / t = sum_{n>=1} (-t)^(n-1) / (2n)!."""
-    r = 0.0
-    for n in range(17, 0, -1):
-        r = 1.0 / ((2.0 * n - 1.0) * (2.0 * n)) * (1.0 - t * r) if n < 17 else 1.0 / ((2.0 * n - 1.0) * (2.0 * n))
-    return r
+    return _horner(C_OMC, t)
 
 
 def lfun(t):
     """(1 - s(t)) / t = sum_{n>=1} (-1)^(n+1) t^(n-1) / (2n+1)!."""
-    r = 0.0
-    for n in range(17, 0, -1):
-        r = 1.0 / ((2.0 * n) * (2.0 * n + 1.0)) * (1.0 - t * r) if n < 17 else 1.0 / ((2.0 * n) * (2.0 * n + 1.0))
-    return r
+    return _horner(C_L, t)
 
 
 # -- kinematics of one tilt vector v = (vx, vy) ------------------------------------------
 def de(vx, vy, wx, wy, o, k):
     """De(v)[w] into o[k:k+3]."""
     t = vx * vx + vy * vy
-    s = sfun(t)
-    sd = _sder(t)
+    de_s(vx, vy, wx, wy, sfun(t), _sder(t), o, k)
+
+
+def de_s(vx, vy, wx, wy, s, sd, o, k):
+    """``de`` with s(|v|^2), s'(|v|^2) given."""
     vw = vx * wx + vy * wy
     o[k] = -s * wx - 2.0 * sd * vw * vx
     o[k + 1] = -s * wy - 2.0 * sd * vw * vy
@@ -138,9 +153,11 @@ def de(vx, vy, wx, wy, o, k):
 def d2e(vx, vy, wx, wy, ux, uy, o, k):
     """D^2 e(v)[w, u] into o[k:k+3]."""
     t = vx * vx + vy * vy
-    s = sfun(t)
-    sd = _sder(t)
-    sdd = sder2(t)
+    d2e_s(vx, vy, wx, wy, ux, uy, sfun(t), _sder(t), sder2(t), o, k)
+
+
+def d2e_s(vx, vy, wx, wy, ux, uy, s, sd, sdd, o, k):
+    """``d2e`` with s, s', s'' at |v|^2 given."""
     vw = vx * wx + vy * wy
     vu = vx * ux + vy * uy
     wu = wx * ux + wy * uy
@@ -150,29 +167,79 @@ def d2e(vx, vy, wx, wy, ux, uy, o, k):
 
 
 # -- mass matrix (4x4, row-major into M[0:16]) -----------------------------------------
+def _ecols(vx, vy):
+    """The columns of E(v) = De(v): De(v)[e_x], De(v)[e_y] (3 components each)."""
+    t = vx * vx + vy * vy
+    return _ecols_s(vx, vy, sfun(t), _sder(t))
+
+
+def _ecols_s(vx, vy, s, sd):
+    """``_ecols`` with s, s' at |v|^2 given."""
+    a = 2.0 * sd
+    return (-s - a * vx * vx, -a * vx * vy, -s * vx,
+            -a * vy * vx, -s - a * vy * vy, -s * vy)
+
+
+def _cross(px, py, sx, sy, o):
+    """C = E(phi)^T E(psi) (C_ij = De(phi)[e_i] . De(psi)[e_j]) into o[0:4] = (C_xx, C_xy, C_yx, C_yy)."""
+    tp = px * px + py * py
+    ts = sx * sx + sy * sy
+    _cross_s(px, py, sx, sy, sfun(tp), _sder(tp), sfun(ts), _sder(ts), o)
+
+
+def _cross_s(px, py, sx, sy, sp, dp, ss, ds, o):
+    """``_cross`` with s, s' of phi and psi given."""
+    a0, a1, a2, b0, b1, b2 = _ecols_s(px, py, sp, dp)
+    c0, c1, c2, d0, d1, d2 = _ecols_s(sx, sy, ss, ds)
+    o[0] = a0 * c0 + a1 * c1 + a2 * c2
+    o[1] = a0 * d0 + a1 * d1 + a2 * d2
+    o[2] = b0 * c0 + b1 * c1 + b2 * c2
+    o[3] = b0 * d0 + b1 * d1 + b2 * d2
+
+
 def mass_matrix(par, q, M, sc):
-    """M(q), q = (phi_x, phi_y, alpha_x, alpha_y). sc: scratch >= 12."""
-    aa = par[tk.I_AA] + par[tk.I_JPHI]
-    bb = par[tk.I_B] + par[tk.I_JPSI]
-    K = par[tk.I_K]
+    """M(q), q = (phi_x, phi_y, alpha_x, alpha_y). sc: scratch >= 8.
+
+    The Gram matrices E^T E = I - k m m^T (k = (1 - s^2) / t, m = (-v_y, v_x):
+    radial unit length, azimuthal s) in closed form; the cross one C =
+    E(phi)^T E(psi) from the columns, its xx entry as cos(alpha_x), its value
+    at the tilts' x components (phi and psi on the x axis: the angle between
+    the axes is alpha_x), plus its change from there, C_xx(q) - C_xx(x
+    components) (0 on the axis). The terms are summed in the planar TFP's
+    order (Aa, B, K, Jphi, Jpsi): on the axis M's x entries are its
+    mass_matrix to the last bit."""
     px, py = q[0], q[1]
     sx, sy = q[0] + q[2], q[1] + q[3]
-    # columns of E(phi) and E(psi)
-    de(px, py, 1.0, 0.0, sc, 0)
-    de(px, py, 0.0, 1.0, sc, 3)
-    de(sx, sy, 1.0, 0.0, sc, 6)
-    de(sx, sy, 0.0, 1.0, sc, 9)
+    tp = px * px + py * py
+    ts = sx * sx + sy * sy
+    mass_matrix_s(par, q, M, sc, sfun(tp), _sder(tp), lfun(tp), sfun(ts), _sder(ts), lfun(ts))
+
+
+def mass_matrix_s(par, q, M, sc, sp, dp, lp, ss, ds, ls):
+    """``mass_matrix`` with s, s' and l = (1 - s) / t of phi (sp, dp, lp) and psi (ss, ds, ls) given."""
+    Aa, B, K, Jphi, Jpsi = par[tk.I_AA], par[tk.I_B], par[tk.I_K], par[tk.I_JPHI], par[tk.I_JPSI]
+    px, py = q[0], q[1]
+    sx, sy = q[0] + q[2], q[1] + q[3]
+    kp = lp * (1.0 + sp)
+    ks = ls * (1.0 + ss)
+    _cross(px, 0.0, sx, 0.0, sc)
+    c_ax = sc[0]
+    _cross_s(px, py, sx, sy, sp, dp, ss, ds, sc)
+    sc[0] = math.cos(q[2]) + (sc[0] - c_ax)
     for i in range(2):
         for j in range(2):
-            gp = sc[3 * i] * sc[3 * j] + sc[3 * i + 1] * sc[3 * j + 1] + sc[3 * i + 2] * sc[3 * j + 2]
-            gs = sc[6 + 3 * i] * sc[6 + 3 * j] + sc[6 + 3 * i + 1] * sc[6 + 3 * j + 1] \
-                + sc[6 + 3 * i + 2] * sc[6 + 3 * j + 2]
-            cij = sc[3 * i] * sc[6 + 3 * j] + sc[3 * i + 1] * sc[6 + 3 * j + 1] + sc[3 * i + 2] * sc[6 + 3 * j + 2]
-            cji = sc[3 * j] * sc[6 + 3 * i] + sc[3 * j + 1] * sc[6 + 3 * i + 1] + sc[3 * j + 2] * sc[6 + 3 * i + 2]
-            M[4 * i + j] = aa * gp + bb * gs + K * (cij + cji)
-            M[4 * i + 2 + j] = bb * gs + K * cij
-            M[4 * (2 + j) + i] = bb * gs + K * cij
-            M[4 * (2 + i) + 2 + j] = bb * gs
+            if i == j:
+                gp = 1.0 - kp * (py * py if i == 0 else px * px)
+                gs = 1.0 - ks * (sy * sy if i == 0 else sx * sx)
+            else:
+                gp = kp * px * py
+                gs = ks * sx * sy
+            cij = sc[2 * i + j]
+            cji = sc[2 * j + i]
+            M[4 * i + j] = Aa * gp + B * gs + K * (cij + cji) + Jphi * gp + Jpsi * gs
+            M[4 * i + 2 + j] = B * gs + K * cij + Jpsi * gs
+            M[4 * (2 + j) + i] = M[4 * i + 2 + j]
+            M[4 * (2 + i) + 2 + j] = B * gs + Jpsi * gs
 
 
 def chol_solve(A, b, x, L):
@@ -201,6 +268,36 @@ def chol_solve(A, b, x, L):
             s -= L[4 * k + i] * x[k]
         x[i] = s / L[4 * i + i]
     return 0
+
+
+def solve4(A, b, x):
+    """x = A^-1 b for the symmetric positive definite 4x4 A (row-major) by
+    blocks of the x components (0, 2) and the y components (1, 3): the y
+    part from the Schur complement S = A_yy - A_yx A_xx^-1 A_xy, then
+    x_x = A_xx^-1 (b_x - A_xy x_y), each 2x2 solve by Cramer's rule. With no
+    coupling of the x and y components and no y load, x_y = 0 and x_x is
+    the 2x2 solve of the planar TFP (tfp_kernel.solve2) to the last bit."""
+    a11, a12, a22 = A[0], A[2], A[10]
+    det = a11 * a22 - a12 * a12
+    # A_xx^-1 b_x and A_xx^-1 A_xy (the columns y0 = 1, y1 = 3)
+    u0 = (a22 * b[0] - a12 * b[2]) / det
+    u1 = (a11 * b[2] - a12 * b[0]) / det
+    z00 = (a22 * A[1] - a12 * A[9]) / det
+    z10 = (a11 * A[9] - a12 * A[1]) / det
+    z01 = (a22 * A[3] - a12 * A[11]) / det
+    z11 = (a11 * A[11] - a12 * A[3]) / det
+    s11 = A[5] - (A[4] * z00 + A[6] * z10)
+    s12 = A[7] - (A[4] * z01 + A[6] * z11)
+    s22 = A[15] - (A[12] * z01 + A[14] * z11)
+    c0 = b[1] - (A[4] * u0 + A[6] * u1)
+    c1 = b[3] - (A[12] * u0 + A[14] * u1)
+    ds = s11 * s22 - s12 * s12
+    x[1] = (s22 * c0 - s12 * c1) / ds
+    x[3] = (s11 * c1 - s12 * c0) / ds
+    e0 = b[0] - (A[1] * x[1] + A[3] * x[3])
+    e1 = b[2] - (A[9] * x[1] + A[11] * x[3])
+    x[0] = (a22 * e0 - a12 * e1) / det
+    x[2] = (a11 * e1 - a12 * e0) / det
 
 
 def kinetic(par, q, v, sc):
@@ -265,45 +362,97 @@ def grad_f(par, q, p, agx, agy, az, blk, g, sc):
     """The gradient of f = V + ag . b + az b_z + T(., p) (p fixed) in the block
     blk (0: phi with alpha fixed, psi moving with it; 1: alpha) into g[0:2].
     sc: scratch >= 60 (M at sc[0:16], w at sc[16:20], L at sc[20:36])."""
-    w0, w1, w2, w3 = 0.0, 0.0, 0.0, 0.0
-    if p[0] != 0.0 or p[1] != 0.0 or p[2] != 0.0 or p[3] != 0.0:   # (p = 0: the two-phase model's)
-        mass_matrix(par, q, sc, sc[40:52])
-        chol_solve(sc, p, sc[16:20], sc[20:36])
-        w0, w1, w2, w3 = sc[16], sc[17], sc[18], sc[19]
     aa = par[tk.I_AA] + par[tk.I_JPHI]
     bb = par[tk.I_B] + par[tk.I_JPSI]
     K = par[tk.I_K]
     px, py = q[0], q[1]
     sx, sy = q[0] + q[2], q[1] + q[3]
-    wpx, wpy = w0, w1
-    wsx, wsy = w0 + w2, w1 + w3
-    de(px, py, wpx, wpy, sc, 36)        # X
-    de(sx, sy, wsx, wsy, sc, 39)        # Y
     tp = px * px + py * py
     ts = sx * sx + sy * sy
     P1, P2, gz = par[tk.I_P1], par[tk.I_P2], par[tk.I_G] + az
+    # each series once per tilt
     s_p, s_s = sfun(tp), sfun(ts)
     d_p, d_s = _sder(tp), _sder(ts)
+    moving = p[0] != 0.0 or p[1] != 0.0 or p[2] != 0.0 or p[3] != 0.0   # (p = 0: the two-phase model's)
+    dd_p = 0.0
+    dd_s = 0.0
+    wpx, wpy, wsx, wsy = 0.0, 0.0, 0.0, 0.0
+    if moving:
+        mass_matrix_s(par, q, sc, sc[40:52], s_p, d_p, lfun(tp), s_s, d_s, lfun(ts))
+        chol_solve(sc, p, sc[16:20], sc[20:36])
+        wpx, wpy = sc[16], sc[17]
+        wsx, wsy = sc[16] + sc[18], sc[17] + sc[19]
+        de_s(px, py, wpx, wpy, s_p, d_p, sc, 36)        # X
+        de_s(sx, sy, wsx, wsy, s_s, d_s, sc, 39)        # Y
+        dd_p, dd_s = sder2(tp), sder2(ts)
     for j in range(2):
         ux = 1.0 if j == 0 else 0.0
         uy = 1.0 - ux
-        # -1/2 dQ: dX, dY along u
-        d2e(sx, sy, wsx, wsy, ux, uy, sc, 45)
-        dQ = 2.0 * bb * (sc[39] * sc[45] + sc[40] * sc[46] + sc[41] * sc[47]) \
-            + 2.0 * K * (sc[36] * sc[45] + sc[37] * sc[46] + sc[38] * sc[47])
         # V, b, b_z of psi
         us = sx * ux + sy * uy
         gv = P2 * (gz * s_s * us + s_s * (agx * ux + agy * uy) + 2.0 * d_s * (sx * agx + sy * agy) * us)
         if blk == 0:
-            d2e(px, py, wpx, wpy, ux, uy, sc, 48)
-            dQ += 2.0 * aa * (sc[36] * sc[48] + sc[37] * sc[49] + sc[38] * sc[50]) \
-                + 2.0 * K * (sc[48] * sc[39] + sc[49] * sc[40] + sc[50] * sc[41])
             up = px * ux + py * uy
             gv += P1 * (gz * s_p * up + s_p * (agx * ux + agy * uy) + 2.0 * d_p * (px * agx + py * agy) * up)
-        g[j] = gv - 0.5 * dQ
+        if moving:
+            # -1/2 dQ: dX, dY along u (0 without momentum)
+            d2e_s(sx, sy, wsx, wsy, ux, uy, s_s, d_s, dd_s, sc, 45)
+            dQ = 2.0 * bb * (sc[39] * sc[45] + sc[40] * sc[46] + sc[41] * sc[47]) \
+                + 2.0 * K * (sc[36] * sc[45] + sc[37] * sc[46] + sc[38] * sc[47])
+            if blk == 0:
+                d2e_s(px, py, wpx, wpy, ux, uy, s_p, d_p, dd_p, sc, 48)
+                dQ += 2.0 * aa * (sc[36] * sc[48] + sc[37] * sc[49] + sc[38] * sc[50]) \
+                    + 2.0 * K * (sc[48] * sc[39] + sc[49] * sc[40] + sc[50] * sc[41])
+            gv = gv - 0.5 * dQ
+        g[j] = gv
 
 
 def dgrad(par, q0, q1, p, agx, agy, az, G, sc):
+    """Minus the discrete gradient of f (grad_f) from q0 to q1 into G[0:4]:
+    phi first (alpha at alpha0), then alpha (phi at phi1), so that
+    G . (q1 - q0) = -(f(q1) - f(q0)) to round-off. Each block's gradient
+    averaged over its segment (``dgrad_gl``), with its part on the x axis in
+    closed form: the same average for the x components alone (q, p and ag
+    with their y components 0: the planar problem along x) is replaced by
+    the planar TFP's closed form of it (Itoh-Abe: cos a - cos b as a
+    product, the kinetic energy's change as -1/2 w1^T dM w0), exact in
+    exact arithmetic, so G = closed form + (average - its value on the axis);
+    on the axis that is the planar TFP's discrete gradient to the last bit.
+    sc: scratch >= 100 (sc[60:70] the averages', sc[70:100] the axis')."""
+    dgrad_gl(par, q0, q1, p, agx, agy, az, G, sc)
+    for i in range(4):
+        sc[70 + i] = q0[i] if i % 2 == 0 else 0.0
+        sc[74 + i] = q1[i] if i % 2 == 0 else 0.0
+        sc[78 + i] = p[i] if i % 2 == 0 else 0.0
+    dgrad_gl(par, sc[70:74], sc[74:78], sc[78:82], agx, 0.0, az, sc[82:86], sc)
+    for i in range(4):
+        G[i] -= sc[82 + i]
+    # the closed form on the axis (tfp_kernel.substep's G1, G2)
+    P1, P2, gz = par[tk.I_P1], par[tk.I_P2], par[tk.I_G] + az
+    ph0, al0, ph1, al1 = q0[0], q0[2], q1[0], q1[2]
+    dTa = 0.0
+    if p[0] != 0.0 or p[2] != 0.0:
+        # -1/2 w1^T dM w0 / dalpha, dM = K (cos al1 - cos al0) [[2, 1], [1, 0]]
+        tk.mass_matrix(par, al1, sc[86:89])
+        tk.solve2(sc[86], sc[87], sc[88], p[0], p[2], sc[89:91])
+        w11, w12 = sc[89], sc[90]
+        tk.mass_matrix(par, al0, sc[86:89])
+        tk.solve2(sc[86], sc[87], sc[88], p[0], p[2], sc[89:91])
+        w01, w02 = sc[89], sc[90]
+        K = par[tk.I_K]
+        dTa = 0.5 * (2.0 * K * w11 * w01 + K * (w11 * w02 + w12 * w01)) * math.sin(0.5 * (al0 + al1)) \
+            * tk.sinc(0.5 * (al1 - al0))
+    tk.dgrad_cos_sin(gz * P1, gz * P2, ph0, al0, ph1, al1, sc[91:93], 0)
+    g1 = -sc[91]
+    g2 = -dTa - sc[92]
+    tk.dgrad_cos_sin(P1, P2, ph0, al0, ph1, al1, sc[91:93], 1)
+    g1 -= agx * sc[91]
+    g2 -= agx * sc[92]
+    G[0] = g1 + G[0]
+    G[2] = g2 + G[2]
+
+
+def dgrad_gl(par, q0, q1, p, agx, agy, az, G, sc):
     """Minus the discrete gradient of f (grad_f) from q0 to q1 into G[0:4]:
     phi first (alpha at alpha0), then alpha (phi at phi1), each block's
     gradient averaged over its segment (4-point Gauss-Legendre), so that
@@ -373,12 +522,27 @@ def block_min(a11, a12, a22, b1, b2, c, y):
     lo = c * lmin / (nb - c)
     hi = c * lmax / (nb - c)
     mu = 0.5 * (lo + hi)
+    on_axis = False
     if be2 == 0.0 and be1 != 0.0:
         mu = c * l1 / (nb - c)
         lo = hi = mu
+        on_axis = True
     elif be1 == 0.0 and be2 != 0.0:
         mu = c * l2 / (nb - c)
         lo = hi = mu
+        on_axis = True
+    if on_axis:
+        # b along an eigenvector: y there is (b - c b / |b|) / lambda, the
+        # planar TFP's candidate (tfp_kernel._qp_cands) to the last bit
+        y1 = 0.0
+        y2 = 0.0
+        if be2 == 0.0:
+            y1 = (be1 - (c if be1 > 0.0 else -c)) / l1
+        else:
+            y2 = (be2 - (c if be2 > 0.0 else -c)) / l2
+        y[0] = cs * y1 + sn * y2
+        y[1] = -sn * y1 + cs * y2
+        return
     for it in range(100):
         if lo == hi:
             break
@@ -518,7 +682,28 @@ def socp(H, r, c1, c2, y, sc):
         # with the other held) converge for any strictly convex H, slowly
         _sweeps(H, r, c1, c2, y, sc, 200000, 1e-32)
         its += 1000
+    _polish(H, r, c1, c2, y, sc)
     return its
+
+
+def _polish(H, r, c1, c2, y, sc):
+    """Both blocks sliding: the stationarity H y = r - c1 d_a - c2 d_b solved
+    once more with the directions d_k = y_k / |y_k| of the solution (its
+    fixed point there, a change of round-off; kept only if it leaves each
+    block's direction). On an axis it is the planar TFP's candidate of two
+    free coordinates to the last bit. sc: scratch (sc[12:20])."""
+    na = math.sqrt(y[0] * y[0] + y[1] * y[1])
+    nb = math.sqrt(y[2] * y[2] + y[3] * y[3])
+    if na == 0.0 or nb == 0.0:
+        return
+    sc[12] = r[0] - c1 * (y[0] / na)
+    sc[13] = r[1] - c1 * (y[1] / na)
+    sc[14] = r[2] - c2 * (y[2] / nb)
+    sc[15] = r[3] - c2 * (y[3] / nb)
+    solve4(H, sc[12:16], sc[16:20])
+    if sc[16] * y[0] + sc[17] * y[1] > 0.0 and sc[18] * y[2] + sc[19] * y[3] > 0.0:
+        for i in range(4):
+            y[i] = sc[16 + i]
 
 
 def _sweeps(H, r, c1, c2, y, sc, n, tol):
@@ -686,9 +871,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
             q1[i] = q0[i] + x[i]
         dgrad(par, q0, q1, p0, agx, agy, az, G, sc)
         mass_matrix(par, q1, H, tmp)
-        k = 2.0 / (dt * dt)
         for i in range(16):
-            H[i] *= k
+            H[i] = 2.0 * H[i] / (dt * dt)
         for i in range(4):
             r[i] = 2.0 * p0[i] / dt + G[i]
         if springs:
@@ -730,15 +914,19 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     machine_kkt(Hy, ry, Dy, Fm, c_o, c_i, y, machine, out)
     # the generalised force of friction Phi = r - H dq; p1 = p0 + dt (G - Phi)
     for i in range(4):
-        q1[i] = q0[i] + x[i]
-    for i in range(4):
-        s = r[i]
+        s = 0.0
         for j in range(4):
-            s -= H[4 * i + j] * x[j]
+            s += H[4 * i + j] * x[j]
+        s = r[i] - s
         tmp[i] = p0[i] + dt * (G[i] - s)          # p1
         sc[R_PHI + i] = s
+    # the rates in the metric the last iterate's program was built with (q1
+    # still holds that iterate's end, within the fixed point's tolerance of
+    # the final one: the planar TFP's order of operations)
     mass_matrix(par, q1, H, tmp[8:20])
-    chol_solve(H, tmp[0:4], tmp[4:8], sc[200:216])
+    for i in range(4):
+        q1[i] = q0[i] + x[i]
+    solve4(H, tmp[0:4], tmp[4:8])
     for i in range(4):
         st[4 + i] = tmp[4 + i]
     for i in range(4):
@@ -798,9 +986,16 @@ def machine_gap(par, q0, machine, u1x, u1y, tmp):
 
 
 def linv(Lm, blk, a0, a1):
-    """L^-1 (a0, a1) for the block blk of the arc metric Lm (``metric_root``)."""
+    """L^-1 (a0, a1) for the block blk of the arc metric Lm (``metric_root``),
+    through L^-1's entries (as ``_to_metric``): along a tilt on an axis the
+    entry along it is 1 exactly and the cross entry 0, so that component is
+    its a to the last bit (the planar TFP's increment)."""
     k = 4 * blk
-    return (Lm[k + 2] * a0 - Lm[k + 1] * a1) / Lm[k + 3], (Lm[k] * a1 - Lm[k + 1] * a0) / Lm[k + 3]
+    det = Lm[k + 3]
+    i11 = Lm[k + 2] / det
+    i12 = -Lm[k + 1] / det
+    i22 = Lm[k] / det
+    return i11 * a0 + i12 * a1, i12 * a0 + i22 * a1
 
 
 def to_y(Lm, D, Dy):
@@ -853,11 +1048,13 @@ def stop_block(M, v, blk, p):
     its momentum p = M v (given), its rates M_oo^-1 p_o."""
     o = 2 - 2 * blk
     m11, m12, m22 = M[5 * o], M[5 * o + 1], M[5 * o + 5]
-    det = m11 * m22 - m12 * m12
     v[2 * blk] = 0.0
     v[2 * blk + 1] = 0.0
-    v[o] = (m22 * p[o] - m12 * p[o + 1]) / det
-    v[o + 1] = (m11 * p[o + 1] - m12 * p[o]) / det
+    # by elimination (the second component first): with m12 = 0 each rate is
+    # its momentum over its mass, the planar TFP's arrest to the last bit
+    k = m12 / m11
+    v[o + 1] = (p[o + 1] - k * p[o]) / (m22 - k * m12)
+    v[o] = (p[o] - m12 * v[o + 1]) / m11
 
 
 def arrest(par, q, M, v, z1, z2, tmp):
@@ -1381,10 +1578,7 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
         t1 = p0_ / npv
         off = -(t0 * q0[2 * k] + t1 * q0[2 * k + 1])      # t . (qb - q0), t . qb = 0
         kap = nu / rim_qmax(par, k, nobounds)
-        k0 = 4 * k
-        l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-        w0 = (l22 * t0 - l12 * t1) / det
-        w1 = (l11 * t1 - l12 * t0) / det
+        w0, w1 = linv(Lm, k, t0, t1)
         i0 = 2 * k
         H[4 * i0 + i0] += kap * w0 * w0
         H[4 * i0 + i0 + 1] += kap * w0 * w1
@@ -1401,10 +1595,7 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
             if sc[R_ACT + k] != 0.0:
                 continue
             qm = rim_qmax(par, k, nobounds)
-            k0 = 4 * k
-            l11, l12, l22, det = Lm[k0], Lm[k0 + 1], Lm[k0 + 2], Lm[k0 + 3]
-            d0 = (l22 * y[2 * k] - l12 * y[2 * k + 1]) / det
-            d1 = (l11 * y[2 * k + 1] - l12 * y[2 * k]) / det
+            d0, d1 = linv(Lm, k, y[2 * k], y[2 * k + 1])
             e0 = q0[2 * k] + d0
             e1 = q0[2 * k + 1] + d1
             ne = math.sqrt(e0 * e0 + e1 * e1)
@@ -1426,8 +1617,7 @@ def rim_constrain(par, q0, x, Lm, H, r, c1, c2, y, nobounds, sc):
                     h = 0.0
                 if h < 0.0:
                     h = 0.0
-                m0 = (l22 * n0 - l12 * n1) / det
-                m1 = (l11 * n1 - l12 * n0) / det
+                m0, m1 = linv(Lm, k, n0, n1)
                 if m0 * y[2 * k] + m1 * y[2 * k + 1] > h or tr == 1:
                     break
             sc[R_N + 2 * k] = n0
@@ -1467,6 +1657,12 @@ def rim_snap(par, q0, x, y, ry, Lm, nobounds, sc):
         if (held or ne > qm) and ne > 0.0:
             x[2 * k] = qm * (e0 / ne) - q0[2 * k]
             x[2 * k + 1] = qm * (e1 / ne) - q0[2 * k + 1]
+            if sc[R_ON0 + k] != 0.0 and abs(x[2 * k]) + abs(x[2 * k + 1]) <= 1e-13 * qm:
+                # a block that starts on its rim and is held there does not
+                # move by the snap's round-off (it stuck; on an axis the snap
+                # gives 0 exactly, the planar box's x = hi = 0)
+                x[2 * k] = 0.0
+                x[2 * k + 1] = 0.0
             k0 = 4 * k
             y[2 * k] = Lm[k0] * x[2 * k] + Lm[k0 + 1] * x[2 * k + 1]
             y[2 * k + 1] = Lm[k0 + 1] * x[2 * k] + Lm[k0 + 2] * x[2 * k + 1]
@@ -1780,7 +1976,14 @@ def _rim_flags(q0, y, k, sc):
     on0 = sc[R_ON0 + k] != 0.0
     push = False
     if on0 and not sk:
-        push = q0[2 * k] * sc[R_V0 + 2 * k] + q0[2 * k + 1] * sc[R_V0 + 2 * k + 1] > 0.0
+        # (into the rim beyond round-off: the lock that put it there leaves its
+        # normal rate 0 only to round-off of the rates, whose sign is noise;
+        # the planar TFP's is 0 exactly)
+        nv = 0.0
+        for i in range(4):
+            nv += sc[R_V0 + i] * sc[R_V0 + i]
+        nq = math.sqrt(q0[2 * k] * q0[2 * k] + q0[2 * k + 1] * q0[2 * k + 1])
+        push = q0[2 * k] * sc[R_V0 + 2 * k] + q0[2 * k + 1] * sc[R_V0 + 2 * k + 1] > 1e-12 * nq * math.sqrt(nv)
     at = held and not on0
     return sk, at, at or push, held or (on0 and not sk)
 

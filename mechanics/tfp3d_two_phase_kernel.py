@@ -148,9 +148,8 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     springs = par[tk.I_KRIM] != 0.0
     if springs:
         k3.rim_spring_mass(par, q0, M0, sc)
-    kk = 2.0 / (dt * dt)
     for i in range(16):
-        H[i] = kk * M0[i]
+        H[i] = 2.0 * M0[i] / (dt * dt)
     k3.metric_root(q0[0], q0[1], Lm, 0)
     k3.metric_root(q0[2], q0[3], Lm, 4)
     # the frozen metric: H' once for the step

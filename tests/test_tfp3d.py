@@ -84,20 +84,21 @@ def test_socp_is_the_minimiser_against_an_independent_solver():
 # -- the planar TFP reproduced --------------------------------------------------------------
 def test_no_y_component_reproduces_the_planar_tfp():
     """A record without y: the 3D stepper's x columns are the planar TFP's to
-    round-off (both sliding regimes and sticking visited); y stays 0.
-    Round-off here means: within twice what the planar model itself moves
-    when its record is changed by one ulp (4.7e-12 against 5.8e-12 of the
-    peak displacement over these 3000 steps), and below 1e-11."""
+    1e-12 (of the peak displacement, the peak tilts, the total work), both
+    sliding regimes and sticking visited; y stays 0. On the axis the step
+    does the planar TFP's floating-point operations (mass matrix, discrete
+    gradient, the cone program's candidates, the rates' solve), so phi and
+    alpha are the planar ones bit for bit (measured: u to 3.1e-16, the
+    energies to 1.1e-14). For scale, the planar model itself moves 5.8e-12
+    of the peak over these 3000 steps when its record is changed by one ulp."""
     g = tfp()
     gm = pulse_ground_motion("cosine", 0.5, 1.5, 0.5, 3.0, 1e-3)
     p = run_planar(g, gm)
-    ulp = run_planar(g, GroundMotion(gm.name, gm.dt, gm.t, gm.d, gm.v, gm.a, gm.a_step * (1 + 2.2e-16)))
     _, d, _ = run3d(g, gm)
     assert set(p["regime"]) >= {0.0, 1.0, 6.0}
     assert np.max(np.abs(d["uy_m"])) == 0.0 and np.max(np.abs(d["phiy_rad"])) == 0.0
+    tol = 1e-12
     um = np.max(np.abs(p["u_m"]))
-    sens = np.max(np.abs(ulp["u_m"] - p["u_m"])) / um
-    tol = min(1e-11, 2.0 * max(sens, 1e-13))
     assert np.max(np.abs(d["ux_m"] - p["u_m"])) <= tol * um
     assert np.max(np.abs(d["phix_rad"] - p["phi_rad"])) <= tol * np.max(np.abs(p["phi_rad"]))
     assert np.max(np.abs(d["alphax_rad"] - p["alpha_rad"])) <= tol * np.max(np.abs(p["alpha_rad"]))

@@ -57,8 +57,10 @@ def test_no_y_component_reproduces_the_planar_two_phase_tfp():
     re-seating loss) is its value to round-off; y stays 0. Round-off here
     means: within twice what the planar model itself moves when its record is
     changed by one ulp (measured 5.0e-12 of the peak displacement against
-    6.9e-12 over these 3000 steps: the two steps sum the same physics in a
-    different order), and below 1e-11."""
+    6.9e-12 over these 3000 steps), and below 1e-11. Phase 1 does the planar
+    floating-point operations on the axis; the runs part in the re-seating's
+    rates (Cholesky's solve here, Cramer's rule in the planar TFP, whose
+    kinetic energy is too coarse for this model's loss identity)."""
     g = tfp()
     gm = _pulse()
     p = run_planar(g, gm)
