@@ -21,7 +21,9 @@ import sys
 
 import numpy as np
 
-from . import bidirectional_kernel as _pure, rim_law
+from fpd.tribology import rim_law
+
+from . import bidirectional_kernel as _pure
 from .geometry import DeviceGeometry
 from fpd.loading.ground_motion import as_float64, float_array
 from .phases import DIAGONAL_AC, MechanicsFailure

@@ -51,7 +51,7 @@ docs/bidirectional.md has the derivations and the measured numbers.
 """
 import math
 
-from . import rim_law as rl
+from fpd.tribology import rim_law as rl
 from fpd.tribology.friction_kernel import dwell_advance, holding_mu_dwell
 from .two_phase_kernel import _sinc as sinc, pivot_angle, rocking_increment   # the planar stepper's, one source
 

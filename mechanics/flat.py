@@ -24,7 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import flat_kernel as K, rim_law
+from fpd.tribology import rim_law
+
+from . import flat_kernel as K
 from .geometry import G_ACC
 from fpd.loading.ground_motion import as_float64, float_array
 from .protocol import TwoInterfaces

@@ -16,7 +16,7 @@ bookkeeping (friction work, input work, phase, slip speeds, the force, the
 tipping check as a flag), on the state vector S.
 """
 from . import bidirectional_kernel as bk
-from . import rim_law as rl
+from fpd.tribology import rim_law as rl
 from . import tfp_kernel as tk
 from fpd.tribology.friction_kernel import holding_mu
 from .phases import SLIP, STICK

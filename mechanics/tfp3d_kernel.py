@@ -32,7 +32,7 @@ the planar scheme.
 """
 import math
 
-from . import rim_law as rl
+from fpd.tribology import rim_law as rl
 from . import tfp_kernel as tk
 
 __kernel__ = True
@@ -2616,7 +2616,7 @@ def energies_vertical(par, S, o, sc):
 # -- rims of finite stiffness (docs/model.md 6.12) -------------------------------------------------
 # With par[I_KRIM] = k != 0 no circle bounds the tilts: each surface's slide beyond its capacity,
 # R_i |v| - d_i (v = phi for S1, S4; alpha for S2, S3: the slide's arc R_i |v|, the measure of the
-# footprint's distance from the centre, s1_m..s4_m), is a spring k and a dashpot (mechanics/rim_law.py).
+# footprint's distance from the centre, s1_m..s4_m), is a spring k and a dashpot (tribology/rim_law.py).
 # Their scratch: the force (4), its Jacobian (16), each block's radial inertia (2), the dashpots'
 # loss, a solve's vectors (8) and factor (16), and the two-phase step's H + J (16) and r + J x (4).
 SP_F, SP_J, SP_M, SP_LOSS, SP_V, SP_LL, SP_H, SP_R = 616, 620, 636, 638, 640, 648, 664, 680

@@ -44,7 +44,7 @@ coordinate), each iterate the exact box problem.
 import math
 
 from fpd.tribology.friction_kernel import holding_mu
-from . import rim_law as rl
+from fpd.tribology import rim_law as rl
 from .two_phase_kernel import _sinc as sinc, pivot_angle   # the planar stepper's, one source
 
 __kernel__ = True

@@ -1,6 +1,6 @@
 """The flat bearing's rim of finite stiffness (docs/model.md 7): a spring k
 on each slip beyond its capacity and its dashpot 2 zeta sqrt(k m_eff), the
-DFP's law (mechanics/rim_law.py), against the closed forms of a mass on a
+DFP's law (tribology/rim_law.py), against the closed forms of a mass on a
 linear spring (and dashpot) while in contact."""
 import math
 import sys
@@ -13,7 +13,7 @@ from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 from fpd.loading.ground_motion import harmonic_ground_motion
 from fpd.mechanics import flat_kernel as K
-from fpd.mechanics import rim_law as rl
+from fpd.tribology import rim_law as rl
 from fpd.mechanics.flat import FlatGeometry, FlatStepper
 from fpd.schema import scene as scn
 

@@ -1,11 +1,11 @@
-"""The two-coordinate rigid-rim impact law written once (mechanics/rim_law.py
+"""The two-coordinate rigid-rim impact law written once (tribology/rim_law.py
 ``stop2``: the flat bearing's rims and the planar TFP's), against the
 conditions that define it: Newton's impact law as a linear complementarity
 problem in the impulses."""
 import numpy as np
 import pytest
 
-from fpd.mechanics import rim_law as rl
+from fpd.tribology import rim_law as rl
 
 
 def _kinetic(M, v):
