@@ -313,7 +313,7 @@ def rim(C, S, w):
     v1, v2 = S[S_V1], S[S_V2]
     e = C[I_REST]
     took = rl.impact_set(m + M, M, M, v1, v2, o1, o2, e)
-    S[S_ERIM] += rl.stop2(m + M, M, M, v1, v2, o1, o2, e, w)
+    S[S_ERIM] += rl.impact(m + M, M, M, v1, v2, o1, o2, e, took, w)
     S[S_V1], S[S_V2] = w[0], w[1]
     # the impulses (each >= 0 away from its rim): M times the velocity change, on the
     # coordinates that took one

@@ -32,7 +32,6 @@ the planar scheme.
 """
 import math
 
-from fpd.tribology import rim_law as rl
 from . import tfp_kernel as tk
 
 __kernel__ = True
@@ -2647,18 +2646,17 @@ def rim_spring_force(par, q0, x, h, sc):
     """The rims' generalised force over the increment x from q0 in the time h
     into sc[SP_F:SP_F + 4], its Jacobian in x (symmetric, positive
     semi-definite) into sc[SP_J:SP_J + 16]; returns the dashpots' loss.
-    Per block, from v0 to v1 = v0 + x: the radial law of each of its two
-    surfaces, rim_law.slide on rho = |v| from |v0| to |v1| (the spring k R^2
-    beyond d / R and its secant, the dashpot c R^2, c = 2 zeta sqrt(k m_eff),
-    m_eff = m_n / sum R^2, ``rim_spring_mass``), their sum f along
+    Per block, from v0 to v1 = v0 + x: the radial law of its two surfaces,
+    the planar TFP's rim_coordinate on rho = |v| from |v0| to |v1|
+    (rim_law.slide per surface: the spring k R^2 beyond d / R and its
+    secant, the dashpot c R^2, c = 2 zeta sqrt(k m_eff), m_eff = m_n / sum
+    R^2, ``rim_spring_mass``), their sum f along
     u = (v0 + v1) / (|v0| + |v1|). u . x = |v1| - |v0|, so the force's work
     over x is the springs' energy change plus the loss: the discrete
     gradient of the central potential (exact for any increment), on the x
     axis the planar TFP's rim_coordinate. Jacobian: j u u^T + (f / (|v0| +
     |v1|))_+ (I - u u^T) (j = df / d|v1|), the derivative's symmetric part
     at a short increment."""
-    k = par[tk.I_KRIM]
-    z = par[tk.I_ZRIM]
     loss = 0.0
     for i in range(20):
         sc[SP_F + i] = 0.0
@@ -2667,21 +2665,8 @@ def rim_spring_force(par, q0, x, h, sc):
         bx, by = ax + x[2 * b], ay + x[2 * b + 1]
         r0 = math.sqrt(ax * ax + ay * ay)
         r1 = math.sqrt(bx * bx + by * by)
-        f = 0.0
-        j = 0.0
-        for n in range(2):
-            i = 3 * n if b == 0 else 1 + n       # phi: S1, S4; alpha: S2, S3
-            R = par[tk.I_R1 + i]
-            cap = par[tk.I_D1 + i] / R
-            if r0 <= cap and r1 <= cap:
-                continue
-            c = 0.0
-            if z != 0.0:
-                c = rl.dashpot_coefficient(z, k, sc[SP_M + b] / par[tk.I_SR + i]) * R * R
-            a, d, l = rl.slide(k * R * R, c, cap, r0, r1 - r0, h)
-            f += a
-            j += d
-            loss += l
+        f, j, l = tk.rim_coordinate(par, b, r0, r1 - r0, h, sc[SP_M + b])
+        loss += l
         if f == 0.0 and j == 0.0:
             continue
         s = r0 + r1
@@ -2723,25 +2708,14 @@ def rim_spring_settled(ch, x):
 
 def rim_spring_energy(par, q):
     """The rim springs' energy, sum over S1..S4 of k o_i^2 / 2, o_i = (R_i |v_i| - d_i)_+
-    (v_i = phi for S1, S4, alpha for S2, S3; 0: rigid rims)."""
-    k = par[tk.I_KRIM]
-    if k == 0.0:
-        return 0.0
-    e = 0.0
-    for i in range(4):
-        b = 0 if (i == 0 or i == 3) else 2
-        rho = math.sqrt(q[b] * q[b] + q[b + 1] * q[b + 1])
-        e += rl.spring_energy(k, rl.overlap(par[tk.I_R1 + i] * rho - par[tk.I_D1 + i]))
-    return e
+    (v_i = phi for S1, S4, alpha for S2, S3; 0: rigid rims): the planar TFP's on the tilts' norms."""
+    return tk.rim_energy(par, math.sqrt(q[0] * q[0] + q[1] * q[1]), math.sqrt(q[2] * q[2] + q[3] * q[3]))
 
 
 def rim_spring_hits(par, S, sc):
     """A step's contacts with rims of finite stiffness: a surface's slide
-    passing its capacity from the step's start (step_scratch's q0) to S."""
-    for i in range(4):
-        b = 0 if (i == 0 or i == 3) else 2
-        r0 = math.sqrt(sc[100 + b] * sc[100 + b] + sc[101 + b] * sc[101 + b])
-        r1 = math.sqrt(S[b] * S[b] + S[b + 1] * S[b + 1])
-        R = par[tk.I_R1 + i]
-        if R * r0 <= par[tk.I_D1 + i] and R * r1 > par[tk.I_D1 + i]:
-            S[S_NHIT + i] += 1.0
+    passing its capacity from the step's start (step_scratch's q0) to S
+    (the planar TFP's count on the tilts' norms)."""
+    tk.rim_passes(par, S[S_NHIT:S_NHIT + 4], math.sqrt(sc[100] * sc[100] + sc[101] * sc[101]),
+                  math.sqrt(sc[102] * sc[102] + sc[103] * sc[103]), math.sqrt(S[0] * S[0] + S[1] * S[1]),
+                  math.sqrt(S[2] * S[2] + S[3] * S[3]))

@@ -165,7 +165,8 @@ def rim_coordinate(par, j, q, x, h, mq):
     surfaces, each rim_law.slide in the coordinate (surface i: the spring
     k R_i^2 beyond the capacity d_i / R_i, the dashpot c_i R_i^2 with c_i =
     2 zeta sqrt(k m_eff_i), m_eff_i = mq / par[I_SR + i], mq the coordinate's
-    generalised inertia with the other coordinate free)."""
+    generalised inertia with the other coordinate free). The TFP in both
+    directions calls it on each block's radius (tfp3d_kernel.rim_spring_force)."""
     k = par[I_KRIM]
     f = 0.0
     dj = 0.0
@@ -173,10 +174,13 @@ def rim_coordinate(par, j, q, x, h, mq):
     for n in range(2):
         i = 3 * n if j == 0 else 1 + n       # phi: S1, S4; alpha: S2, S3
         R = par[I_R1 + i]
+        cap = par[I_D1 + i] / R
+        if abs(q) <= cap and abs(q + x) <= cap:
+            continue                         # inside the rim over the whole increment: no force
         c = 0.0
         if par[I_ZRIM] != 0.0:
             c = rl.dashpot_coefficient(par[I_ZRIM], k, mq / par[I_SR + i]) * R * R
-        a, b, l = rl.slide(k * R * R, c, par[I_D1 + i] / R, q, x, h)
+        a, b, l = rl.slide(k * R * R, c, cap, q, x, h)
         f += a
         dj += b
         loss += l
@@ -184,7 +188,8 @@ def rim_coordinate(par, j, q, x, h, mq):
 
 
 def rim_energy(par, phi, alpha):
-    """The rim springs' energy, sum over S1..S4 of k o_i^2 / 2, o_i = (R_i |q_i| - d_i)_+ (0: rigid rims)."""
+    """The rim springs' energy, sum over S1..S4 of k o_i^2 / 2, o_i = (R_i |q_i| - d_i)_+ (0: rigid rims);
+    the TFP in both directions gives its tilts' norms."""
     k = par[I_KRIM]
     if k == 0.0:
         return 0.0
@@ -193,6 +198,18 @@ def rim_energy(par, phi, alpha):
         q = phi if (i == 0 or i == 3) else alpha
         e += rl.spring_energy(k, rl.overlap(par[I_R1 + i] * abs(q) - par[I_D1 + i]))
     return e
+
+
+def rim_passes(par, hits, phi0, al0, phi1, al1):
+    """The contacts of rims of finite stiffness over a step from (phi0, al0)
+    to (phi1, al1) (the TFP in both directions: the tilts' norms): each
+    surface whose slide R_i |q| passes its capacity d_i, counted in hits[i]."""
+    for i in range(4):
+        q0 = phi0 if (i == 0 or i == 3) else al0
+        q1 = phi1 if (i == 0 or i == 3) else al1
+        R = par[I_R1 + i]
+        if R * abs(q0) <= par[I_D1 + i] and R * abs(q1) > par[I_D1 + i]:
+            hits[i] += 1.0
 
 
 def dgrad_cos_sin(p1, p2, phi0, a0, phi1, a1, out, use_sin):
@@ -1210,12 +1227,7 @@ def advance(par, S, dt, ag, az, mu1, mu2, mu3, mu4, machine, u1, ud1, out, M, w,
     S[S_J] = -par[I_MSUP] * out[O_DX_RIM]
     if par[I_KRIM] != 0.0:
         # a contact of a rim of finite stiffness: counted as the slide passes the capacity
-        for i in range(4):
-            q0 = ph0 if (i == 0 or i == 3) else al0
-            q1 = S[0] if (i == 0 or i == 3) else S[1]
-            R = par[I_R1 + i]
-            if R * abs(q0) <= par[I_D1 + i] and R * abs(q1) > par[I_D1 + i]:
-                S[S_NHIT + i] += 1.0
+        rim_passes(par, S[S_NHIT:S_NHIT + 4], ph0, al0, S[0], S[1])
     if out[O_HIT_O] != 0.0:
         tol = 1.0 - 1e-12
         qm = par[I_QMAX_PHI]

@@ -1502,7 +1502,7 @@ def _flat_capacities(ctx, data) -> None:
 
 
 def rim_stiffness_keys(ctx, dev: dict, ld: dict) -> None:
-    """device.rim_stiffness_N_per_m and rim_damping_ratio (DFP, SFP, flat bearing): the damping
+    """device.rim_stiffness_N_per_m and rim_damping_ratio (every device): the damping
     needs the spring, the spring replaces the rigid rim's restitution and needs a ground motion."""
     k = dev.get("rim_stiffness_N_per_m")
     if k is None and dev["rim_damping_ratio"] != 0.0:

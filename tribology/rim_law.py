@@ -118,9 +118,14 @@ def stop2(m11, m12, m22, v1, v2, o1, o2, e, w):
     returns the kinetic energy removed, (1/2) dv^T M (v + w) with dv = v -
     w (e = 0: (1/2) dv^T M dv, the energy of the part stopped, the
     projection being M-orthogonal)."""
+    return impact(m11, m12, m22, v1, v2, o1, o2, e, impact_set(m11, m12, m22, v1, v2, o1, o2, e), w)
+
+
+def impact(m11, m12, m22, v1, v2, o1, o2, e, k, w):
+    """``stop2`` with its active set k (``impact_set``) given: the rates after
+    into w, the kinetic energy removed returned."""
     w[0] = v1
     w[1] = v2
-    k = impact_set(m11, m12, m22, v1, v2, o1, o2, e)
     if k == 0:
         return 0.0
     t1, t2 = _targets(v1, v2, o1, o2, e)
