@@ -42,47 +42,18 @@ N_CTL = 14
 RUNNING, DONE, REPLAY, ROW_FAILED, FULL, LOOK = 0, 1, 2, 3, 4, 5
 
 
-def plate_step(kind, Mb, Ab, FAC, V, I, P, power_W, centre_m):
-    if kind == KIND_FE1D:
-        return ck.plate_step(Mb, Ab, FAC, V, I, P, power_W, centre_m)
-    return lk.step(P, power_W)
-
-
-def plate_stored(kind, V, I, P):
-    if kind == KIND_FE1D:
-        return ck.stored(V, I, P)
-    if kind == KIND_LUMPED:
-        return lk.stored(P)
-    return 0.0
-
-
-def plate_lost(kind, P):
-    if kind == KIND_FE1D:
-        return P[ck.P_HLOST]
-    if kind == KIND_LUMPED:
-        return P[lk.P_LOST]
-    return 0.0
-
-
-def plate_centre(kind, P, cx, cy, two_d):
-    """The centre plate_step takes for a footprint centre (cx, cy): cx on a 1D
-    path (planar runs), else the fe1d column's own rule for a 2D centre
-    (column_kernel.centre_2d; lumped plates do not use it)."""
+# The plates' arrays come as tuples over the interfaces (Mbs .. Ps). Taking
+# an array out of a tuple at a run-time index, or handing a tuple on,
+# counts references to its arrays (atomic operations, the engine's most
+# frequent ones): each step takes out only the arrays its plate's kind
+# reads, and no tuple of plates is handed to a function.
+def fe1d_centre(P, cx, cy, two_d):
+    """The centre the fe1d column's step takes for a footprint centre (cx,
+    cy): cx on a 1D path (planar runs), else the column's own rule for a 2D
+    centre (column_kernel.centre_2d)."""
     if two_d == 0:
         return cx
-    if kind == KIND_FE1D:
-        return ck.centre_2d(P, cx, cy)
-    return 0.0
-
-
-def interface_heat(kind, Mb, Ab, FAC, V, I, P, eta, dW, dt, centre_m, T):
-    """The temperature of an interface's plate after the step: the share eta
-    of the friction work dW over the step (eta dW / dt, W) into the plate at
-    the footprint centre_m; T unchanged without a plate."""
-    q = eta * dW / dt
-    if kind == KIND_NONE:
-        return T
-    return plate_step(kind, Mb, Ab, FAC, V, I, P, q, centre_m)
+    return ck.centre_2d(P, cx, cy)
 
 
 def keep_row(buf, row, k, n_rows, n, last_row):
@@ -217,10 +188,17 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
             for i in range(ni):
                 wear_step(WL[i], T[i], dW[i], mu[i], dev.normal(C, S, i), areas[i], PW, i, ni)
         if heat:
+            # each plate takes the share eta_i of its interface's friction work over the
+            # step (eta_i dW_i / dt, W) at the footprint centre; T_i stays without a plate
             for i in range(ni):
-                cx, cy = dev.centre(C, S, i)
-                T[i] = interface_heat(kinds[i], Mbs[i], Abs[i], FACs[i], Vs[i], Is[i], Ps[i], eta[i], dW[i], dt,
-                                      plate_centre(kinds[i], Ps[i], cx, cy, two_d), T[i])
+                kind = kinds[i]
+                if kind == KIND_FE1D:
+                    cx, cy = dev.centre(C, S, i)
+                    P = Ps[i]
+                    T[i] = ck.plate_step(Mbs[i], Abs[i], FACs[i], Vs[i], Is[i], P, eta[i] * dW[i] / dt,
+                                         fe1d_centre(P, cx, cy, two_d))
+                elif kind == KIND_LUMPED:
+                    T[i] = lk.step(Ps[i], eta[i] * dW[i] / dt)
         kept_step = n % every == 0 or n == N
         if track or kept_step:
             dev.values(C, S, L, n, dt, row)
@@ -242,8 +220,15 @@ def run_chunk(C, S, S0, L, X, dt, LW, areas, eta, kinds, Mbs, Abs, FACs, Vs, Is,
                 st = 0.0
                 lo = 0.0
                 for i in range(ni):
-                    st += plate_stored(kinds[i], Vs[i], Is[i], Ps[i])
-                    lo += plate_lost(kinds[i], Ps[i])
+                    kind = kinds[i]
+                    if kind == KIND_FE1D:
+                        P = Ps[i]
+                        st += ck.stored(Vs[i], Is[i], P)
+                        lo += P[ck.P_HLOST]
+                    elif kind == KIND_LUMPED:
+                        P = Ps[i]
+                        st += lk.stored(P)
+                        lo += P[lk.P_LOST]
                 row[nv + 2 * ni] = st
                 row[nv + 2 * ni + 1] = lo
             kept, k, last_row = keep_row(buf, row, k, n_rows, n, last_row)
