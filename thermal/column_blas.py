@@ -4,30 +4,29 @@ thermal/column_kernel.py (the scheme, start-up, jump test and ledger,
 written once) calls these (numpy's whole-array operations here, loops in
 the compiled twin, where an array expression would cost more than the loop); the compiled path swaps this module for
 thermal/column_blas_numba.py (``__compiled_backend__``, fpd/kernels.py),
-which calls the same BLAS/LAPACK routines of scipy's library through
-pointers, so both paths give the same numbers bit for bit. The arguments
-``I`` (int32: n, k=1, lda=2, inc=1, nrhs=1, info, ord('U'), nf) and ``sc``
+which calls the same LAPACK/BLAS routines of scipy's library (dpttrs,
+ddot) through pointers and writes the band product as the same sequence
+of roundings, so both paths give the same numbers bit for bit. The arguments
+``I`` (int32: n, k=1, lda=2, inc=1, nrhs=1, info, ord('U'), nf; the routines read n, inc, nrhs, info and nf) and ``sc``
 (float scratch) are what the pointer calls need; here they are unused.
 """
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import blas, lapack
+from scipy.linalg import lapack
 
 __compiled_backend__ = "fpd.thermal.column_blas_numba"
 
-# reference-BLAS dsbmv costs ~25 ns per row; numpy's tridiagonal product
-# wins beyond a few hundred rows (measured, docs/thermal.md)
-BLAS_MAX_ROWS = 300
-_dsbmv, _dpttrs = blas.dsbmv, lapack.dpttrs     # f2py wrappers, called with positional arguments (faster)
+_dpttrs = lapack.dpttrs     # the f2py wrapper, called with positional arguments (faster)
 
 
 def band_mv(I, sc, alpha, band, x, beta, y):
     """y = alpha B x (beta == 0) or y += alpha B x (beta == 1), B tridiagonal
-    symmetric in upper band storage (2, n)."""
-    if x.shape[0] <= BLAS_MAX_ROWS:
-        _dsbmv(1, alpha, band, x, 1, 0, beta, y, 1, 0, 0, 1)     # (..., beta, y, incy, offy, lower, overwrite_y)
-        return
+    symmetric in upper band storage (2, n): per row (B_ii x_i + B_i,i+1
+    x_i+1 + B_i-1,i x_i-1) alpha, in that order, as the compiled twin's
+    loop. Not BLAS dsbmv: with one off-diagonal it makes two calls per row
+    (the fe1d step spent more time in them than in the rest of the step),
+    and its rounding depends on the machine's BLAS kernel."""
     t = np.multiply(band[0, 1:], x[1:])
     out = np.multiply(band[1], x)
     out[:-1] += t

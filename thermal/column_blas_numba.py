@@ -2,18 +2,16 @@
 
 Same contract as thermal/column_blas.py, whose ``__compiled_backend__``
 names this module: fpd.kernels.compiled("fpd.thermal.column_kernel") calls
-these instead. dsbmv, dpttrs and ddot are the routines of the library scipy
-uses (scipy.linalg.cython_blas / cython_lapack), linked by symbol name so
-that numba can cache the callers; beyond BLAS_MAX_ROWS rows the product is
-numpy's elementwise sequence, written out. Only numba and scipy are imported.
+these instead. dpttrs and ddot are the routines of the library scipy uses
+(scipy.linalg.cython_blas / cython_lapack), linked by symbol name so that
+numba can cache the callers; the band product is numpy's elementwise
+sequence, written out. Only numba and scipy are imported.
 """
 from __future__ import annotations
 
 import llvmlite.binding as _ll
 from numba import njit, types
 from numba.extending import get_cython_function_address
-
-from .column_blas import BLAS_MAX_ROWS
 
 _OPTIONS = {"cache": True, "nogil": True, "error_model": "numpy", "inline": "always"}
 
@@ -26,7 +24,6 @@ def _extern(module: str, name: str, restype, nargs: int):
     return types.ExternalFunction(sym, restype(*([types.voidptr] * nargs)))
 
 
-_dsbmv = _extern("cython_blas", "dsbmv", types.void, 11)
 _ddot = _extern("cython_blas", "ddot", types.float64, 5)
 _dpttrs = _extern("cython_lapack", "dpttrs", types.void, 7)
 
@@ -34,13 +31,7 @@ _dpttrs = _extern("cython_lapack", "dpttrs", types.void, 7)
 @njit(**_OPTIONS)
 def band_mv(I, sc, alpha, band, x, beta, y):
     n = x.shape[0]
-    if n <= BLAS_MAX_ROWS:
-        sc[0] = alpha
-        sc[1] = beta
-        _dsbmv(I[6:].ctypes, I[0:].ctypes, I[1:].ctypes, sc[0:].ctypes, band.ctypes, I[2:].ctypes,
-               x.ctypes, I[3:].ctypes, sc[1:].ctypes, y.ctypes, I[3:].ctypes)
-        return
-    for i in range(n):           # numpy's sequence in column_blas.band_mv, element by element
+    for i in range(n):           # column_blas.band_mv's numpy sequence, element by element
         o = band[1, i] * x[i]
         if i < n - 1:
             o += band[0, i + 1] * x[i + 1]
