@@ -77,7 +77,16 @@ def reseat(par, q0, q1, v, w, sc):
     metric onto the seated tangent space at q1: p = J(q1)^T M_bodies J(q0) v,
     w = M(q1)^-1 p. Returns the kinetic energy removed, the energy of the part
     stopped, 1/2 |J(q0) v - J(q1) w|^2 in the bodies' masses (body by body, no
-    cancellation). With y = 0 it is tfp_kernel.reseat. sc: scratch >= 100."""
+    cancellation). With y = 0 it is tfp_kernel.reseat, whose operations it
+    then does (on the x axis the tilts, rates and the field are the planar
+    ones: the planar re-seating there to the last bit). sc: scratch >= 100."""
+    if q0[1] == 0.0 and q0[3] == 0.0 and q1[1] == 0.0 and q1[3] == 0.0 and v[1] == 0.0 and v[3] == 0.0:
+        loss = tk.reseat(par, q0[0], q0[2], q1[0], q1[2], v[0], v[2], sc[44:47], sc[47:49])
+        w[0] = sc[47]
+        w[1] = 0.0
+        w[2] = sc[48]
+        w[3] = 0.0
+        return loss
     Aa, B, K = par[tk.I_AA], par[tk.I_B], par[tk.I_K]
     Jphi, Jpsi = par[tk.I_JPHI], par[tk.I_JPSI]
     p0x, p0y = q0[0], q0[1]
@@ -205,7 +214,7 @@ def step(par, st, dt, agx, agy, az, c_o, c_i, machine, u1x, u1y, ud1x, ud1y, out
     matvec(H, x, tmp[4:8])
     for i in range(4):
         tmp[i] = p0[i] + dt * (G[i] - (r[i] - tmp[4 + i]))
-    k3.chol_solve(M0, tmp[0:4], v, sc[200:216])
+    k3.solve4(M0, tmp[0:4], v)
     wo, wi, ein = k3.step_work(par, q0, q1, x, y, D, Fm, agx, agy, az, c_o, c_i, machine, out, tmp)
     # a block that stuck ends at rest in the phase-1 field (metric M(q0)): an
     # impulse on it alone, the other block keeping its momentum

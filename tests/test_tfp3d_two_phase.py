@@ -54,33 +54,34 @@ def run_planar(g, gm, mus=MUS):
 def test_no_y_component_reproduces_the_planar_two_phase_tfp():
     """A record without y: every column the planar two-phase TFP has (the
     pivots and re-seating rotations as their x components, the phases, the
-    re-seating loss) is its value to round-off; y stays 0. Round-off here
-    means: within twice what the planar model itself moves when its record is
-    changed by one ulp (measured 5.0e-12 of the peak displacement against
-    6.9e-12 over these 3000 steps), and below 1e-11. Phase 1 does the planar
-    floating-point operations on the axis; the runs part in the re-seating's
-    rates (Cholesky's solve here, Cramer's rule in the planar TFP, whose
-    kinetic energy is too coarse for this model's loss identity)."""
+    re-seating loss) is its value to 1e-12 of the column's peak (the energies
+    also of the total work); y stays 0. On the axis phase 1 does the planar
+    TFP's floating-point operations (the seated step's, and the rates' solve
+    by blocks), and so do the arrests and the re-seating (the planar
+    tfp_kernel.reseat), so phi, alpha, the pivots and E_reseat are the planar
+    ones bit for bit (measured: u to 3.1e-16, the energies to 2.6e-14 of
+    their peaks, F to 1.5e-13). For scale, the planar model itself moves
+    6.9e-12 of the peak over these 3000 steps when its record is changed by
+    one ulp."""
     g = tfp()
     gm = _pulse()
     p = run_planar(g, gm)
-    ulp = run_planar(g, GroundMotion(gm.name, gm.dt, gm.t, gm.d, gm.v, gm.a, gm.a_step * (1 + 2.2e-16)))
     _, d, _ = run2(g, gm)
     assert set(p["regime"]) >= {0.0, 1.0, 3.0, 6.0} and set(p["phases"]) >= {0.0, 2.0, 3.0}
     for c in ("uy_m", "phiy_rad", "alphay_rad", "beta1y_rad", "gamma1y_rad", "Fy_N"):
         assert np.max(np.abs(d[c])) == 0.0, c
+    tol = 1e-12
     um = np.max(np.abs(p["u_m"]))
-    sens = np.max(np.abs(ulp["u_m"] - p["u_m"])) / um
-    tol = min(1e-11, 2.0 * max(sens, 1e-13))
     assert np.max(np.abs(d["ux_m"] - p["u_m"])) <= tol * um
     for a, b in (("phix_rad", "phi_rad"), ("alphax_rad", "alpha_rad"), ("beta1x_rad", "beta1_rad"),
                  ("beta2x_rad", "beta2_rad"), ("gamma1x_rad", "gamma1_rad"), ("gamma2x_rad", "gamma2_rad")):
         assert np.max(np.abs(d[a] - p[b])) <= tol * np.max(np.abs(p[b])), a
     wt = sum(p[f"W{i}_J"][-1] for i in range(1, 5))
     for c in ("W1_J", "W2_J", "W3_J", "W4_J", "E_input_J", "E_kin_J", "E_pot_J", "E_reseat_J"):
-        assert np.max(np.abs(d[c] - p[c])) <= tol * wt, c
+        err = np.max(np.abs(d[c] - p[c]))
+        assert err <= tol * wt and err <= tol * np.max(np.abs(p[c])), c
     assert p["E_reseat_J"][-1] > 0.0
-    assert np.max(np.abs(d["Fx_N"] - p["F_N"])) <= 1e-9 * np.max(np.abs(p["F_N"]))
+    assert np.max(np.abs(d["Fx_N"] - p["F_N"])) <= tol * np.max(np.abs(p["F_N"]))
     assert np.array_equal(d["regime"], p["regime"]) and np.array_equal(d["phases"], p["phases"])
 
 
@@ -182,7 +183,7 @@ def test_reseat_is_the_kinetic_metric_projection_in_3d():
     out = np.zeros(4)
     l3 = K.reseat(par, np.array([0.05, 0.0, 0.02, 0.0]), np.array([0.052, 0.0, 0.015, 0.0]),
                   np.array([0.3, 0.0, -0.2, 0.0]), out, sc)
-    assert l3 == pytest.approx(lp, rel=1e-12) and np.allclose(out[[0, 2]], w2, rtol=1e-13)
+    assert l3 == lp and out[0] == w2[0] and out[2] == w2[1]     # its operations: bit for bit
     assert out[1] == 0.0 and out[3] == 0.0
 
 
