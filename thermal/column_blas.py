@@ -28,14 +28,12 @@ def band_mv(I, sc, alpha, band, x, beta, y):
     (the fe1d step spent more time in them than in the rest of the step),
     and its rounding depends on the machine's BLAS kernel."""
     t = np.multiply(band[0, 1:], x[1:])
-    out = np.multiply(band[1], x)
+    out = np.multiply(band[1], x, out=y if beta == 0.0 else None)     # y is not x
     out[:-1] += t
     np.multiply(band[0, 1:], x[:-1], out=t)
     out[1:] += t
     out *= alpha
-    if beta == 0.0:
-        y[:] = out
-    else:
+    if beta != 0.0:
         y += out
 
 
