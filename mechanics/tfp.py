@@ -296,8 +296,6 @@ class TFPStepper(TFPState):
         if self.machine and geom.rim_stiffness:
             raise ValueError("a rim of finite stiffness is for a ground motion: the test machine's programme "
                              "stays within the capacity")
-        if gz is not None and geom.rim_stiffness:
-            raise ValueError("a rim of finite stiffness of the TFP is not yet with a vertical ground motion")
         if self.machine:
             self._u = float_array(loading.u)
             self._ud = float_array(loading.ud)

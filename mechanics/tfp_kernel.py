@@ -1390,7 +1390,7 @@ def _land(par, S, M):
     mt = moving_mass(par)
     vx, vz = S[S_VXF], S[S_VZF]
     ps = seat_phi(par, al, u_rel(par, phi, al) + S[S_XF], phi)
-    if abs(ps) > par[I_QMAX_PHI]:
+    if par[I_KRIM] == 0.0 and abs(ps) > par[I_QMAX_PHI]:
         return FAIL_LAND
     e0 = 0.5 * mt * (vx * vx + vz * vz) + potential(par, phi, al) + mt * par[I_G] * S[S_ZF]
     P1, P2 = par[I_P1], par[I_P2]
@@ -1408,10 +1408,84 @@ def _land(par, S, M):
     return FAIL_NONE
 
 
+def flight_rim_energy(par, S, x):
+    """The rim springs' energy in flight after the flown displacement x: that
+    of the configuration the unit would seat in under it (the pad's tilt held,
+    the stack's from seat_phi), the seated one at the take-off and at the
+    landing (docs/model.md 10)."""
+    phi, al = S[0], S[1]
+    return rim_energy(par, seat_phi(par, al, u_rel(par, phi, al) + x, phi), al)
+
+
+def flight_springs(par, S, x0, vx, ag, h):
+    """Do rims of finite stiffness act on the flight from x0 over h (their
+    energy non-zero at x0 or at the ballistic end)?"""
+    if par[I_KRIM] == 0.0:
+        return False
+    return flight_rim_energy(par, S, x0) > 0.0 or flight_rim_energy(par, S, x0 + vx * h - 0.5 * ag * h * h) > 0.0
+
+
+def flight_x(par, S, x0, vx, ag, h):
+    """The flown horizontal displacement and velocity after h from (x0, vx)
+    under the field -ag and the rim springs, by their discrete gradient:
+    M (v1 - v0) = -M ag h - h (E(x1) - E(x0)) / (x1 - x0), x1 - x0 = h (v0 +
+    v1) / 2 with E = flight_rim_energy, so that the unit's kinetic energy and
+    E change by the ground's work -M ag (x1 - x0) exactly. x1 is the root of
+    that residual, increasing in x1 (E convex along the flight), bracketed
+    from the ballistic end and bisected to adjacent floats."""
+    mt = moving_mass(par)
+    e0 = flight_rim_energy(par, S, x0)
+
+    def residual(x1):
+        d = x1 - x0
+        if d == 0.0:
+            g = 0.0
+        else:
+            g = (flight_rim_energy(par, S, x1) - e0) / d
+        return mt * (2.0 * d / h - 2.0 * vx) + mt * ag * h + h * g
+
+    xb = x0 + vx * h - 0.5 * ag * h * h
+    fb = residual(xb)
+    if fb == 0.0:
+        return xb, 2.0 * (xb - x0) / h - vx
+    step = abs(xb - x0) + 1e-9
+    lo = hi = xb
+    for _ in range(200):                     # the bracket: grown by twos away from the residual's sign
+        if fb > 0.0:
+            lo = lo - step
+            if residual(lo) <= 0.0:
+                break
+            hi = lo + step
+        else:
+            hi = hi + step
+            if residual(hi) >= 0.0:
+                break
+            lo = hi - step
+        step *= 2.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if not (lo < mid < hi):
+            break
+        if residual(mid) > 0.0:
+            hi = mid
+        else:
+            lo = mid
+    x1 = lo if abs(residual(lo)) <= abs(residual(hi)) else hi
+    return x1, 2.0 * (x1 - x0) / h - vx
+
+
+def _flown(par, S, x0, vx, ag, t, springs):
+    """The flown horizontal displacement after t (the ballistic one without springs)."""
+    if springs:
+        return flight_x(par, S, x0, vx, ag, t)[0]
+    return x0 + vx * t - 0.5 * ag * t * t
+
+
 def _flight(par, S, ag, gv, h, M):
-    """Ballistic flight of the unit for at most h under the step's field
-    (x'' = -ag, z'' = -gv relative to the ground), exact for the
-    step-constant field; the work of the ground's d'Alembert force through
+    """The flight of the unit for at most h under the step's field (x'' =
+    -ag, z'' = -gv relative to the ground): ballistic, exact for the
+    step-constant field, but for the horizontal push of rims of finite
+    stiffness (flight_x); the work of the ground's d'Alembert force through
     the unit's displacement is input. Takes off first when seated (only when
     the path stays above the seat to h: else returns -1, nothing changed).
     Lands at the first time the height meets the seat (bisection to
@@ -1420,29 +1494,37 @@ def _flight(par, S, ag, gv, h, M):
     az = gv - par[I_G]
     if S[S_FLY] == 0.0:
         vx, vz = unit_velocity(par, S)
-        if not flight_lift(par, S, vx * h - 0.5 * ag * h * h, vz * h - 0.5 * gv * h * h) > 0.0:
+        sp = flight_springs(par, S, 0.0, vx, ag, h)
+        if not flight_lift(par, S, _flown(par, S, 0.0, vx, ag, h, sp), vz * h - 0.5 * gv * h * h) > 0.0:
             return -1.0
         _takeoff(par, S)
     x0, z0, vx, vz = S[S_XF], S[S_ZF], S[S_VXF], S[S_VZF]
+    sp = flight_springs(par, S, x0, vx, ag, h)
     tau = h
     landed = False
-    if not flight_lift(par, S, x0 + vx * h - 0.5 * ag * h * h, z0 + vz * h - 0.5 * gv * h * h) > 0.0:
+    if not flight_lift(par, S, _flown(par, S, x0, vx, ag, h, sp), z0 + vz * h - 0.5 * gv * h * h) > 0.0:
         lo, hi = 0.0, h
         for _ in range(200):
             mid = 0.5 * (lo + hi)
             if not (lo < mid < hi):
                 break
-            if flight_lift(par, S, x0 + vx * mid - 0.5 * ag * mid * mid, z0 + vz * mid - 0.5 * gv * mid * mid) > 0.0:
+            if flight_lift(par, S, _flown(par, S, x0, vx, ag, mid, sp), z0 + vz * mid - 0.5 * gv * mid * mid) > 0.0:
                 lo = mid
             else:
                 hi = mid
         tau = hi
         landed = True
-    dx = vx * tau - 0.5 * ag * tau * tau
+    if sp:
+        x1, v1 = flight_x(par, S, x0, vx, ag, tau)
+        dx = x1 - x0
+        S[S_XF] = x1
+        S[S_VXF] = v1
+    else:
+        dx = vx * tau - 0.5 * ag * tau * tau
+        S[S_XF] = x0 + dx
+        S[S_VXF] = vx - ag * tau
     dz = vz * tau - 0.5 * gv * tau * tau
-    S[S_XF] = x0 + dx
     S[S_ZF] = z0 + dz
-    S[S_VXF] = vx - ag * tau
     S[S_VZF] = vz - gv * tau
     S[S_EIN] += -moving_mass(par) * (ag * dx + az * dz)
     S[S_TFLY] += tau
@@ -1502,10 +1584,12 @@ def energies_vertical(par, S, o):
         mt = moving_mass(par)
         o[0] = 0.5 * mt * (S[S_VXF] * S[S_VXF] + S[S_VZF] * S[S_VZF])
         o[1] = potential(par, S[0], S[1]) + mt * par[I_G] * S[S_ZF]
+        if par[I_KRIM] != 0.0:
+            o[1] += flight_rim_energy(par, S, S[S_XF])
     else:
         o[0] = kinetic(par, S[1], S[2], S[3])
         o[1] = potential(par, S[0], S[1])
-    o[1] += rim_energy(par, S[0], S[1])
+        o[1] += rim_energy(par, S[0], S[1])
 
 
 def vertical_values(par, S, row, j):
@@ -1522,6 +1606,8 @@ def vertical_values(par, S, row, j):
         mt = moving_mass(par)
         row[21] = 0.5 * mt * (S[S_VXF] * S[S_VXF] + S[S_VZF] * S[S_VZF])
         row[22] += mt * par[I_G] * S[S_ZF]
+        if par[I_KRIM] != 0.0:           # the springs' energy under the flown unit
+            row[22] += flight_rim_energy(par, S, S[S_XF]) - rim_energy(par, S[0], S[1])
         row[j + 1] = flight_lift(par, S, S[S_XF], S[S_ZF])
     row[j + 2] = S[S_NLIFT]
     row[j + 3] = S[S_TFLY]

@@ -1391,10 +1391,11 @@ def tfp_cross_checks(ctx, data) -> None:
         planar_only(ctx, data, "TFP")
     # a rim of finite stiffness: the planar TFP's and the TFP's in both directions (seated and two-phase)
     rim_stiffness_keys(ctx, data["device"], data["loading"])
-    if data["device"].get("rim_stiffness_N_per_m") is not None and (
+    if data["device"].get("rim_stiffness_N_per_m") is not None and is_bidirectional(data) and (
             data["loading"].get("path_z") or data["loading"].get("vertical_scale") is not None):
         ctx.fail("device.rim_stiffness_N_per_m", data["device"]["rim_stiffness_N_per_m"], "not yet with a "
-                 "vertical ground motion for the TFP (its rims are then rigid: leave the stiffness out)")
+                 "vertical ground motion for the TFP in both directions (its rims are then rigid: leave the "
+                 "stiffness out; the planar TFP takes both)")
     from fpd.mechanics.tfp import tfp_geometry_errors
 
     geom = tfp_geometry(data)
