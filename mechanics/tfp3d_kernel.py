@@ -677,24 +677,15 @@ def socp(H, r, c1, c2, y, sc):
         if nd <= 1e-30 * ny:
             ok = True
             break
-        if lam == 1.0 and nd < low * ny:
-            low = nd / ny
-    if not ok and low <= SOCP_NOISE:
-        # Newton reached the round-off of its step (full steps of at most
-        # 1e-13 of y, the rest noise: H's condition times the unit round-off
-        # can exceed the 1e-15 asked) without meeting 1e-15 by chance: y is
-        # the minimiser to round-off, the sweeps would only move it within it
-        ok = True
-    if not ok:
+        if lam == 1.0:
+            low = min(low, nd / ny)
+    if not ok and low > 1e-26:      # full steps below 1e-13 of y: at round-off (6.8)
         # Newton did not settle: exact block sweeps (each block's 2D problem
         # with the other held) converge for any strictly convex H, slowly
         _sweeps(H, r, c1, c2, y, sc, 200000, 1e-32)
         its += 1000
     _polish(H, r, c1, c2, y, sc)
     return its
-
-
-SOCP_NOISE = 1e-26      # (1e-13)^2: a full Newton step this small against y is round-off
 
 
 def _polish(H, r, c1, c2, y, sc):
@@ -1410,9 +1401,7 @@ R_DXP, R_OM = R_VF + 4, R_VF + 8             # the fixed point's last change (4)
 R_NW = R_OM + 1                              # the last multipliers (2): Newton's start
 N_SC_RIM = R_NW + 2
 R_DM, R_JN, R_YS = 404, 412, 416             # Newton's m (8), J (3), y's start (4)
-RIM_NEWTON = 1                               # 0: the bracketed search alone (the reference)
-RIM_NOISE = 1e-12                            # both rims: Newton's steps this small against nu are round-off
-RIM_STALL = 1e-9                             # one rim: steps this small that stop falling, a bracket
+RIM_STALL, RIM_NOISE = 1e-9, 1e-12           # Newton's stalled steps against nu (one rim, both)
 
 
 def rim_qmax(par, k, nobounds):
@@ -1430,12 +1419,11 @@ def rim_start(par, st, nobounds, sc):
         sc[R_ON0 + k] = 1.0 if nq >= qm * (1.0 - 1e-13) else 0.0
         sc[R_ACT + k] = 0.0
         sc[R_NU + k] = 0.0
+        sc[R_NW + k] = 0.0
     for i in range(4):
         sc[R_V0 + i] = st[4 + i]
         sc[R_DXP + i] = 0.0
     sc[R_OM] = 1.0
-    sc[R_NW] = 0.0
-    sc[R_NW + 1] = 0.0
 
 
 def _rim_eval(H, r, c1, c2, y, nua, nub, sc):
@@ -1518,35 +1506,23 @@ def _falsi(lo, flo, hi, fhi, side, x, fx):
     return lo, flo, x, fx, -1
 
 
-def _rim_jac(H, y, c1, c2, sc):
-    """J = -dg/dnu (the gaps' Jacobian in the multipliers, minus it): y(nu) moves
-    with r' = r - nu_a m_a - nu_b m_b by (H + K_f)_SS^-1 over the blocks S
-    sliding at y (``_jac``), so J = m^T (H + K_f)_SS^-1 m, m the 4x2 of the rims'
-    directions (m_a on block a, m_b on block b). Into sc[R_JN:R_JN + 3]."""
-    for i in range(8):
-        sc[R_DM + i] = 0.0
-    sc[R_DM] = sc[R_M]
-    sc[R_DM + 2] = sc[R_M + 1]
-    sc[R_DM + 5] = sc[R_M + 2]
-    sc[R_DM + 7] = sc[R_M + 3]
-    _jac(H, y, c1, c2, sc[R_DM:R_DM + 8], sc[R_JN:R_JN + 3], sc)
+def _rim_nu(sc, nua, nub):
+    sc[R_NU] = nua
+    sc[R_NU + 1] = nub
+    return 0
 
 
 def rim_newton(H, r, c1, c2, y, sc):
-    """The dual of ``rim_socp`` by Newton's method: the gaps g(nu) = (m_k . y_k(nu)
-    - h_k) are the dual's gradient, their Jacobian -J (``_rim_jac``) within the
-    cone program's regime at y(nu); the working set the flagged blocks with nu_k
-    > 0 or g_k > 0, a multiplier that falls below 0 set to 0 (projected). Starts
-    from the multipliers of the last call (sc[R_NW:R_NW + 2]: the fixed point's
-    previous iterate). Converged when each working multiplier's Newton step is
-    within 4e-16 of it (or its gap exactly 0) and every other gap <= 0: y is
-    then the minimiser at nu, the multipliers into sc[R_NU:R_NU + 2]. Returns 0,
-    or 1 when Newton does not settle (a regime change it cannot step across,
-    a singular J): the caller falls back to the bracketed search."""
+    """``rim_socp``'s dual by projected Newton from sc[R_NW:R_NW + 2] (docs/model.md
+    6.11; the gaps' Jacobian -m^T (H + K_f)_SS^-1 m, ``_jac``): y, sc[R_NU:R_NU + 2]
+    and 0, or 1 if it did not settle (the caller's bracketed search)."""
     act0 = sc[R_ACT] != 0.0
     act1 = sc[R_ACT + 1] != 0.0
     nua = sc[R_NW] if act0 else 0.0
     nub = sc[R_NW + 1] if act1 else 0.0
+    for i in range(4):          # m as a 4 x 2 (row i, column i // 2)
+        sc[R_DM + 2 * i + i // 2] = sc[R_M + i]
+        sc[R_DM + 2 * i + 1 - i // 2] = 0.0
     prev = 1.0
     for it in range(40):
         _rim_eval(H, r, c1, c2, y, nua, nub, sc)
@@ -1555,160 +1531,94 @@ def rim_newton(H, r, c1, c2, y, sc):
         wa = act0 and (nua > 0.0 or ga > 0.0)
         wb = act1 and (nub > 0.0 or gb > 0.0)
         if not wa and not wb:
-            sc[R_NU] = 0.0
-            sc[R_NU + 1] = 0.0
-            return 0
-        _rim_jac(H, y, c1, c2, sc)
+            return _rim_nu(sc, 0.0, 0.0)
+        _jac(H, y, c1, c2, sc[R_DM:R_DM + 8], sc[R_JN:R_JN + 3], sc)
         j11, j12, j22 = sc[R_JN], sc[R_JN + 1], sc[R_JN + 2]
-        da = 0.0
-        db = 0.0
+        det = j11 * j22 - j12 * j12
+        if wa and wb and not (det > 0.0 and j11 > 0.0):
+            return 1
+        if wa != wb and not (j11 if wa else j22) > 0.0:
+            # the held block stuck at y(nu), the dual flat: a zero gap is a root, else below
+            if (ga if wa else gb) == 0.0:
+                return _rim_nu(sc, nua, nub)
+            return _rim_narrow(H, r, c1, c2, y, sc, 0 if wa else 1, nua + nub, 0.25 * (nua + nub), ga if wa else gb)
         if wa and wb:
-            det = j11 * j22 - j12 * j12
-            if not det > 0.0 or not j11 > 0.0:
-                return 1
             da = (j22 * ga - j12 * gb) / det
             db = (j11 * gb - j12 * ga) / det
-        elif wa:
-            if not j11 > 0.0:
-                return _rim_stuck(H, r, c1, c2, y, sc, 0, nua, ga)
-            da = ga / j11
         else:
-            if not j22 > 0.0:
-                return _rim_stuck(H, r, c1, c2, y, sc, 1, nub, gb)
-            db = gb / j22
-        done_a = not wa or (nua > 0.0 and (ga == 0.0 or abs(da) <= 4e-16 * nua))
-        done_b = not wb or (nub > 0.0 and (gb == 0.0 or abs(db) <= 4e-16 * nub))
-        # the steps' size against nu: past Newton's quadratic convergence they
-        # stop falling, the gaps then round-off (y's, the cone program's
-        # condition times the unit round-off): nu is the root to round-off
-        rel = 0.0
-        if wa:
-            rel = abs(da) / nua if nua > 0.0 else 1.0
-        if wb:
-            rel = max(rel, abs(db) / nub if nub > 0.0 else 1.0)
+            da = ga / j11 if wa else 0.0
+            db = gb / j22 if wb else 0.0
+        ra = (abs(da) / nua if nua > 0.0 else 1.0) if wa else 0.0
+        rb = (abs(db) / nub if nub > 0.0 else 1.0) if wb else 0.0
+        if (not wa or ga == 0.0 or ra <= 4e-16) and (not wb or gb == 0.0 or rb <= 4e-16):
+            return _rim_nu(sc, nua, nub)
+        rel = max(ra, rb)       # steps stalled in the gaps' round-off
         if rel <= RIM_STALL and rel >= 0.5 * prev:
-            if wa and wb:
-                if rel <= RIM_NOISE:
-                    done_a = True
-                    done_b = True
-            else:
-                # one rim holds: the bracketed search's regula falsi from the
-                # bracket Newton's last step gives, to the same 2e-16
-                k = 0 if wa else 1
-                return _rim_narrow(H, r, c1, c2, y, sc, k, nua if wa else nub, da if wa else db,
-                                   ga if wa else gb)
+            if wa != wb:
+                return _rim_narrow(H, r, c1, c2, y, sc, 0 if wa else 1, nua + nub, da + db, ga if wa else gb)
+            if rel <= RIM_NOISE:
+                return _rim_nu(sc, nua, nub)
         prev = rel
-        if done_a and done_b:
-            sc[R_NU] = nua
-            sc[R_NU + 1] = nub
-            return 0
-        nua += da
-        nub += db
-        if nua < 0.0:
-            nua = 0.0
-        if nub < 0.0:
-            nub = 0.0
+        nua = max(nua + da, 0.0)
+        nub = max(nub + db, 0.0)
     return 1
 
 
+def _rim_at(H, r, c1, c2, y, sc, k, x):
+    """Block k's gap at nu_k = x, the other multiplier 0 (y the minimiser there)."""
+    _rim_eval(H, r, c1, c2, y, x if k == 0 else 0.0, x if k == 1 else 0.0, sc)
+    return _rim_gap(k, y, sc)
+
+
 def _rim_narrow(H, r, c1, c2, y, sc, k, x, d, g):
-    """Block k's multiplier alone (the other 0), Newton's steps stalled at x
-    (gap g, last step d) in the gaps' round-off: a bracket about x grown from
-    2 |d| by fours, then the bracketed search's regula falsi (``_falsi``) to
-    2e-16 of the multiplier; y the minimiser at its upper end, where the gap
-    is <= 0. Returns 0, or 1 (the bracket reaches 0, or the other flagged
-    block's gap is positive at the end: the caller's fallback)."""
-    w = 2.0 * abs(d)
-    if w < 4e-16 * x:
-        w = 4e-16 * x
+    """Block k's rim alone holding, Newton stalled at x (gap g, last step d): a bracket
+    about x grown from 2 |d| by fours (to 0 at most: a gap <= 0 there, no reaction),
+    rim_search's regula falsi to 2e-16, y at its upper end. 0, or 1: fall back."""
+    w = max(2.0 * abs(d), 4e-16 * x)
     lo, flo, hi, fhi = x, g, x, g
+    up = g > 0.0
     for it in range(60):
-        if g > 0.0:
-            hi = x + w
-            _rim_eval(H, r, c1, c2, y, hi if k == 0 else 0.0, hi if k == 1 else 0.0, sc)
-            fhi = _rim_gap(k, y, sc)
-            if fhi <= 0.0:
-                break
-            lo, flo = hi, fhi
+        z = x + w if up else max(x - w, 0.0)
+        fz = _rim_at(H, r, c1, c2, y, sc, k, z)
+        if fz > 0.0:
+            lo, flo = z, fz
         else:
-            lo = x - w
-            if lo < 0.0:
-                lo = 0.0
-            _rim_eval(H, r, c1, c2, y, lo if k == 0 else 0.0, lo if k == 1 else 0.0, sc)
-            flo = _rim_gap(k, y, sc)
-            if flo > 0.0:
-                break
-            hi, fhi = lo, flo
-            if lo == 0.0:
-                # the gap <= 0 with no reaction: the rim does not hold (y at 0)
-                hi = 0.0
-                break
+            hi, fhi = z, fz
+        if (fz > 0.0) != up or z == 0.0:
+            break
         w *= 4.0
-    if hi == 0.0 and fhi <= 0.0:
-        if sc[R_ACT + 1 - k] != 0.0 and _rim_gap(1 - k, y, sc) > 0.0:
-            return 1
-        sc[R_NU] = 0.0
-        sc[R_NU + 1] = 0.0
-        return 0
-    if not (flo > 0.0 and fhi <= 0.0):
-        return 1
     side = 0
     for it in range(200):
-        if _falsi_done(lo, hi, fhi):
+        if flo <= 0.0 or fhi > 0.0 or _falsi_done(lo, hi, fhi):
             break
         xm = _falsi_point(lo, flo, hi, fhi)
-        _rim_eval(H, r, c1, c2, y, xm if k == 0 else 0.0, xm if k == 1 else 0.0, sc)
-        lo, flo, hi, fhi, side = _falsi(lo, flo, hi, fhi, side, xm, _rim_gap(k, y, sc))
-    _rim_eval(H, r, c1, c2, y, hi if k == 0 else 0.0, hi if k == 1 else 0.0, sc)
+        lo, flo, hi, fhi, side = _falsi(lo, flo, hi, fhi, side, xm, _rim_at(H, r, c1, c2, y, sc, k, xm))
+    if flo <= 0.0:
+        hi = 0.0
+    elif fhi > 0.0:
+        return 1
+    _rim_at(H, r, c1, c2, y, sc, k, hi)
     if sc[R_ACT + 1 - k] != 0.0 and _rim_gap(1 - k, y, sc) > 0.0:
         return 1
-    sc[R_NU + k] = hi
-    sc[R_NU + 1 - k] = 0.0
-    return 0
-
-
-def _rim_stuck(H, r, c1, c2, y, sc, k, x, g):
-    """Block k's multiplier alone, block k stuck at y(x) (y_k = 0, its gap -h_k,
-    the dual flat in nu_k there): a zero gap is a root (the bracketed search
-    stops at the first end of its bracket in it), else the root lies below x
-    (``_rim_narrow`` from a bracket of width x / 2 down)."""
-    if g == 0.0 and x > 0.0:
-        sc[R_NU + k] = x
-        sc[R_NU + 1 - k] = 0.0
-        return 0
-    if not x > 0.0:
-        return 1
-    return _rim_narrow(H, r, c1, c2, y, sc, k, x, 0.25 * x, g)
+    return _rim_nu(sc, hi if k == 0 else 0.0, hi if k == 1 else 0.0)
 
 
 def rim_socp(H, r, c1, c2, y, sc):
-    """The cone program of ``socp`` with the rims' half-planes m_k . y_k <= h_k
-    (for the blocks flagged at sc[R_ACT + k]): its dual over nu = (nu_a, nu_b)
-    >= 0 is concave and its gradient is the gaps (m_k . y_k(nu) - h_k), y(nu)
-    the unconstrained minimiser at r - nu_a m_a - nu_b m_b. Newton's method on
-    the dual first (``rim_newton``); where it does not settle, the bracketed
-    search: nu_b solved for each nu_a (``_rim_inner``), nu_a by the same
-    bracketed regula falsi on a's gap (the derivative of the dual maximised
-    over nu_b, nonincreasing). The minimiser into y, the multipliers into
-    sc[R_NU:R_NU + 2] (and sc[R_NW:R_NW + 2], the next call's start). Returns
-    the cone program's Newton iterations."""
-    if RIM_NEWTON != 0:
-        for i in range(4):
-            sc[R_YS + i] = y[i]
-        if rim_newton(H, r, c1, c2, y, sc) == 0:
-            sc[R_NW] = sc[R_NU]
-            sc[R_NW + 1] = sc[R_NU + 1]
-            return 0
-        for i in range(4):
-            y[i] = sc[R_YS + i]
-    rim_search(H, r, c1, c2, y, sc)
-    sc[R_NW] = sc[R_NU]
-    sc[R_NW + 1] = sc[R_NU + 1]
+    """``socp`` with the rims' half-planes m_k . y_k <= h_k (blocks flagged at
+    sc[R_ACT + k]) on its concave dual over nu >= 0 (its gradient the gaps), by
+    Newton, else the bracketed search from the same start. The minimiser into
+    y, the multipliers into sc[R_NU:R_NU + 2] and sc[R_NW:R_NW + 2]."""
+    sc[R_YS:R_YS + 4] = y[0:4]
+    if rim_newton(H, r, c1, c2, y, sc) != 0:
+        y[0:4] = sc[R_YS:R_YS + 4]
+        rim_search(H, r, c1, c2, y, sc)
+    sc[R_NW:R_NW + 2] = sc[R_NU:R_NU + 2]
     return 0
 
 
 def rim_search(H, r, c1, c2, y, sc):
-    """``rim_socp``'s bracketed search (nested regula falsi), the reference."""
+    """``rim_socp``'s bracketed search: nu_b for each nu_a (``_rim_inner``), nu_a
+    by the same regula falsi on a's gap (the dual maximised over nu_b)."""
     its = 0
     nub = _rim_inner(H, r, c1, c2, y, 0.0, sc)
     nua = 0.0
