@@ -7,9 +7,9 @@ rims: a sine velocity pulse of 1.5 m/s and 1.5 s on x, 1.0 m/s and 1.1 s on y
 (starting 0.2 s and 0.4 s in), 1.6 s at dt = 2 ms (tests/test_tfp3d_rims.py
 checks this pair compiled against pure). The compiled kernel stepped from
 Python, each step timed: the whole run, the median step, and the dearest
-steps with the rim counters that changed there (the impacts: each rim
-multiplier's bracketed search nested in the other's, inside the step's fixed
-point; docs/model.md 6.11). Best of N runs per step. `--rim-stiffness K`
+steps with the rim counters that changed there (the impacts: Newton's
+method on the rims' dual inside the step's fixed point, the nested
+bracketed search where it does not settle; docs/model.md 6.11). Best of N runs per step. `--rim-stiffness K`
 gives the rims a finite stiffness K (N/m; docs/model.md 6.12): no impact
 steps, the springs in every step.
 """

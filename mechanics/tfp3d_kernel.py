@@ -618,6 +618,7 @@ def socp(H, r, c1, c2, y, sc):
         _sweeps(H, r, c1, c2, y, sc, 4, 0.0)
     its = 0
     ok = False
+    low = 1.0
     fy = socp_f(H, r, c1, c2, y)
     for it in range(60):
         its = it + 1
@@ -676,7 +677,9 @@ def socp(H, r, c1, c2, y, sc):
         if nd <= 1e-30 * ny:
             ok = True
             break
-    if not ok:
+        if lam == 1.0:
+            low = min(low, nd / ny)
+    if not ok and low > 1e-26:      # full steps below 1e-13 of y: at round-off (6.8)
         # Newton did not settle: exact block sweeps (each block's 2D problem
         # with the other held) converge for any strictly convex H, slowly
         _sweeps(H, r, c1, c2, y, sc, 200000, 1e-32)
@@ -1395,7 +1398,10 @@ R_SV = R_ACC + N_OUT                          # the rim point (8)
 R_UD = R_SV + 8                               # u' scratch (6), u'(start), u'(part start), u'(free) (2 each)
 R_MM, R_VF = R_UD + 12, R_UD + 28            # a mass matrix (16), the free rates (4)
 R_DXP, R_OM = R_VF + 4, R_VF + 8             # the fixed point's last change (4) and relaxation
-N_SC_RIM = R_OM + 1
+R_NW = R_OM + 1                              # the last multipliers (2): Newton's start
+N_SC_RIM = R_NW + 2
+R_DM, R_JN, R_YS = 404, 412, 416             # Newton's m (8), J (3), y's start (4)
+RIM_STALL, RIM_NOISE = 1e-9, 1e-12           # Newton's stalled steps against nu (one rim, both)
 
 
 def rim_qmax(par, k, nobounds):
@@ -1413,6 +1419,7 @@ def rim_start(par, st, nobounds, sc):
         sc[R_ON0 + k] = 1.0 if nq >= qm * (1.0 - 1e-13) else 0.0
         sc[R_ACT + k] = 0.0
         sc[R_NU + k] = 0.0
+        sc[R_NW + k] = 0.0
     for i in range(4):
         sc[R_V0 + i] = st[4 + i]
         sc[R_DXP + i] = 0.0
@@ -1499,15 +1506,119 @@ def _falsi(lo, flo, hi, fhi, side, x, fx):
     return lo, flo, x, fx, -1
 
 
+def _rim_nu(sc, nua, nub):
+    sc[R_NU] = nua
+    sc[R_NU + 1] = nub
+    return 0
+
+
+def rim_newton(H, r, c1, c2, y, sc):
+    """``rim_socp``'s dual by projected Newton from sc[R_NW:R_NW + 2] (docs/model.md
+    6.11; the gaps' Jacobian -m^T (H + K_f)_SS^-1 m, ``_jac``): y, sc[R_NU:R_NU + 2]
+    and 0, or 1 if it did not settle (the caller's bracketed search)."""
+    act0 = sc[R_ACT] != 0.0
+    act1 = sc[R_ACT + 1] != 0.0
+    nua = sc[R_NW] if act0 else 0.0
+    nub = sc[R_NW + 1] if act1 else 0.0
+    for i in range(4):          # m as a 4 x 2 (row i, column i // 2)
+        sc[R_DM + 2 * i + i // 2] = sc[R_M + i]
+        sc[R_DM + 2 * i + 1 - i // 2] = 0.0
+    prev = 1.0
+    for it in range(40):
+        _rim_eval(H, r, c1, c2, y, nua, nub, sc)
+        ga = _rim_gap(0, y, sc) if act0 else -1.0
+        gb = _rim_gap(1, y, sc) if act1 else -1.0
+        wa = act0 and (nua > 0.0 or ga > 0.0)
+        wb = act1 and (nub > 0.0 or gb > 0.0)
+        if not wa and not wb:
+            return _rim_nu(sc, 0.0, 0.0)
+        _jac(H, y, c1, c2, sc[R_DM:R_DM + 8], sc[R_JN:R_JN + 3], sc)
+        j11, j12, j22 = sc[R_JN], sc[R_JN + 1], sc[R_JN + 2]
+        det = j11 * j22 - j12 * j12
+        if wa and wb and not (det > 0.0 and j11 > 0.0):
+            return 1
+        if wa != wb and not (j11 if wa else j22) > 0.0:
+            # the held block stuck at y(nu), the dual flat: a zero gap is a root, else below
+            if (ga if wa else gb) == 0.0:
+                return _rim_nu(sc, nua, nub)
+            return _rim_narrow(H, r, c1, c2, y, sc, 0 if wa else 1, nua + nub, 0.25 * (nua + nub), ga if wa else gb)
+        if wa and wb:
+            da = (j22 * ga - j12 * gb) / det
+            db = (j11 * gb - j12 * ga) / det
+        else:
+            da = ga / j11 if wa else 0.0
+            db = gb / j22 if wb else 0.0
+        ra = (abs(da) / nua if nua > 0.0 else 1.0) if wa else 0.0
+        rb = (abs(db) / nub if nub > 0.0 else 1.0) if wb else 0.0
+        if (not wa or ga == 0.0 or ra <= 4e-16) and (not wb or gb == 0.0 or rb <= 4e-16):
+            return _rim_nu(sc, nua, nub)
+        rel = max(ra, rb)       # steps stalled in the gaps' round-off
+        if rel <= RIM_STALL and rel >= 0.5 * prev:
+            if wa != wb:
+                return _rim_narrow(H, r, c1, c2, y, sc, 0 if wa else 1, nua + nub, da + db, ga if wa else gb)
+            if rel <= RIM_NOISE:
+                return _rim_nu(sc, nua, nub)
+        prev = rel
+        nua = max(nua + da, 0.0)
+        nub = max(nub + db, 0.0)
+    return 1
+
+
+def _rim_at(H, r, c1, c2, y, sc, k, x):
+    """Block k's gap at nu_k = x, the other multiplier 0 (y the minimiser there)."""
+    _rim_eval(H, r, c1, c2, y, x if k == 0 else 0.0, x if k == 1 else 0.0, sc)
+    return _rim_gap(k, y, sc)
+
+
+def _rim_narrow(H, r, c1, c2, y, sc, k, x, d, g):
+    """Block k's rim alone holding, Newton stalled at x (gap g, last step d): a bracket
+    about x grown from 2 |d| by fours (to 0 at most: a gap <= 0 there, no reaction),
+    rim_search's regula falsi to 2e-16, y at its upper end. 0, or 1: fall back."""
+    w = max(2.0 * abs(d), 4e-16 * x)
+    lo, flo, hi, fhi = x, g, x, g
+    up = g > 0.0
+    for it in range(60):
+        z = x + w if up else max(x - w, 0.0)
+        fz = _rim_at(H, r, c1, c2, y, sc, k, z)
+        if fz > 0.0:
+            lo, flo = z, fz
+        else:
+            hi, fhi = z, fz
+        if (fz > 0.0) != up or z == 0.0:
+            break
+        w *= 4.0
+    side = 0
+    for it in range(200):
+        if flo <= 0.0 or fhi > 0.0 or _falsi_done(lo, hi, fhi):
+            break
+        xm = _falsi_point(lo, flo, hi, fhi)
+        lo, flo, hi, fhi, side = _falsi(lo, flo, hi, fhi, side, xm, _rim_at(H, r, c1, c2, y, sc, k, xm))
+    if flo <= 0.0:
+        hi = 0.0
+    elif fhi > 0.0:
+        return 1
+    _rim_at(H, r, c1, c2, y, sc, k, hi)
+    if sc[R_ACT + 1 - k] != 0.0 and _rim_gap(1 - k, y, sc) > 0.0:
+        return 1
+    return _rim_nu(sc, hi if k == 0 else 0.0, hi if k == 1 else 0.0)
+
+
 def rim_socp(H, r, c1, c2, y, sc):
-    """The cone program of ``socp`` with the rims' half-planes m_k . y_k <= h_k
-    (for the blocks flagged at sc[R_ACT + k]): its dual over nu = (nu_a, nu_b)
-    >= 0 is concave and its gradient is the gaps (m_k . y_k(nu) - h_k), y(nu)
-    the unconstrained minimiser at r - nu_a m_a - nu_b m_b; nu_b solved for
-    each nu_a (``_rim_inner``), nu_a by the same bracketed regula falsi on a's
-    gap (the derivative of the dual maximised over nu_b, nonincreasing). The
-    minimiser into y, the multipliers into sc[R_NU:R_NU + 2]. Returns the cone
-    program's Newton iterations."""
+    """``socp`` with the rims' half-planes m_k . y_k <= h_k (blocks flagged at
+    sc[R_ACT + k]) on its concave dual over nu >= 0 (its gradient the gaps), by
+    Newton, else the bracketed search from the same start. The minimiser into
+    y, the multipliers into sc[R_NU:R_NU + 2] and sc[R_NW:R_NW + 2]."""
+    sc[R_YS:R_YS + 4] = y[0:4]
+    if rim_newton(H, r, c1, c2, y, sc) != 0:
+        y[0:4] = sc[R_YS:R_YS + 4]
+        rim_search(H, r, c1, c2, y, sc)
+    sc[R_NW:R_NW + 2] = sc[R_NU:R_NU + 2]
+    return 0
+
+
+def rim_search(H, r, c1, c2, y, sc):
+    """``rim_socp``'s bracketed search: nu_b for each nu_a (``_rim_inner``), nu_a
+    by the same regula falsi on a's gap (the dual maximised over nu_b)."""
     its = 0
     nub = _rim_inner(H, r, c1, c2, y, 0.0, sc)
     nua = 0.0
