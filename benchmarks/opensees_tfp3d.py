@@ -410,7 +410,7 @@ def metrics(r, W) -> dict:
 def hexagon_table(g) -> dict:
     """The small-angle loops of docs/model.md 6.3-6.4 at U = 0.25 m: rigid,
     series, series with friction at R_i, series with the rigid backbone."""
-    from fpd.mechanics.tfp import hexagon_loop
+    from fpd.studies.tfp_backbone import hexagon_loop
     sp = series_parameters(g)
     W, Li, L = g.weight, g.Li, g.A + g.Li
     out = {}

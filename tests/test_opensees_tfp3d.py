@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "benchmarks"))
 import opensees_tfp3d as B  # noqa: E402
 
-from fpd.mechanics.tfp import hexagon_loop  # noqa: E402
+from fpd.studies.tfp_backbone import hexagon_loop  # noqa: E402
 from fpd.schema import scene as scn  # noqa: E402
 from fpd.schema.scene import tfp_geometry  # noqa: E402
 

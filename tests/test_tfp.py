@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from fpd.loading.ground_motion import pulse_ground_motion, sine_programme
-from fpd.mechanics.tfp import (TFPGeometry, TFPStepper, backbone_path, small_angle_backbone,
-                               transition_force)
+from fpd.mechanics.tfp import TFPGeometry, TFPStepper
+from fpd.studies.tfp_backbone import backbone_path, small_angle_backbone, transition_force
 
 ROOT = Path(__file__).resolve().parent.parent
 MUS = (0.10, 0.02, 0.02, 0.10)            # symmetric: mu2 = mu3 < mu1 = mu4
@@ -246,7 +246,7 @@ def test_tfp_key_on_a_dfp_is_refused(tmp_path):
 def test_small_angle_loop_area_and_the_series_model():
     """Below the rims the loop is the small-angle hexagon of docs/model.md 6.3
     (within 2 %); the Fenz-Constantinou series model's loop is 13-17 % smaller."""
-    from fpd.mechanics.tfp import compare_with_series
+    from fpd.studies.tfp_backbone import compare_with_series
     g = tfp()
     U = 0.25
     s, d, _ = run(g, sine_programme(U, 0.05, 2, 5e-3))

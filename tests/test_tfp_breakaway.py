@@ -14,6 +14,7 @@ from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 from fpd.mechanics import tfp as T
 from fpd.mechanics import tfp_kernel as K
+from fpd.studies import tfp_backbone as B
 from fpd.mechanics.geometry import G_ACC
 from fpd.schema import scene as scn
 
@@ -42,15 +43,15 @@ def _mixed_transition(geom):
     inner slides with the sliding mu, the outer holds with the static one
     (the root in psi of the outer demand minus its static cap)."""
     def h(psi):
-        F = T.branch_force(geom, KIN, 0.0, psi, "alpha", 1.0)
-        d, cap = T.demand(geom, STAT, 0.0, psi, F, "phi")
+        F = B.branch_force(geom, KIN, 0.0, psi, "alpha", 1.0)
+        d, cap = B.demand(geom, STAT, 0.0, psi, F, "phi")
         return d - cap
     lo, hi = 0.0, geom.qmax[1]
     assert h(lo) < 0 < h(hi)
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         lo, hi = (lo, mid) if h(lo) * h(mid) <= 0 else (mid, hi)
-    return T.branch_force(geom, KIN, 0.0, 0.5 * (lo + hi), "alpha", 1.0)
+    return B.branch_force(geom, KIN, 0.0, 0.5 * (lo + hi), "alpha", 1.0)
 
 
 @pytest.mark.parametrize("model", ["seated", "two-phase"])
@@ -74,8 +75,8 @@ def test_tfp_machine_breaks_away_at_the_static_statics(model):
     F, phi, al = res["F_N"], res["phi_rad"], res["alpha_rad"]
 
     def branch(mus, r, coord, s):
-        a = T.branch_force(g, mus, phi[r - 1], phi[r - 1] + al[r - 1], coord, s)
-        b = T.branch_force(g, mus, phi[r], phi[r] + al[r], coord, s)
+        a = B.branch_force(g, mus, phi[r - 1], phi[r - 1] + al[r - 1], coord, s)
+        b = B.branch_force(g, mus, phi[r], phi[r] + al[r], coord, s)
         return 0.5 * (a + b)
 
     errs = {}

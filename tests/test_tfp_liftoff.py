@@ -47,6 +47,20 @@ def _run(g, gx, gz, kernel=None):
     return {c: d[:, i] for i, c in enumerate(s.columns)}, np.array(res), states
 
 
+def _take_off(g, S0):
+    """(the unit's mass, the pad's tilt, the superstructure's position x, z
+    and velocity vx, vz) at take-off from the state S0: the velocity from the
+    bodies' momentum (geom.bodies)."""
+    phi, al, w1, w2 = S0[0], S0[1], S0[2], S0[3]
+    ps = phi + al
+    bodies = g.bodies()
+    mt = sum(b[0] for b in bodies)
+    px = sum(m * (a * w1 * math.cos(phi) + b * (w1 + w2) * math.cos(ps)) for m, a, b, _, _ in bodies)
+    pz = sum(m * (a * w1 * math.sin(phi) + b * (w1 + w2) * math.sin(ps)) for m, a, b, _, _ in bodies)
+    return (mt, al, g.A * math.sin(phi) + g.Li * math.sin(ps), g.A * (1 - math.cos(phi)) + g.Li * (1 - math.cos(ps)),
+            px / mt, pz / mt)
+
+
 def _independent_flight(g, S0, ax, az, k0, dt):
     """The flight from the state S0 at the start of step k0, integrated apart
     from the kernel: the unit's velocity from the bodies' momentum (geom.bodies),
@@ -55,15 +69,7 @@ def _independent_flight(g, S0, ax, az, k0, dt):
     A sin phi + L_i sin(phi + alpha) = u), the landing the first root of the
     height above the seat (brentq). Returns (flight time, peak height above the
     seat, the superstructure's horizontal position at landing)."""
-    phi, al, w1, w2 = S0[0], S0[1], S0[2], S0[3]
-    ps = phi + al
-    bodies = g.bodies()
-    mt = sum(b[0] for b in bodies)
-    px = sum(m * (a * w1 * math.cos(phi) + b * (w1 + w2) * math.cos(ps)) for m, a, b, _, _ in bodies)
-    pz = sum(m * (a * w1 * math.sin(phi) + b * (w1 + w2) * math.sin(ps)) for m, a, b, _, _ in bodies)
-    vx, vz = px / mt, pz / mt
-    x = g.A * math.sin(phi) + g.Li * math.sin(ps)
-    z = g.A * (1 - math.cos(phi)) + g.Li * (1 - math.cos(ps))
+    mt, al, x, z, vx, vz = _take_off(g, S0)
 
     def seat(u):
         f = brentq(lambda p: g.A * math.sin(p) + g.Li * math.sin(p + al) - u, -0.5, 0.5, xtol=1e-15, rtol=1e-15)
@@ -132,15 +138,7 @@ def _independent_spring_flight(g, S0, ax, az, k0, dt):
     held), E' by central differences; z ballistic; the landing the first root
     of the height above the seat (the solver's event). Returns the flight
     time."""
-    phi, al, w1, w2 = S0[0], S0[1], S0[2], S0[3]
-    ps = phi + al
-    bodies = g.bodies()
-    mt = sum(b[0] for b in bodies)
-    px = sum(m * (a * w1 * math.cos(phi) + b * (w1 + w2) * math.cos(ps)) for m, a, b, _, _ in bodies)
-    pz = sum(m * (a * w1 * math.sin(phi) + b * (w1 + w2) * math.sin(ps)) for m, a, b, _, _ in bodies)
-    vx, vz = px / mt, pz / mt
-    x = g.A * math.sin(phi) + g.Li * math.sin(ps)
-    z = g.A * (1 - math.cos(phi)) + g.Li * (1 - math.cos(ps))
+    mt, al, x, z, vx, vz = _take_off(g, S0)
 
     def seat_tilt(u):
         return brentq(lambda p: g.A * math.sin(p) + g.Li * math.sin(p + al) - u, -0.6, 0.6, xtol=1e-16, rtol=1e-15)

@@ -17,7 +17,8 @@ import pytest
 
 from fpd.mechanics import tfp_kernel as K
 from fpd.loading.ground_motion import pulse_ground_motion, sine_programme
-from fpd.mechanics.tfp import TFPFailure, backbone_path, transition_force
+from fpd.mechanics.tfp import TFPFailure
+from fpd.studies.tfp_backbone import backbone_path, transition_force
 from tests.test_tfp import MUS, run as run_of_tests, tfp     # the same device and runner
 
 ROOT = Path(__file__).resolve().parent.parent
