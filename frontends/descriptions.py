@@ -96,8 +96,8 @@ KEYS: dict[str, tuple[str, str]] = {
                                             "stays 0; without damping E_rim_J stays 0 too, the "
                                             "spring's energy is in E_pot_J); the rigid rim of rim_restitution = 1 "
                                             "is its stiff limit. dt must resolve the contact, about pi sqrt(m / k). "
-                                            "Refused on the test machine, with rim_restitution, and on the flat "
-                                            "bearing and the TFP under a vertical ground motion."),
+                                            "Refused on the test machine, with rim_restitution, and on the TFP "
+                                            "under a vertical ground motion."),
     "device.rim_damping_ratio": ("", "DFP / SFP / TFP / flat bearing with rim_stiffness_N_per_m: damping ratio zeta "
                                      "in [0, 1) of the "
                                      "rim's contact: a linear dashpot 2 zeta sqrt(k m_eff) on the slide past the "
