@@ -494,8 +494,8 @@ def _surface_checks(ctx: _Ctx, where: str, res: dict, preset=None) -> None:
         if res["mu_static"] < mu0:
             allowed = f"must be >= the sliding mu ({mu0:.6g} at rest and 20 degC)"
             if preset is not None and "mu_static" in preset[2]:
-                ctx.fail(preset[0], preset[1], f"its mu_static = {res['mu_static']:g} {allowed}, law "
-                         f"\"{res['law']}\" with the scene's keys: give {where}.mu_static (or static_ratio) too")
+                ctx.fail(preset[0], preset[1], f"the preset's {where}.mu_static = {res['mu_static']:g}: {allowed} of "
+                         f"law \"{res['law']}\" with the scene's keys: give {where}.mu_static (or static_ratio) too")
             ctx.fail(f"{where}.mu_static", res["mu_static"], allowed)
     dwell = [k for k in ("mu_static_inf", "dwell_time_s") if k in res]
     if len(dwell) == 1:

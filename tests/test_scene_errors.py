@@ -251,7 +251,8 @@ CATALOGUE = [
      ["loading.hold_s", "1e+50", "at most 2e+07"]),
     # a liner preset's breakaway below the law the scene gives: named as the preset's
     ("liner-mu-static-below-law", {"friction": {"liner": "ptfe", "law": "constant", "mu": 0.2}}, (),
-     ["friction.liner", "'ptfe'", "its mu_static = 0.1", "0.2 at rest", "give friction.mu_static"]),
+     ["friction.liner", "'ptfe'", "the preset's friction.mu_static = 0.1: must be >=", "0.2 at rest",
+      "give friction.mu_static"]),
 ]
 
 
@@ -398,7 +399,7 @@ OVERRIDE_CASES = [
     ("tfp-circle-start-past-inner-rims", "tfp-lab", ['loading.waveform="circle"'],
      ["loading.amplitude_m = 0.455", "inner surfaces", "at most 0.09039 m", "without rims"]),
     ("tfp-liner-below-law", "tfp-elcentro", ['friction.liner="ptfe"'],
-     ["friction.liner = 'ptfe'", "its mu_static = 0.1", "0.100096", "give friction.mu_static"]),
+     ["friction.liner = 'ptfe'", "the preset's friction.mu_static = 0.1", "0.100096", "give friction.mu_static"]),
     ("units-of-a-v2", "ferndale-3c", ['loading.units="g"'], ["loading.units = 'g'", "is not read"]),
     ("units-of-an-AT2-pair-member", "default", ['loading.file_z="records/IELC180.AT2"', 'loading.units="g"'],
      ["loading.units = 'g'", "is not read"]),
