@@ -543,6 +543,11 @@ def _thermal(ctx: _Ctx, given, sides=TWO_SIDES, part_defaults=None) -> dict:
     for side in sides:
         t = out[side]
         where = f"thermal.{side}" if "mesh_file" in given.get(side, {}) else "thermal"
+        if t["mesh_file"] and t["model"] != "axisym" and (
+                where != "thermal" or not any(out[s]["model"] == "axisym" for s in sides)):
+            # (a mesh in the base table serves the plates that are axisym)
+            ctx.fail(f"{where}.mesh_file", t["mesh_file"], f'a user mesh is for model = "axisym" (this plate\'s '
+                     f'model is "{t["model"]}"): leave mesh_file out')
         if t["model"] == "axisym" and t["mesh_file"]:
             p = Path(t["mesh_file"])
             if not p.is_absolute():

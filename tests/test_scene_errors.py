@@ -249,6 +249,9 @@ CATALOGUE = [
     ("machine-hold-beyond-steps", {"loading": {"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 1.0,
                                                "cycles": 1, "hold_s": 1e50}, "solver.duration": 1.0}, (),
      ["loading.hold_s", "1e+50", "at most 2e+07"]),
+    # a user mesh on a plate that does not read it
+    ("mesh-file-not-axisym", {"thermal.mesh_file": "m.msh"}, (),
+     ["thermal.mesh_file", "'m.msh'", 'is for model = "axisym"', '"lumped"', "leave mesh_file out"]),
     # a liner preset's breakaway below the law the scene gives: named as the preset's
     ("liner-mu-static-below-law", {"friction": {"liner": "ptfe", "law": "constant", "mu": 0.2}}, (),
      ["friction.liner", "'ptfe'", "the preset's friction.mu_static = 0.1: must be >=", "0.2 at rest",
