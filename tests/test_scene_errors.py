@@ -229,6 +229,33 @@ CATALOGUE = [
     ("set-word-for-number", {}, ("--set", "solver.dt=fast"), ["solver.dt", "'fast'", "must be a number"]),
     ("set-unknown-key", {}, ("--set", "friction.muu=0.1"), ["friction.muu", "0.1", "did you mean friction.mu?"]),
     ("set-inf", {}, ("--set", "solver.dt=inf"), ["solver.dt", "inf", "must be finite"]),
+    # keys that would be ignored: an SFP's second radius, units that no record file reads
+    ("sfp-R2-not-R1", {"device.kind": "SFP", "device.R2": 3.0}, (),
+     ["device.R2", "3", "one concave surface", "R1 = 2.2", "leave R2 out"]),
+    ("units-of-an-AT2", {"loading": {"kind": "record", "record": "elcentro-1940", "units": "m/s2"}}, (),
+     ["loading.units", "'m/s2'", "is not read", "remove loading.units"]),
+    # programmes the steps cannot sample or hold
+    ("frequency-above-two-steps", {"loading.frequency_Hz": 600.0}, (),
+     ["loading.frequency_Hz", "600", "shorter than two steps", "at most 500 Hz"]),
+    ("pulse-period-below-two-steps", {"loading": {"kind": "pulse", "velocity_mps": 0.5, "period_s": 1e-3}}, (),
+     ["loading.period_s", "0.001", "shorter than two steps", "at least 0.002 s"]),
+    ("axial-frequency-above-two-steps", {"loading": {"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 1.0,
+                                                     "cycles": 1, "vertical": "sine", "vertical_amplitude_ratio": 0.1,
+                                                     "vertical_frequency_Hz": 1000.0}}, (),
+     ["loading.vertical_frequency_Hz", "1000", "shorter than two steps"]),
+    ("machine-cycles-beyond-steps", {"loading": {"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 1.0,
+                                                 "cycles": 1e50}, "solver.duration": 1.0}, (),
+     ["loading.cycles", "1e+50", "steps of solver.dt", "at most 2e+07", "not its programme"]),
+    ("machine-hold-beyond-steps", {"loading": {"kind": "displacement", "amplitude_m": 0.05, "frequency_Hz": 1.0,
+                                               "cycles": 1, "hold_s": 1e50}, "solver.duration": 1.0}, (),
+     ["loading.hold_s", "1e+50", "at most 2e+07"]),
+    # a user mesh on a plate that does not read it
+    ("mesh-file-not-axisym", {"thermal.mesh_file": "m.msh"}, (),
+     ["thermal.mesh_file", "'m.msh'", 'is for model = "axisym"', '"lumped"', "leave mesh_file out"]),
+    # a liner preset's breakaway below the law the scene gives: named as the preset's
+    ("liner-mu-static-below-law", {"friction": {"liner": "ptfe", "law": "constant", "mu": 0.2}}, (),
+     ["friction.liner", "'ptfe'", "the preset's friction.mu_static = 0.1: must be >=", "0.2 at rest",
+      "give friction.mu_static"]),
 ]
 
 
@@ -367,3 +394,53 @@ def test_grading_that_makes_the_first_element_vanish(tmp_path):
     from fpd.schema.scene import SceneError, load
     with pytest.raises(SceneError, match=r"default.toml: thermal.n_elements = 1000: with grading = 1.05"):
         load("default", ["thermal.n_elements=1000", "thermal.grading=1.05"])
+
+
+# -- packaged scenes with overrides: refused at validation (schema.load), one line -----------
+OVERRIDE_CASES = [
+    # (id, scene, overrides, tokens)
+    ("tfp-circle-start-past-inner-rims", "tfp-lab", ['loading.waveform="circle"'],
+     ["loading.amplitude_m = 0.455", "inner surfaces", "at most 0.09039 m", "without rims"]),
+    ("tfp-liner-below-law", "tfp-elcentro", ['friction.liner="ptfe"'],
+     ["friction.liner = 'ptfe'", "the preset's friction.mu_static = 0.1", "0.100096", "give friction.mu_static"]),
+    ("units-of-a-v2", "ferndale-3c", ['loading.units="g"'], ["loading.units = 'g'", "is not read"]),
+    ("units-of-an-AT2-pair-member", "default", ['loading.file_z="records/IELC180.AT2"', 'loading.units="g"'],
+     ["loading.units = 'g'", "is not read"]),
+    ("flat-planar-names-the-tfp", "flat-lab", ['loading.direction_deg=30'],
+     ["loading.direction_deg = 30", "a DFP, an SFP or a TFP"]),
+    ("sfp-R2-packaged", "sfp-harmonic", ["device.R2=2.5"], ["device.R2 = 2.5", "R1 = 2 m"]),
+    ("machine-frequency-above-two-steps", "tfp-lab", ["loading.frequency_Hz=1e9", "solver.duration=1"],
+     ["loading.frequency_Hz = 1e+09", "at most 250 Hz"]),
+]
+
+
+@pytest.mark.parametrize("scene,overrides,tokens", [c[1:] for c in OVERRIDE_CASES],
+                         ids=[c[0] for c in OVERRIDE_CASES])
+def test_override_catalogue(scene, overrides, tokens):
+    from fpd.schema.scene import SceneError, load
+    with pytest.raises(SceneError) as exc:
+        load(scene, overrides)
+    msg = str(exc.value)
+    assert "\n" not in msg and msg.startswith(str(ROOT / "scenes" / f"{scene}.toml")), msg
+    for tok in tokens:
+        assert tok in msg, f"{tok!r} not in {msg!r}"
+
+
+def test_what_the_new_checks_let_through():
+    """The resolved scene of an SFP repeats R2 = R1 (it must load again); units read by a
+    two-column y beside an .AT2 x; a circle orbit within the inner rims; two steps a period."""
+    from fpd.schema.scene import load, to_toml, validate
+    import tomllib
+    sc = load("sfp-harmonic")
+    assert validate(tomllib.loads(to_toml(sc)), "again.toml").data["device"]["R2"] == sc["device"]["R1"]
+    load("tfp-lab", ['loading.waveform="circle"', "loading.amplitude_m=0.09"])
+    load("sfp-harmonic", ["loading.frequency_Hz=500", "loading.cycles=1"])
+
+
+def test_a_failing_file_y_is_named(dirs, fpd_inproc):
+    """A y record that cannot be read beside a packaged x record: the key is loading.file_y."""
+    inp, runs = dirs
+    (inp / "y.AT2").write_bytes(b"")
+    proc, _ = run_scene(dirs, {"loading": {"kind": "record", "record": "elcentro-1940", "file_y": "y.AT2"},
+                               "solver.duration": 0.01}, (), fpd_inproc)
+    assert_input_error(proc, runs, "y.AT2", "empty", "(loading.file_y)")
