@@ -208,7 +208,7 @@ KEYS: dict[str, tuple[str, str]] = {
     "loading.record.record_id": ("", "record_set: the set's record ID (far field 1..22; near field with pulse "
                                      "1..14, without pulse 15..28); required with record_set."),
     "loading.record.component": ("", 'record_set: the horizontal component, "a" or "b" (the set\'s two components '
-                                     'of the record), or "pair": both, a bidirectional run (DFP, SFP) with a on '
+                                     'of the record), or "pair": both, a bidirectional run (DFP, SFP, TFP) with a on '
                                      'x and b on y, each normalised like a single component, target_pga_g\'s '
                                      'one set-median factor on both (the pair keeps its proportions), angle_deg '
                                      'turning the pair; required with record_set.'),
