@@ -1493,16 +1493,21 @@ def _flight(par, S, ag, gv, h, M):
     when the landing is not modelled)."""
     az = gv - par[I_G]
     if S[S_FLY] == 0.0:
+        # the take-off: the path from the seat (x0 = z0 = 0) stays above it to h
         vx, vz = unit_velocity(par, S)
         sp = flight_springs(par, S, 0.0, vx, ag, h)
         if not flight_lift(par, S, _flown(par, S, 0.0, vx, ag, h, sp), vz * h - 0.5 * gv * h * h) > 0.0:
             return -1.0
         _takeoff(par, S)
+        aloft = True
+    else:
+        sp = flight_springs(par, S, S[S_XF], S[S_VXF], ag, h)
+        aloft = flight_lift(par, S, _flown(par, S, S[S_XF], S[S_VXF], ag, h, sp),
+                            S[S_ZF] + S[S_VZF] * h - 0.5 * gv * h * h) > 0.0
     x0, z0, vx, vz = S[S_XF], S[S_ZF], S[S_VXF], S[S_VZF]
-    sp = flight_springs(par, S, x0, vx, ag, h)
     tau = h
     landed = False
-    if not flight_lift(par, S, _flown(par, S, x0, vx, ag, h, sp), z0 + vz * h - 0.5 * gv * h * h) > 0.0:
+    if not aloft:
         lo, hi = 0.0, h
         for _ in range(200):
             mid = 0.5 * (lo + hi)
@@ -1603,11 +1608,7 @@ def vertical_values(par, S, row, j):
         row[2] += S[S_XF]
         row[3] = S[S_VXF]
         row[5] += S[S_ZF]
-        mt = moving_mass(par)
-        row[21] = 0.5 * mt * (S[S_VXF] * S[S_VXF] + S[S_VZF] * S[S_VZF])
-        row[22] += mt * par[I_G] * S[S_ZF]
-        if par[I_KRIM] != 0.0:           # the springs' energy under the flown unit
-            row[22] += flight_rim_energy(par, S, S[S_XF]) - rim_energy(par, S[0], S[1])
+        energies_vertical(par, S, row[21:23])     # E_kin_J, E_pot_J of the flying unit
         row[j + 1] = flight_lift(par, S, S[S_XF], S[S_ZF])
     row[j + 2] = S[S_NLIFT]
     row[j + 3] = S[S_TFLY]
