@@ -12,16 +12,19 @@ from fpd.mechanics import tfp_kernel as K
 from fpd.mechanics.tfp import TFPGeometry
 
 
+def _statics(geom: TFPGeometry, phi: float, psi: float) -> tuple:
+    """What the branch forces and the demands read: the weights W1..W4 the
+    surfaces carry, the packed parameters (P1, P2), g, cos and sin of phi and psi."""
+    return (*geom.static_weights(), geom.pack(), geom.g, math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi))
+
+
 def branch_force(geom: TFPGeometry, mus, phi: float, psi: float, coord: str, s: float) -> float:
     """Quasi-static horizontal force of the rigid model on a branch where
     ``coord`` ('alpha': S2+S3, or 'phi': S1+S4) slides in the direction s,
     the other coordinate held; exact geometry, normal forces from statics
     (N_i = F sin(axis) + W_i cos(axis))."""
     mu1, mu2, mu3, mu4 = mus
-    W1, W2, W3, W4 = geom.static_weights()
-    p = geom.pack()
-    g = geom.g
-    cf, sf, cp, sp = math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi)
+    W1, W2, W3, W4, p, g, cf, sf, cp, sp = _statics(geom, phi, psi)
     if coord == "alpha":
         k = mu2 * geom.R2 + mu3 * geom.R3
         num = g * p[K.I_P2] * sp + s * (mu2 * geom.R2 * W2 + mu3 * geom.R3 * W3) * cp
@@ -34,10 +37,7 @@ def branch_force(geom: TFPGeometry, mus, phi: float, psi: float, coord: str, s: 
 def demand(geom: TFPGeometry, mus, phi, psi, F, coord):
     """(generalised force the machine's F puts on ``coord`` minus gravity's, its friction cap)."""
     mu1, mu2, mu3, mu4 = mus
-    W1, W2, W3, W4 = geom.static_weights()
-    p = geom.pack()
-    g = geom.g
-    cf, sf, cp, sp = math.cos(phi), math.sin(phi), math.cos(psi), math.sin(psi)
+    W1, W2, W3, W4, p, g, cf, sf, cp, sp = _statics(geom, phi, psi)
     if coord == "alpha":
         d = F * geom.Li * cp - g * p[K.I_P2] * sp
         cap = mu2 * geom.R2 * (F * sp + W2 * cp) + mu3 * geom.R3 * (F * sp + W3 * cp)
