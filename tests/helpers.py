@@ -32,3 +32,16 @@ def run(stepper, mu1, mu2, record=("theta",)):
         for k in record:
             out[k][n] = getattr(stepper, k)
     return out
+
+
+def refusal(scene, overrides=()) -> str:
+    """The message of the SceneError that loading the scene (a packaged name,
+    a path or a dict, as fpd.schema.scene.load takes it) with the overrides
+    raises, checked to be one line."""
+    import pytest
+    from fpd.schema.scene import SceneError, load
+    with pytest.raises(SceneError) as e:
+        load(scene, list(overrides))
+    msg = str(e.value)
+    assert "\n" not in msg, msg
+    return msg

@@ -8,6 +8,7 @@ from fpd.coupling.build import build
 from fpd.coupling.run import simulate
 from fpd.schema import scene as scn
 from fpd.schema.scene import SceneError
+from helpers import refusal
 
 
 def _run(scene, over):
@@ -126,9 +127,7 @@ def test_summary_reports_capacity_and_impacts(tmp_path):
     (["device.rim_restitution=1.5"], "device.rim_restitution = 1.5: must be in [0, 1]"),
 ])
 def test_bad_capacities_are_one_line(over, needle):
-    with pytest.raises(SceneError) as e:
-        scn.load("default", over)
-    assert needle in str(e.value) and "\n" not in str(e.value)
+    assert needle in refusal("default", over)
 
 
 def test_sfp_has_no_d2_and_the_machine_stays_inside_its_capacity():
@@ -212,6 +211,4 @@ def test_a_stiffer_rim_approaches_the_rigid_elastic_rim():
     ("sfp-harmonic", ["device.rim_restitution=0.5"], "device.rim_restitution = 0.5: is a key of the rigid rim"),
 ])
 def test_rim_stiffness_is_refused_where_it_is_not_modelled(scene, over, needle):
-    with pytest.raises(SceneError) as e:
-        scn.load(scene, over + ["device.rim_stiffness_N_per_m=1e9"])
-    assert needle in str(e.value) and "\n" not in str(e.value)
+    assert needle in refusal(scene, over + ["device.rim_stiffness_N_per_m=1e9"])

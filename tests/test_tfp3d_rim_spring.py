@@ -30,6 +30,7 @@ from fpd.mechanics.tfp3d_two_phase import TFP3DTwoPhaseStepper
 from fpd.schema import scene as scn
 from tests.test_tfp import tfp
 from tests.test_tfp_rim_spring import bounce, crossing_times, frictionless_states
+from helpers import refusal
 
 DTS = (1e-3, 5e-4, 2.5e-4)
 MUS = (0.08, 0.02, 0.02, 0.08)
@@ -333,16 +334,12 @@ def test_a_scene_gives_the_tfp_in_both_directions_its_rim_springs(model):
      "not yet with a vertical ground motion for the TFP"),
 ])
 def test_what_the_tfp_in_both_directions_still_refuses(over, needle):
-    with pytest.raises(scn.SceneError) as e:
-        scn.load("tfp-elcentro", ['loading.record="impvall-1979-e11"', "mechanics.model=seated"] + over)
-    assert needle in str(e.value) and "\n" not in str(e.value)
+    assert needle in refusal("tfp-elcentro", ['loading.record="impvall-1979-e11"', "mechanics.model=seated"] + over)
 
 
 def test_the_orbit_refuses_the_stiffness():
-    with pytest.raises(scn.SceneError) as e:
-        scn.load("tfp-lab", ['loading.waveform="circle"', "loading.amplitude_m=0.04",
-                             "device.rim_stiffness_N_per_m=1e9"])
-    assert "test machine" in str(e.value) and "\n" not in str(e.value)
+    assert "test machine" in refusal("tfp-lab", ['loading.waveform="circle"', "loading.amplitude_m=0.04",
+                                                 "device.rim_stiffness_N_per_m=1e9"])
 
 
 def test_the_stepper_refuses_the_machine_and_a_vertical_motion_with_springs():
