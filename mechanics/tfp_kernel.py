@@ -1418,23 +1418,26 @@ def flight_rim_energy(par, S, x):
 
 
 def flight_springs(par, S, x0, vx, ag, h):
-    """Do rims of finite stiffness act on the flight from x0 over h (their
-    energy non-zero at x0 or at the ballistic end)?"""
+    """The rim springs' energy at x0 when rims of finite stiffness act on the
+    flight from x0 over h (their energy non-zero at x0 or at the ballistic
+    end), else -1.0 (the flight is ballistic)."""
     if par[I_KRIM] == 0.0:
-        return False
-    return flight_rim_energy(par, S, x0) > 0.0 or flight_rim_energy(par, S, x0 + vx * h - 0.5 * ag * h * h) > 0.0
+        return -1.0
+    e0 = flight_rim_energy(par, S, x0)
+    if e0 > 0.0 or flight_rim_energy(par, S, x0 + vx * h - 0.5 * ag * h * h) > 0.0:
+        return e0
+    return -1.0
 
 
-def flight_x(par, S, x0, vx, ag, h):
+def flight_x(par, S, x0, e0, vx, ag, h):
     """The flown horizontal displacement and velocity after h from (x0, vx)
     under the field -ag and the rim springs, by their discrete gradient:
     M (v1 - v0) = -M ag h - h (E(x1) - E(x0)) / (x1 - x0), x1 - x0 = h (v0 +
     v1) / 2 with E = flight_rim_energy, so that the unit's kinetic energy and
     E change by the ground's work -M ag (x1 - x0) exactly. x1 is the root of
     that residual, increasing in x1 (E convex along the flight), bracketed
-    from the ballistic end and bisected to adjacent floats."""
+    from the ballistic end and bisected to adjacent floats. e0: E(x0)."""
     mt = moving_mass(par)
-    e0 = flight_rim_energy(par, S, x0)
 
     def residual(x1):
         d = x1 - x0
@@ -1474,10 +1477,11 @@ def flight_x(par, S, x0, vx, ag, h):
     return x1, 2.0 * (x1 - x0) / h - vx
 
 
-def _flown(par, S, x0, vx, ag, t, springs):
-    """The flown horizontal displacement after t (the ballistic one without springs)."""
-    if springs:
-        return flight_x(par, S, x0, vx, ag, t)[0]
+def _flown(par, S, x0, vx, ag, t, e0):
+    """The flown horizontal displacement after t (the ballistic one when the
+    springs do not act, e0 < 0; else their energy at x0: flight_springs)."""
+    if e0 >= 0.0:
+        return flight_x(par, S, x0, e0, vx, ag, t)[0]
     return x0 + vx * t - 0.5 * ag * t * t
 
 
@@ -1519,8 +1523,8 @@ def _flight(par, S, ag, gv, h, M):
                 hi = mid
         tau = hi
         landed = True
-    if sp:
-        x1, v1 = flight_x(par, S, x0, vx, ag, tau)
+    if sp >= 0.0:
+        x1, v1 = flight_x(par, S, x0, sp, vx, ag, tau)
         dx = x1 - x0
         S[S_XF] = x1
         S[S_VXF] = v1
